@@ -1,0 +1,58 @@
+#include "gl.h"
+#include "log.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define X(type, name) type sb_##name;
+GL_FUNCS(X)
+#undef X
+
+bool gl_load(gl_proc (*getproc)(const char *name))
+{
+    bool ok = true;
+#define X(type, name)                                              \
+    sb_##name = (type)getproc(#name);                              \
+    if (!sb_##name) {                                              \
+        log_error("OpenGL: %s is not available from this driver", #name); \
+        ok = false;                                                \
+    }
+    GL_FUNCS(X)
+#undef X
+    return ok;
+}
+
+static const char *debug_source(GLenum s)
+{
+    switch (s) {
+    case GL_DEBUG_SOURCE_API: return "api";
+    case GL_DEBUG_SOURCE_SHADER_COMPILER: return "shader compiler";
+    case GL_DEBUG_SOURCE_WINDOW_SYSTEM: return "window system";
+    case GL_DEBUG_SOURCE_APPLICATION: return "application";
+    default: return "other";
+    }
+}
+
+static void APIENTRY on_debug_message(GLenum source, GLenum type, GLuint id, GLenum severity,
+                                      GLsizei length, const GLchar *message, const void *user)
+{
+    (void)length, (void)user;
+    enum log_level level = type == GL_DEBUG_TYPE_ERROR ? LOG_ERROR
+                           : severity == GL_DEBUG_SEVERITY_HIGH || severity == GL_DEBUG_SEVERITY_MEDIUM
+                               ? LOG_WARN
+                               : LOG_DEBUG;
+    log_msg(level, "OpenGL (%s, id %u): %s", debug_source(source), id, message);
+}
+
+void gl_install_debug_output(void)
+{
+    glEnable(GL_DEBUG_OUTPUT);
+    glEnable(GL_DEBUG_OUTPUT_SYNCHRONOUS); /* messages arrive at the offending call */
+    glDebugMessageCallback(on_debug_message, NULL);
+    glDebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DONT_CARE, 0, NULL, GL_TRUE);
+}
+
+void gl_label(GLenum type, GLuint object, const char *label)
+{
+    glObjectLabel(type, object, (GLsizei)strlen(label), label);
+}

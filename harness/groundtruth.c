@@ -1,0 +1,426 @@
+/* Ground truth with Embree 3 (DESIGN.md §6).
+ *
+ * Primary rays through pixel centres; at the hit p, geometric normal n
+ * flipped towards the camera; N = n*n stratified light samples, jittered per
+ * pixel (every pixel draws its own jitter in every stratum, so the pattern is
+ * scrambled per pixel). A sample counts as visible when it lies in front of
+ * the one-sided light, above p's tangent plane, and the shadow ray from
+ * p + eps*n reaches it unblocked.
+ *
+ * Speed: shadow rays go in packets of 16 (rtcOccluded16) over 4x4 pixel
+ * tiles; the 16 pixels of a tile visit the same stratum together, so their
+ * rays are coherent. */
+#include "groundtruth.h"
+#include "image.h"
+#include "log.h"
+#include "util.h"
+
+#include <embree3/rtcore.h>
+
+#include <errno.h>
+#include <math.h>
+#include <omp.h>
+#include <stdatomic.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define TILE 4
+
+void gt_desc_defaults(struct gt_desc *d)
+{
+    if (!d->width)
+        d->width = 512;
+    if (!d->height)
+        d->height = 512;
+    if (!d->samples)
+        d->samples = 1024;
+    if (!d->seed)
+        d->seed = 1;
+}
+
+/* PCG-style integer hash: decorrelated streams per pixel and seed. */
+static uint32_t hash32(uint32_t x)
+{
+    x ^= x >> 16;
+    x *= 0x7feb352dU;
+    x ^= x >> 15;
+    x *= 0x846ca68bU;
+    x ^= x >> 16;
+    return x;
+}
+
+/* Uniform [0, 1) from a hashed counter: stateless, so the stratum loop
+ * below vectorises across the 16 lanes of a packet. */
+static inline float hash_unit(uint32_t x)
+{
+    return (float)(hash32(x) >> 8) * (1.0f / 16777216.0f);
+}
+
+/* Uniform points on the light for 16 unit-square samples. The disk uses the
+ * concentric map (Shirley & Chiu 1997), which keeps strata compact. */
+static void light_points(const struct scene_light *L, const float *u, const float *v, float *qx,
+                         float *qy, float *qz)
+{
+    float a[16], b[16];
+    if (L->shape == LIGHT_RECT) {
+        for (int i = 0; i < 16; i++) {
+            a[i] = (u[i] - 0.5f) * L->width;
+            b[i] = (v[i] - 0.5f) * L->height;
+        }
+    } else {
+        for (int i = 0; i < 16; i++) {
+            float x = 2.0f * u[i] - 1.0f, y = 2.0f * v[i] - 1.0f, r, phi;
+            if (x == 0.0f && y == 0.0f)
+                r = 0.0f, phi = 0.0f;
+            else if (fabsf(x) > fabsf(y))
+                r = x, phi = (float)M_PI_4 * (y / x);
+            else
+                r = y, phi = (float)M_PI_2 - (float)M_PI_4 * (x / y);
+            a[i] = L->radius * r * cosf(phi);
+            b[i] = L->radius * r * sinf(phi);
+        }
+    }
+    for (int i = 0; i < 16; i++) {
+        qx[i] = L->pos.x + L->x.x * a[i] + L->y.x * b[i];
+        qy[i] = L->pos.y + L->x.y * a[i] + L->y.y * b[i];
+        qz[i] = L->pos.z + L->x.z * a[i] + L->y.z * b[i];
+    }
+}
+
+static void on_embree_error(void *user, enum RTCError code, const char *what)
+{
+    (void)user;
+    log_error("Embree error %d: %s", (int)code, what ? what : "");
+}
+
+struct tracer {
+    const struct scene *scene;
+    const struct shadowmap_frustum *frustum;
+    struct gt_desc desc;
+    RTCScene rtc;
+    float eps;
+    int strata;  /* n, with N = n * n */
+};
+
+/* Camera ray through the centre of pixel (x, y), y = 0 the top row. The
+ * direction is unnormalised with unit depth along the view axis, so t is
+ * view depth and tnear = znear matches GL's near-plane clipping. */
+static struct vec3 camera_dir(const struct scene_camera *c, int x, int y, int w, int h)
+{
+    float t = tanf(0.5f * c->yfov_rad), aspect = (float)w / (float)h;
+    float sx = (2.0f * ((float)x + 0.5f) / (float)w - 1.0f) * t * aspect;
+    float sy = (1.0f - 2.0f * ((float)y + 0.5f) / (float)h) * t;
+    return v3_add(v3_add(v3_scale(c->x, sx), v3_scale(c->y, sy)), v3_scale(c->z, -1.0f));
+}
+
+static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_image *out)
+{
+    const struct scene_camera *cam = &tr->scene->camera;
+    const struct scene_light *L = &tr->scene->light;
+    const int w = tr->desc.width, h = tr->desc.height;
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+
+    struct RTCRayHit16 prim;
+    int valid[16];
+    int pixel[16];
+    for (int i = 0; i < 16; i++) {
+        int x = tx + i % TILE, y = ty + i / TILE;
+        valid[i] = x < w && y < h ? -1 : 0;
+        pixel[i] = valid[i] ? y * w + x : -1;
+        struct vec3 d = valid[i] ? camera_dir(cam, x, y, w, h) : v3(0, 0, -1);
+        prim.ray.org_x[i] = cam->pos.x, prim.ray.org_y[i] = cam->pos.y, prim.ray.org_z[i] = cam->pos.z;
+        prim.ray.dir_x[i] = d.x, prim.ray.dir_y[i] = d.y, prim.ray.dir_z[i] = d.z;
+        prim.ray.tnear[i] = cam->znear;
+        prim.ray.tfar[i] = INFINITY;
+        prim.ray.time[i] = 0.0f;
+        prim.ray.mask[i] = 0xffffffffu;
+        prim.ray.id[i] = (unsigned)i;
+        prim.ray.flags[i] = 0;
+        prim.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
+    }
+    rtcIntersect16(valid, tr->rtc, &ctx, &prim);
+
+    /* Per-lane constants of the packet, structure-of-arrays. */
+    float ox[16], oy[16], oz[16], nx[16], ny[16], nz[16];
+    uint32_t lane_seed[16];
+    int live[16];
+    struct RTCRay16 ray;
+    for (int i = 0; i < 16; i++) {
+        live[i] = valid[i] && prim.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
+        ox[i] = oy[i] = oz[i] = nx[i] = ny[i] = nz[i] = 0.0f;
+        lane_seed[i] = 0;
+        if (valid[i]) {
+            out->distance[pixel[i]] = -1.0f;
+            out->v[pixel[i]] = out->v_weighted[pixel[i]] = out->mask[pixel[i]] = 0.0f;
+        }
+        if (live[i]) {
+            struct vec3 d = v3(prim.ray.dir_x[i], prim.ray.dir_y[i], prim.ray.dir_z[i]);
+            struct vec3 p = v3_add(cam->pos, v3_scale(d, prim.ray.tfar[i]));
+            struct vec3 n = v3_normalize(v3(prim.hit.Ng_x[i], prim.hit.Ng_y[i], prim.hit.Ng_z[i]));
+            if (v3_dot(n, d) > 0.0f)
+                n = v3_scale(n, -1.0f);
+            out->distance[pixel[i]] = prim.ray.tfar[i] * v3_length(d);
+            struct vec3 o = v3_add(p, v3_scale(n, tr->eps));
+            ox[i] = o.x, oy[i] = o.y, oz[i] = o.z;
+            nx[i] = n.x, ny[i] = n.y, nz[i] = n.z;
+            lane_seed[i] = hash32((uint32_t)pixel[i] ^ hash32(tr->desc.seed));
+            live[i] = shadowmap_inside(tr->frustum, p);
+        }
+        /* Fields that stay the same for every stratum. */
+        ray.org_x[i] = ox[i], ray.org_y[i] = oy[i], ray.org_z[i] = oz[i];
+        ray.tnear[i] = 0.0f;
+        ray.time[i] = 0.0f;
+        ray.mask[i] = 0xffffffffu;
+        ray.id[i] = (unsigned)i;
+        ray.flags[i] = 0;
+    }
+
+    const int n = tr->strata;
+    const float inv_n = 1.0f / (float)n;
+    /* Locals, not L->z: the compiler cannot prove L does not alias `ray`
+     * (whose address goes to Embree), and would not vectorise. */
+    const float lzx = L->z.x, lzy = L->z.y, lzz = L->z.z;
+    int visible[16] = {0};
+    float weight_vis[16] = {0}, weight_all[16] = {0};
+    long long rays = 0;
+    for (int k = 0; k < n * n; k++) {
+        const float su = (float)(k % n), sv = (float)(k / n);
+        float u[16], v[16], qx[16], qy[16], qz[16], w_sample[16];
+        int active[16];
+        /* Branch-free passes over the lanes, so the compiler vectorises them. */
+#pragma omp simd
+        for (int i = 0; i < 16; i++) {
+            uint32_t h = lane_seed[i] + 2u * (uint32_t)k * 0x9e3779b9u;
+            u[i] = (su + hash_unit(h)) * inv_n;
+            v[i] = (sv + hash_unit(h ^ 0x85ebca6bu)) * inv_n;
+        }
+        light_points(L, u, v, qx, qy, qz);
+        int any = 0;
+#pragma omp simd reduction(+ : any)
+        for (int i = 0; i < 16; i++) {
+            float dx = qx[i] - ox[i], dy = qy[i] - oy[i], dz = qz[i] - oz[i];
+            float dist2 = dx * dx + dy * dy + dz * dz;
+            float n_d = nx[i] * dx + ny[i] * dy + nz[i] * dz;  /* |d| cos(theta_p) */
+            float l_d = lzx * dx + lzy * dy + lzz * dz;        /* |d| cos(theta_light) */
+            /* Below p's horizon, or behind the one-sided light: not visible. */
+            int ok = live[i] & (n_d > 0.0f) & (l_d > 0.0f);
+            float w = n_d * l_d / (dist2 * dist2);  /* cos cos / r^2, no sqrt needed */
+            w_sample[i] = ok ? w : 0.0f;
+            weight_all[i] += w_sample[i];
+            ray.dir_x[i] = dx, ray.dir_y[i] = dy, ray.dir_z[i] = dz;
+            ray.tfar[i] = 1.0f;  /* the light itself is not geometry; rtcOccluded16 resets it */
+            active[i] = -ok;
+            any += ok;
+        }
+        if (!any)
+            continue;
+        rtcOccluded16(active, tr->rtc, &ctx, &ray);
+        rays += any;
+#pragma omp simd
+        for (int i = 0; i < 16; i++) {
+            int seen = active[i] & (ray.tfar[i] >= 0.0f);  /* tfar = -inf when occluded */
+            visible[i] += seen;
+            weight_vis[i] += seen ? w_sample[i] : 0.0f;
+        }
+    }
+    for (int i = 0; i < 16; i++) {
+        if (!live[i])
+            continue;
+        out->v[pixel[i]] = (float)visible[i] / (float)(n * n);
+        out->v_weighted[pixel[i]] = weight_all[i] > 0 ? weight_vis[i] / weight_all[i] : 0.0f;
+        out->mask[pixel[i]] = weight_all[i] > 0 ? 1.0f : 0.0f;  /* faces the light at all */
+    }
+    return rays;
+}
+
+static RTCScene build_scene(RTCDevice dev, const struct scene *s)
+{
+    RTCScene rtc = rtcNewScene(dev);
+    rtcSetSceneFlags(rtc, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(rtc, RTC_BUILD_QUALITY_HIGH);
+    RTCGeometry g = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
+    float *v = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                       3 * sizeof(float), s->vertex_count);
+    uint32_t *ix = rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                           3 * sizeof(uint32_t), s->triangle_count);
+    if (!v || !ix) {
+        rtcReleaseGeometry(g);
+        rtcReleaseScene(rtc);
+        return NULL;
+    }
+    memcpy(v, s->positions, s->vertex_count * 3 * sizeof(float));
+    memcpy(ix, s->indices, s->triangle_count * 3 * sizeof(uint32_t));
+    rtcCommitGeometry(g);
+    rtcAttachGeometry(rtc, g);
+    rtcReleaseGeometry(g);
+    rtcCommitScene(rtc);
+    return rtc;
+}
+
+static void progress(double start_ms, long long done, long long total, long long rays, bool final)
+{
+    double s = (util_now_ms() - start_ms) * 1e-3;
+    double eta = done > 0 ? s * (double)(total - done) / (double)done : 0;
+    fprintf(stderr, "\rground truth: %3.0f%%  %6.1f Mrays/s  ETA %4.0f s%s",
+            100.0 * (double)done / (double)total, s > 0 ? (double)rays / s * 1e-6 : 0.0, eta,
+            final ? "\n" : "");
+}
+
+int gt_render(const struct scene *s, const struct shadowmap_frustum *f, const struct gt_desc *d,
+              struct gt_image *out)
+{
+    struct tracer tr = {.scene = s, .frustum = f, .desc = *d};
+    gt_desc_defaults(&tr.desc);
+    tr.strata = (int)lround(sqrt((double)tr.desc.samples));
+    if (tr.strata * tr.strata != tr.desc.samples) {
+        log_error("ground truth: %d samples is not a square n*n", tr.desc.samples);
+        return -1;
+    }
+    tr.eps = GT_OFFSET_SCALE * scene_extent(s);
+
+    RTCDevice dev = rtcNewDevice(NULL);
+    if (!dev) {
+        log_error("Embree: cannot create a device (error %d)", (int)rtcGetDeviceError(NULL));
+        return -1;
+    }
+    rtcSetDeviceErrorFunction(dev, on_embree_error, NULL);
+    tr.rtc = build_scene(dev, s);
+    if (!tr.rtc) {
+        rtcReleaseDevice(dev);
+        return -1;
+    }
+
+    const int w = tr.desc.width, h = tr.desc.height;
+    memset(out, 0, sizeof *out);
+    out->width = w;
+    out->height = h;
+    size_t count = (size_t)w * (size_t)h;
+    out->v = xmalloc(count * sizeof(float));
+    out->v_weighted = xmalloc(count * sizeof(float));
+    out->distance = xmalloc(count * sizeof(float));
+    out->mask = xmalloc(count * sizeof(float));
+
+    const int tiles_x = (w + TILE - 1) / TILE, tiles_y = (h + TILE - 1) / TILE;
+    const long long tiles = (long long)tiles_x * tiles_y;
+    const bool show = isatty(STDERR_FILENO) && log_get_level() >= LOG_INFO;
+    atomic_llong done = 0, rays = 0;
+    double start = util_now_ms(), last_report = start;
+    bool reported = false;
+
+#pragma omp parallel for schedule(dynamic, 4)
+    for (long long t = 0; t < tiles; t++) {
+        long long r = trace_tile(&tr, (int)(t % tiles_x) * TILE, (int)(t / tiles_x) * TILE, out);
+        atomic_fetch_add(&rays, r);
+        long long now_done = atomic_fetch_add(&done, 1) + 1;
+        if (show && omp_get_thread_num() == 0) {
+            double now = util_now_ms();
+            if (now - start > 1000.0 && now - last_report > 250.0) {
+                progress(start, now_done, tiles, atomic_load(&rays), false);
+                last_report = now;
+                reported = true;
+            }
+        }
+    }
+    if (reported)
+        progress(start, tiles, tiles, atomic_load(&rays), true);
+
+    out->seconds = (util_now_ms() - start) * 1e-3;
+    out->shadow_rays = atomic_load(&rays);
+    out->mrays_per_second = out->seconds > 0 ? (double)out->shadow_rays / out->seconds * 1e-6 : 0;
+    rtcReleaseScene(tr.rtc);
+    rtcReleaseDevice(dev);
+    return 0;
+}
+
+void gt_image_free(struct gt_image *g)
+{
+    free(g->v);
+    free(g->v_weighted);
+    free(g->distance);
+    free(g->mask);
+    free(g->v_alt);
+    memset(g, 0, sizeof *g);
+}
+
+double gt_rms_difference(const float *a, const float *b, const float *mask, int count)
+{
+    double sum = 0;
+    long n = 0;
+    for (int i = 0; i < count; i++)
+        if (mask[i] > 0.5f) {
+            double e = (double)a[i] - (double)b[i];
+            sum += e * e;
+            n++;
+        }
+    return n ? sqrt(sum / (double)n) : 0.0;
+}
+
+static char *cache_path(const char *dir, const struct scene *s, const struct shadowmap_frustum *f,
+                        const struct gt_desc *d)
+{
+    const int version = GT_VERSION;
+    uint64_t h = util_hash(UTIL_HASH_INIT, &s->hash, sizeof s->hash);
+    h = util_hash(h, d, sizeof *d);
+    h = util_hash(h, f, sizeof *f);
+    h = util_hash(h, &version, sizeof version);
+    return util_printf("%s/%s-%016llx.exr", dir, s->name, (unsigned long long)h);
+}
+
+int gt_obtain(const struct scene *s, const struct shadowmap_frustum *f, const struct gt_desc *desc,
+              const char *cache_dir, struct gt_image *out)
+{
+    struct gt_desc d = *desc;
+    gt_desc_defaults(&d);
+    char *path = cache_dir ? cache_path(cache_dir, s, f, &d) : NULL;
+    memset(out, 0, sizeof *out);
+    if (path) {
+        struct exr_channel ch[] = {{"V", NULL}, {"V_weighted", NULL}, {"mask", NULL},
+                                   {"distance", NULL}, {"V_alt", NULL}};
+        int rc = image_read_exr(path, d.width, d.height, ch, 5);
+        if (rc == 0) {
+            *out = (struct gt_image){.width = d.width, .height = d.height, .v = ch[0].data,
+                                     .v_weighted = ch[1].data, .mask = ch[2].data,
+                                     .distance = ch[3].data, .v_alt = ch[4].data, .cached = true};
+            log_info("ground truth %s: from cache %s", s->name, path);
+            free(path);
+            return 0;
+        }
+        if (rc != -ENOENT)
+            log_warn("%s: unusable cache entry, rendering again", path);
+    }
+
+    struct gt_image alt;
+    struct gt_desc d_alt = d;
+    d_alt.seed = d.seed + 1;
+    log_info("ground truth %s: %dx%d, %d light samples per pixel, twice (the second seed "
+             "estimates the noise floor)", s->name, d.width, d.height, d.samples);
+    if (gt_render(s, f, &d, out) != 0 || gt_render(s, f, &d_alt, &alt) != 0) {
+        gt_image_free(out);
+        free(path);
+        return -1;
+    }
+    out->v_alt = alt.v;
+    alt.v = NULL;
+    double seconds = out->seconds + alt.seconds;
+    long long rays = out->shadow_rays + alt.shadow_rays;
+    out->seconds = seconds;
+    out->shadow_rays = rays;
+    out->mrays_per_second = seconds > 0 ? (double)rays / seconds * 1e-6 : 0;
+    gt_image_free(&alt);
+    log_info("ground truth %s: %.1f M shadow rays in %.2f s = %.1f Mrays/s", s->name,
+             (double)rays * 1e-6, seconds, out->mrays_per_second);
+
+    if (path && util_mkdirs(cache_dir) == 0) {
+        struct exr_channel ch[] = {{"V", out->v}, {"V_weighted", out->v_weighted},
+                                   {"mask", out->mask}, {"distance", out->distance},
+                                   {"V_alt", out->v_alt}};
+        if (image_write_exr(path, d.width, d.height, ch, 5) != 0)
+            log_warn("ground truth %s: not cached", s->name);
+    }
+    free(path);
+    return 0;
+}

@@ -1,0 +1,176 @@
+#include "image.h"
+#include "log.h"
+#include "util.h"
+
+#include <OpenEXR/openexr.h>
+#include <stb_image_write.h>
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int exr_failed(exr_context_t ctx, const char *path, const char *what, exr_result_t rc)
+{
+    log_error("%s: %s: %s", path, what, exr_get_default_error_message(rc));
+    if (ctx)
+        exr_finish(&ctx);
+    return -1;
+}
+
+int image_write_exr(const char *path, int width, int height, const struct exr_channel *channels,
+                    int channel_count)
+{
+    exr_context_t ctx = NULL;
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    int part = 0;
+    /* EXR_INTERMEDIATE_TEMP_FILE: the library writes a temporary and renames. */
+    exr_result_t rc = exr_start_write(&ctx, path, EXR_INTERMEDIATE_TEMP_FILE, &init);
+    if (rc != EXR_ERR_SUCCESS)
+        return exr_failed(NULL, path, "cannot write", rc);
+    if ((rc = exr_add_part(ctx, "visibility", EXR_STORAGE_SCANLINE, &part)) ||
+        (rc = exr_initialize_required_attr_simple(ctx, part, width, height, EXR_COMPRESSION_ZIP)))
+        return exr_failed(ctx, path, "cannot write header", rc);
+    for (int c = 0; c < channel_count; c++)
+        if ((rc = exr_add_channel(ctx, part, channels[c].name, EXR_PIXEL_FLOAT,
+                                  EXR_PERCEPTUALLY_LINEAR, 1, 1)))
+            return exr_failed(ctx, path, "cannot add channel", rc);
+    if ((rc = exr_write_header(ctx)))
+        return exr_failed(ctx, path, "cannot write header", rc);
+
+    int32_t lines_per_chunk = 1;
+    exr_get_scanlines_per_chunk(ctx, part, &lines_per_chunk);
+    exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
+    bool first = true;
+    for (int y = 0; y < height; y += lines_per_chunk) {
+        exr_chunk_info_t chunk;
+        if ((rc = exr_write_scanline_chunk_info(ctx, part, y, &chunk)))
+            break;
+        rc = first ? exr_encoding_initialize(ctx, part, &chunk, &enc)
+                   : exr_encoding_update(ctx, part, &chunk, &enc);
+        if (rc)
+            break;
+        /* The file orders channels by name: match each by name. */
+        for (int i = 0; i < enc.channel_count; i++) {
+            const struct exr_channel *src = NULL;
+            for (int c = 0; c < channel_count; c++)
+                if (strcmp(channels[c].name, enc.channels[i].channel_name) == 0)
+                    src = &channels[c];
+            enc.channels[i].encode_from_ptr = (const uint8_t *)(src->data + (size_t)y * width);
+            enc.channels[i].user_pixel_stride = sizeof(float);
+            enc.channels[i].user_line_stride = (int32_t)(sizeof(float) * (size_t)width);
+            enc.channels[i].user_data_type = EXR_PIXEL_FLOAT;
+            enc.channels[i].user_bytes_per_element = sizeof(float);
+        }
+        if (first && (rc = exr_encoding_choose_default_routines(ctx, part, &enc)))
+            break;
+        first = false;
+        if ((rc = exr_encoding_run(ctx, part, &enc)))
+            break;
+    }
+    if (!first)
+        exr_encoding_destroy(ctx, &enc);
+    if (rc)
+        return exr_failed(ctx, path, "cannot write pixels", rc);
+    if ((rc = exr_finish(&ctx)))
+        return exr_failed(NULL, path, "cannot finish", rc);
+    return 0;
+}
+
+int image_read_exr(const char *path, int width, int height, struct exr_channel *channels,
+                   int channel_count)
+{
+    if (!util_file_exists(path))
+        return -ENOENT;
+    exr_context_t ctx = NULL;
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    exr_result_t rc = exr_start_read(&ctx, path, &init);
+    if (rc)
+        return exr_failed(NULL, path, "cannot read", rc);
+    exr_attr_box2i_t dw;
+    if ((rc = exr_get_data_window(ctx, 0, &dw)))
+        return exr_failed(ctx, path, "cannot read header", rc);
+    if (dw.max.x - dw.min.x + 1 != width || dw.max.y - dw.min.y + 1 != height) {
+        log_error("%s: is %dx%d, expected %dx%d", path, dw.max.x - dw.min.x + 1,
+                  dw.max.y - dw.min.y + 1, width, height);
+        exr_finish(&ctx);
+        return -1;
+    }
+    for (int c = 0; c < channel_count; c++)
+        channels[c].data = xcalloc((size_t)width * (size_t)height, sizeof(float));
+
+    int32_t lines_per_chunk = 1;
+    exr_get_scanlines_per_chunk(ctx, 0, &lines_per_chunk);
+    exr_decode_pipeline_t dec = EXR_DECODE_PIPELINE_INITIALIZER;
+    bool first = true;
+    int found = 0;
+    for (int y = dw.min.y; y <= dw.max.y && !rc; y += lines_per_chunk) {
+        exr_chunk_info_t chunk;
+        if ((rc = exr_read_scanline_chunk_info(ctx, 0, y, &chunk)))
+            break;
+        rc = first ? exr_decoding_initialize(ctx, 0, &chunk, &dec)
+                   : exr_decoding_update(ctx, 0, &chunk, &dec);
+        if (rc)
+            break;
+        found = 0;
+        for (int i = 0; i < dec.channel_count; i++) {
+            dec.channels[i].decode_to_ptr = NULL;  /* channels we don't want are skipped */
+            for (int c = 0; c < channel_count; c++)
+                if (strcmp(channels[c].name, dec.channels[i].channel_name) == 0) {
+                    dec.channels[i].decode_to_ptr =
+                        (uint8_t *)(channels[c].data + (size_t)(y - dw.min.y) * width);
+                    dec.channels[i].user_pixel_stride = sizeof(float);
+                    dec.channels[i].user_line_stride = (int32_t)(sizeof(float) * (size_t)width);
+                    dec.channels[i].user_data_type = EXR_PIXEL_FLOAT;
+                    dec.channels[i].user_bytes_per_element = sizeof(float);
+                    found++;
+                }
+        }
+        if (found != channel_count)
+            break;
+        if (first && (rc = exr_decoding_choose_default_routines(ctx, 0, &dec)))
+            break;
+        first = false;
+        rc = exr_decoding_run(ctx, 0, &dec);
+    }
+    if (!first)
+        exr_decoding_destroy(ctx, &dec);
+    if (rc || found != channel_count) {
+        for (int c = 0; c < channel_count; c++) {
+            free(channels[c].data);
+            channels[c].data = NULL;
+        }
+        if (rc)
+            return exr_failed(ctx, path, "cannot read pixels", rc);
+        log_error("%s: lacks a channel this version needs", path);
+        exr_finish(&ctx);
+        return -1;
+    }
+    exr_finish(&ctx);
+    return 0;
+}
+
+static void append_png(void *context, void *data, int size)
+{
+    strbuf_append(context, data, (size_t)size);
+}
+
+int image_write_png(const char *path, int width, int height, int comps, const uint8_t *pixels)
+{
+    struct strbuf png = {0};
+    if (!stbi_write_png_to_func(append_png, &png, width, height, comps, pixels, width * comps)) {
+        log_error("%s: PNG encoding failed", path);
+        strbuf_free(&png);
+        return -1;
+    }
+    int rc = util_write_file_atomic(path, png.data, png.len);
+    strbuf_free(&png);
+    return rc ? -1 : 0;
+}
+
+uint8_t image_srgb8(float v)
+{
+    v = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;  /* also maps NaN to 0 */
+    float s = v <= 0.0031308f ? 12.92f * v : 1.055f * powf(v, 1.0f / 2.4f) - 0.055f;
+    return (uint8_t)lrintf(s * 255.0f);
+}

@@ -1,0 +1,30 @@
+/* Image files: float EXR through the OpenEXR C API, 8-bit PNG through
+ * stb_image_write. Rows are top row first (DESIGN.md §8). Every write is
+ * atomic: a temporary file renamed into place. */
+#ifndef SB_IMAGE_H
+#define SB_IMAGE_H
+
+#include <stdint.h>
+
+struct exr_channel {
+    const char *name;
+    float *data;  /* width * height floats */
+};
+
+/* Writes float32 channels (ZIP compressed). Returns 0 or -1 (logged). */
+int image_write_exr(const char *path, int width, int height, const struct exr_channel *channels,
+                    int channel_count);
+
+/* Reads the named float channels into newly malloc'ed arrays (channels[i].data).
+ * Returns 0, -ENOENT if the file does not exist (not logged), or -1 (logged)
+ * if it is unreadable, has another size or lacks a channel. */
+int image_read_exr(const char *path, int width, int height, struct exr_channel *channels,
+                   int channel_count);
+
+/* Writes 8-bit pixels (comps 1, 3 or 4), top row first. Returns 0 or -1. */
+int image_write_png(const char *path, int width, int height, int comps, const uint8_t *pixels);
+
+/* Linear [0,1] -> 8-bit sRGB. */
+uint8_t image_srgb8(float linear);
+
+#endif

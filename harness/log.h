@@ -1,0 +1,19 @@
+/* One logging function for the whole program. A message names the file,
+ * technique or option it is about and is written once, where the problem is
+ * detected (STYLE.md item 9). */
+#ifndef SB_LOG_H
+#define SB_LOG_H
+
+enum log_level { LOG_ERROR, LOG_WARN, LOG_INFO, LOG_DEBUG };
+
+void log_msg(enum log_level level, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+void log_set_level(enum log_level max_level);
+enum log_level log_get_level(void);
+
+#define log_error(...) log_msg(LOG_ERROR, __VA_ARGS__)
+#define log_warn(...)  log_msg(LOG_WARN, __VA_ARGS__)
+#define log_info(...)  log_msg(LOG_INFO, __VA_ARGS__)
+#define log_debug(...) log_msg(LOG_DEBUG, __VA_ARGS__)
+
+#endif

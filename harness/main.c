@@ -1,0 +1,313 @@
+/* shadowbench: measures real-time shadow techniques against a ray-traced
+ * area-light ground truth. This file is the command line only. */
+#include "../techniques/technique.h"
+#include "catalog.h"
+#include "log.h"
+#include "params.h"
+#include "run.h"
+#include "scene.h"
+#include "util.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char usage_main[] =
+    "usage: shadowbench <command> [options]\n"
+    "\n"
+    "Measures real-time shadow techniques against an Embree ray-traced area-light\n"
+    "ground truth: error numbers, signed-error heatmaps, a comparison matrix, timings.\n"
+    "\n"
+    "commands:\n"
+    "  run    every scene x technique: render, score, write the report (the main job)\n"
+    "  gt     ray trace one scene's ground truth into an EXR\n"
+    "  list   techniques with every parameter (default, range, meaning), and scenes\n"
+    "\n"
+    "'shadowbench <command> --help' explains each command's options.\n"
+    "exit status: 0 ok, 1 a check failed (e.g. NaN in a technique's output) or a\n"
+    "runtime error, 2 bad usage or input.\n";
+
+static const char usage_run[] =
+    "usage: shadowbench run [options]\n"
+    "\n"
+    "Renders every selected technique on every selected scene headless (OSMesa),\n"
+    "scores its visibility V_tech against the ray-traced ground truth V_gt and\n"
+    "writes, under --out: report.html, matrix.csv, matrix.json, run.json and per\n"
+    "scene/technique visibility.exr, error.exr, visibility.png, heatmap.png,\n"
+    "metrics.json (see README.md, 'Outputs').\n"
+    "\n"
+    "options:\n"
+    "  --scene S             a glTF file, or the name of a shipped scene (repeatable;\n"
+    "                        default: every shipped scene, see 'shadowbench list')\n"
+    "  --technique T[,T...]  techniques to run (repeatable; default: all)\n"
+    "  --set T.P=V           set parameter P of technique T (repeatable), e.g.\n"
+    "                        --set hard.slope_bias=2; ranges in 'shadowbench list'\n"
+    "  --width W, --height H image size in pixels, 16..8192 (default 512 x 512)\n"
+    "  --gt-samples N        light samples per pixel for the ground truth, a square\n"
+    "                        n*n, 1..65536 (default 1024 = 32x32)\n"
+    "  --shadow-map-size N   shadow map resolution, 16..8192 (default 1024)\n"
+    "  --frames K            timed frames per measurement; the median is reported,\n"
+    "                        1..1000 (default 5)\n"
+    "  --warmup K            untimed frames before timing, 0..100 (default 2)\n"
+    "  --out DIR             output folder (default results/runs/latest)\n"
+    "  --cache DIR           ground-truth cache (default results/cache)\n"
+    "  --no-cache            always ray trace the ground truth, store nothing\n"
+    "  --shaders DIR         GLSL folder (default: found next to the executable or in\n"
+    "                        the source tree; or $SHADOWBENCH_SHADERS)\n"
+    "  -q, --quiet           only errors on stderr;  -v, --verbose: GL debug messages\n"
+    "\n"
+    "The ground truth is cached by the scene file's hash, image size, sample count\n"
+    "and ground-truth code version; a second run of the same settings reuses it.\n";
+
+static const char usage_gt[] =
+    "usage: shadowbench gt --scene S [options]\n"
+    "\n"
+    "Ray traces the ground truth of one scene (Embree, all cores) and writes\n"
+    "DIR/<scene>/groundtruth.exr with channels V (visible fraction of the light),\n"
+    "V_weighted (cos-weighted shadow ratio) and mask (1 where scored), plus a PNG.\n"
+    "Prints the achieved Mrays/s and the noise floor (the rms error of V itself,\n"
+    "from a second independent seed).\n"
+    "\n"
+    "options:\n"
+    "  --scene S             a glTF file, or the name of a shipped scene (required)\n"
+    "  --width W, --height H image size in pixels, 16..8192 (default 512 x 512)\n"
+    "  --gt-samples N        light samples per pixel, a square n*n (default 1024)\n"
+    "  --out DIR             output folder (default results/gt)\n"
+    "  --cache DIR, --no-cache   as for run (default results/cache)\n"
+    "  -q, --quiet, -v, --verbose\n";
+
+static const char usage_list[] =
+    "usage: shadowbench list\n"
+    "\n"
+    "Lists every technique with its parameters (type, default, range, meaning) and\n"
+    "every shipped scene with its description and the phenomenon it isolates.\n";
+
+enum {
+    OPT_SCENE = 256, OPT_TECHNIQUE, OPT_SET, OPT_WIDTH, OPT_HEIGHT, OPT_GT_SAMPLES,
+    OPT_SM_SIZE, OPT_FRAMES, OPT_WARMUP, OPT_OUT, OPT_CACHE, OPT_NO_CACHE, OPT_SHADERS,
+};
+
+static const struct option long_options[] = {
+    {"scene", required_argument, NULL, OPT_SCENE},
+    {"technique", required_argument, NULL, OPT_TECHNIQUE},
+    {"set", required_argument, NULL, OPT_SET},
+    {"width", required_argument, NULL, OPT_WIDTH},
+    {"height", required_argument, NULL, OPT_HEIGHT},
+    {"gt-samples", required_argument, NULL, OPT_GT_SAMPLES},
+    {"shadow-map-size", required_argument, NULL, OPT_SM_SIZE},
+    {"frames", required_argument, NULL, OPT_FRAMES},
+    {"warmup", required_argument, NULL, OPT_WARMUP},
+    {"out", required_argument, NULL, OPT_OUT},
+    {"cache", required_argument, NULL, OPT_CACHE},
+    {"no-cache", no_argument, NULL, OPT_NO_CACHE},
+    {"shaders", required_argument, NULL, OPT_SHADERS},
+    {"quiet", no_argument, NULL, 'q'},
+    {"verbose", no_argument, NULL, 'v'},
+    {"help", no_argument, NULL, 'h'},
+    {NULL, 0, NULL, 0},
+};
+
+static int parse_int(const char *opt, const char *text, int lo, int hi, int *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(text, &end, 10);
+    if (!*text || *end || errno) {
+        log_error("--%s: '%s' is not a whole number", opt, text);
+        return -1;
+    }
+    if (v < lo || v > hi) {
+        log_error("--%s: %ld is out of range [%d, %d]", opt, v, lo, hi);
+        return -1;
+    }
+    *out = (int)v;
+    return 0;
+}
+
+static int add_techniques(struct run_options *o, const char *list)
+{
+    char *copy = xstrdup(list), *save = NULL;
+    int rc = 0;
+    for (char *name = strtok_r(copy, ",", &save); name && !rc; name = strtok_r(NULL, ",", &save)) {
+        const struct technique *t = technique_find(name);
+        if (!t) {
+            struct strbuf known = {0};
+            for (const struct technique *const *k = technique_list; *k; k++)
+                strbuf_printf(&known, "%s%s", k == technique_list ? "" : ", ", (*k)->name);
+            log_error("--technique: unknown technique '%s' (known: %s)", name, known.data);
+            strbuf_free(&known);
+            rc = -1;
+        } else if (o->technique_count < RUN_MAX_TECHNIQUES) {
+            bool dup = false;
+            for (int i = 0; i < o->technique_count; i++)
+                dup |= o->techniques[i] == t;
+            if (!dup)
+                o->techniques[o->technique_count++] = t;
+        }
+    }
+    free(copy);
+    return rc;
+}
+
+static int apply_set(struct run_options *o, const char *arg)
+{
+    const char *dot = strchr(arg, '.'), *eq = strchr(arg, '=');
+    if (!dot || !eq || eq < dot) {
+        log_error("--set: '%s' is not technique.parameter=value", arg);
+        return -1;
+    }
+    char tech[64], name[64];
+    snprintf(tech, sizeof tech, "%.*s", (int)(dot - arg), arg);
+    snprintf(name, sizeof name, "%.*s", (int)(eq - dot - 1), dot + 1);
+    int index = 0;
+    while (technique_list[index] && strcmp(technique_list[index]->name, tech) != 0)
+        index++;
+    if (!technique_list[index]) {
+        log_error("--set: unknown technique '%s'", tech);
+        return -1;
+    }
+    if (!o->settings[index])
+        o->settings[index] = params_defaults(technique_list[index]);
+    return params_set(technique_list[index], o->settings[index], name, eq + 1);
+}
+
+/* Options only `run` takes. */
+static bool run_only(int c)
+{
+    return c == OPT_TECHNIQUE || c == OPT_SET || c == OPT_SM_SIZE || c == OPT_FRAMES ||
+           c == OPT_WARMUP || c == OPT_SHADERS;
+}
+
+static int parse_gt_samples(const char *text, int *out)
+{
+    if (parse_int("gt-samples", text, 1, 65536, out))
+        return -1;
+    int n = (int)lround(sqrt((double)*out));
+    if (n * n != *out) {
+        int lo = (int)floor(sqrt((double)*out));
+        log_error("--gt-samples: %d is not a square number (n*n stratified light samples, e.g. "
+                  "%d or %d)", *out, lo * lo, (lo + 1) * (lo + 1));
+        return -1;
+    }
+    return 0;
+}
+
+/* Parses the options of run and gt into o. Returns 0, 1 after --help, or -1. */
+static int parse_options(int argc, char **argv, const char *usage, bool is_gt, struct run_options *o)
+{
+    o->cache_dir = "results/cache";
+    o->out_dir = is_gt ? "results/gt" : "results/runs/latest";
+    o->warmup = 2;
+    int c;
+    optind = 1;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, "qvh", long_options, NULL)) != -1) {
+        if (c == '?' || (is_gt && run_only(c))) {
+            log_error("%s: unknown option (see --help)", argv[optind - 1]);
+            return -1;
+        }
+        int rc = 0;
+        switch (c) {
+        case OPT_SCENE:
+            if (o->scene_count == RUN_MAX_SCENES || (is_gt && o->scene_count == 1)) {
+                log_error("--scene: %s", is_gt ? "gt takes one scene" : "too many scenes");
+                return -1;
+            }
+            o->scenes[o->scene_count++] = optarg;
+            break;
+        case OPT_TECHNIQUE: rc = add_techniques(o, optarg); break;
+        case OPT_SET: rc = apply_set(o, optarg); break;
+        case OPT_WIDTH: rc = parse_int("width", optarg, 16, 8192, &o->width); break;
+        case OPT_HEIGHT: rc = parse_int("height", optarg, 16, 8192, &o->height); break;
+        case OPT_GT_SAMPLES: rc = parse_gt_samples(optarg, &o->gt_samples); break;
+        case OPT_SM_SIZE: rc = parse_int("shadow-map-size", optarg, 16, 8192, &o->shadow_map_size); break;
+        case OPT_FRAMES: rc = parse_int("frames", optarg, 1, 1000, &o->frames); break;
+        case OPT_WARMUP: rc = parse_int("warmup", optarg, 0, 100, &o->warmup); break;
+        case OPT_OUT: o->out_dir = optarg; break;
+        case OPT_CACHE: o->cache_dir = optarg; break;
+        case OPT_NO_CACHE: o->cache_dir = NULL; break;
+        case OPT_SHADERS: o->shader_dir = optarg; break;
+        case 'q': log_set_level(LOG_ERROR); break;
+        case 'v': log_set_level(LOG_DEBUG); break;
+        case 'h': fputs(usage, stdout); return 1;
+        }
+        if (rc)
+            return -1;
+    }
+    if (optind < argc) {
+        log_error("%s: unexpected argument (see --help)", argv[optind]);
+        return -1;
+    }
+    if (is_gt && o->scene_count == 0) {
+        log_error("gt: --scene is required (see --help)");
+        return -1;
+    }
+    return 0;
+}
+
+static int cmd_list(int argc, char **argv)
+{
+    if (argc > 1) {
+        if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+            fputs(usage_list, stdout);
+            return EXIT_OK;
+        }
+        log_error("%s: unknown option (see --help)", argv[1]);
+        return EXIT_USAGE;
+    }
+    printf("techniques (set a parameter with --set <technique>.<parameter>=<value>):\n\n");
+    for (const struct technique *const *t = technique_list; *t; t++) {
+        printf("  %-10s %s\n", (*t)->name, (*t)->summary);
+        params_print(*t, stdout);
+        printf("\n");
+    }
+    char **paths;
+    int n = catalog_shipped(&paths);
+    if (n < 0)
+        return EXIT_CHECK_FAILED;
+    printf("scenes (use with --scene <name>):\n\n");
+    int status = EXIT_OK;
+    for (int i = 0; i < n; i++) {
+        struct scene s;
+        if (scene_load(paths[i], &s) != 0) {
+            status = EXIT_CHECK_FAILED;
+            continue;
+        }
+        printf("  %s\n    %s\n    shows: %s\n    %zu triangles, %s light\n\n", s.name,
+               s.description, *s.shows ? s.shows : "-", s.triangle_count,
+               s.light.shape == LIGHT_RECT ? "rect" : "disk");
+        scene_free(&s);
+    }
+    catalog_free(paths, n);
+    return status;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        fputs(usage_main, stderr);
+        return EXIT_USAGE;
+    }
+    const char *cmd = argv[1];
+    if (strcmp(cmd, "--help") == 0 || strcmp(cmd, "-h") == 0 || strcmp(cmd, "help") == 0) {
+        fputs(usage_main, stdout);
+        return EXIT_OK;
+    }
+    if (strcmp(cmd, "list") == 0)
+        return cmd_list(argc - 1, argv + 1);
+    bool is_run = strcmp(cmd, "run") == 0, is_gt = strcmp(cmd, "gt") == 0;
+    if (!is_run && !is_gt) {
+        log_error("unknown command '%s' (commands: run, gt, list; see --help)", cmd);
+        return EXIT_USAGE;
+    }
+    struct run_options o = {.argc = argc, .argv = argv};
+    int rc = parse_options(argc - 1, argv + 1, is_run ? usage_run : usage_gt, is_gt, &o);
+    int status = rc > 0 ? EXIT_OK : rc < 0 ? EXIT_USAGE : is_run ? run_main(&o) : run_gt(&o);
+    for (int i = 0; i < RUN_MAX_TECHNIQUES; i++)
+        free(o.settings[i]);
+    return status;
+}

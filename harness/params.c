@@ -1,0 +1,200 @@
+#include "params.h"
+#include "log.h"
+
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#define MEMBER(settings, p, type) ((type *)((char *)(settings) + (p)->offset))
+#define CMEMBER(settings, p, type) ((const type *)((const char *)(settings) + (p)->offset))
+
+static const struct technique_param *find(const struct technique *t, const char *name)
+{
+    for (const struct technique_param *p = t->params; p->name; p++)
+        if (strcmp(p->name, name) == 0)
+            return p;
+    return NULL;
+}
+
+static double get(const struct technique_param *p, const void *settings)
+{
+    return p->type == PARAM_FLOAT ? *CMEMBER(settings, p, float) : *CMEMBER(settings, p, int);
+}
+
+static void put(const struct technique_param *p, void *settings, double v)
+{
+    if (p->type == PARAM_FLOAT)
+        *MEMBER(settings, p, float) = (float)v;
+    else
+        *MEMBER(settings, p, int) = (int)v;
+}
+
+void *params_defaults(const struct technique *t)
+{
+    void *s = xcalloc(1, t->settings_size);
+    for (const struct technique_param *p = t->params; p->name; p++)
+        put(p, s, p->def);
+    return s;
+}
+
+/* A float's text always has a '.' or an exponent, so GLSL reads a float. */
+static void format_value(const struct technique_param *p, double v, char *buf, size_t n)
+{
+    switch (p->type) {
+    case PARAM_FLOAT:
+        snprintf(buf, n, "%.9g", v);
+        if (!strpbrk(buf, ".eEn"))
+            strncat(buf, ".0", n - strlen(buf) - 1);
+        break;
+    case PARAM_BOOL: snprintf(buf, n, "%s", v != 0 ? "true" : "false"); break;
+    case PARAM_ENUM: snprintf(buf, n, "%s", p->choices[(int)v]); break;
+    case PARAM_INT: snprintf(buf, n, "%d", (int)v); break;
+    }
+}
+
+int params_set(const struct technique *t, void *settings, const char *name, const char *value)
+{
+    const struct technique_param *p = find(t, name);
+    if (!p) {
+        struct strbuf known = {0};
+        for (const struct technique_param *q = t->params; q->name; q++)
+            strbuf_printf(&known, "%s%s", q == t->params ? "" : ", ", q->name);
+        log_error("%s.%s: unknown parameter (%s has: %s)", t->name, name, t->name,
+                  known.data ? known.data : "none");
+        strbuf_free(&known);
+        return -1;
+    }
+    double v = 0;
+    char *end = NULL;
+    switch (p->type) {
+    case PARAM_FLOAT:
+        errno = 0;
+        v = strtod(value, &end);
+        if (!*value || *end || errno || !isfinite(v)) {
+            log_error("%s.%s: '%s' is not a number", t->name, name, value);
+            return -1;
+        }
+        break;
+    case PARAM_INT:
+        errno = 0;
+        v = (double)strtol(value, &end, 10);
+        if (!*value || *end || errno) {
+            log_error("%s.%s: '%s' is not a whole number", t->name, name, value);
+            return -1;
+        }
+        break;
+    case PARAM_BOOL:
+        if (!strcasecmp(value, "true") || !strcmp(value, "1") || !strcasecmp(value, "on"))
+            v = 1;
+        else if (!strcasecmp(value, "false") || !strcmp(value, "0") || !strcasecmp(value, "off"))
+            v = 0;
+        else {
+            log_error("%s.%s: '%s' is not true or false", t->name, name, value);
+            return -1;
+        }
+        break;
+    case PARAM_ENUM: {
+        int i = 0;
+        while (p->choices[i] && strcmp(p->choices[i], value) != 0)
+            i++;
+        if (!p->choices[i]) {
+            struct strbuf known = {0};
+            for (int k = 0; p->choices[k]; k++)
+                strbuf_printf(&known, "%s%s", k ? ", " : "", p->choices[k]);
+            log_error("%s.%s: '%s' is not one of: %s", t->name, name, value, known.data);
+            strbuf_free(&known);
+            return -1;
+        }
+        v = i;
+        break;
+    }
+    }
+    if (v < p->min || v > p->max) {
+        char lo[64], hi[64];
+        format_value(p, p->min, lo, sizeof lo);
+        format_value(p, p->max, hi, sizeof hi);
+        log_error("%s.%s: %s is out of range [%s, %s]", t->name, name, value, lo, hi);
+        return -1;
+    }
+    put(p, settings, v);
+    return 0;
+}
+
+static void upper(char *dst, const char *src, size_t n)
+{
+    size_t i = 0;
+    for (; src[i] && i + 1 < n; i++)
+        dst[i] = (char)toupper((unsigned char)src[i]);
+    dst[i] = '\0';
+}
+
+void params_defines(const struct technique *t, const void *settings, struct strbuf *out)
+{
+    char tech[64], name[64], choice[64];
+    upper(tech, t->name, sizeof tech);
+    for (const struct technique_param *p = t->params; p->name; p++) {
+        upper(name, p->name, sizeof name);
+        double v = get(p, settings);
+        if (p->type == PARAM_FLOAT) {
+            char buf[64];
+            format_value(p, v, buf, sizeof buf);
+            strbuf_printf(out, "#define %s_%s %s\n", tech, name, buf);
+        } else {
+            strbuf_printf(out, "#define %s_%s %d\n", tech, name, (int)v);
+        }
+        for (int k = 0; p->type == PARAM_ENUM && p->choices[k]; k++) {
+            upper(choice, p->choices[k], sizeof choice);
+            strbuf_printf(out, "#define %s_%s_%s %d\n", tech, name, choice, k);
+        }
+    }
+}
+
+cJSON *params_json(const struct technique *t, const void *settings)
+{
+    cJSON *o = cJSON_CreateObject();
+    for (const struct technique_param *p = t->params; p->name; p++) {
+        double v = get(p, settings);
+        switch (p->type) {
+        case PARAM_FLOAT: cJSON_AddNumberToObject(o, p->name, (float)v); break;
+        case PARAM_INT: cJSON_AddNumberToObject(o, p->name, v); break;
+        case PARAM_BOOL: cJSON_AddBoolToObject(o, p->name, v != 0); break;
+        case PARAM_ENUM: cJSON_AddStringToObject(o, p->name, p->choices[(int)v]); break;
+        }
+    }
+    return o;
+}
+
+void params_summary(const struct technique *t, const void *settings, struct strbuf *out)
+{
+    for (const struct technique_param *p = t->params; p->name; p++) {
+        char buf[64];
+        format_value(p, get(p, settings), buf, sizeof buf);
+        strbuf_printf(out, "%s%s=%s", p == t->params ? "" : " ", p->name, buf);
+    }
+}
+
+void params_print(const struct technique *t, FILE *f)
+{
+    static const char *const type_name[] = {"float", "int", "bool", "enum"};
+    for (const struct technique_param *p = t->params; p->name; p++) {
+        char def[64], lo[64], hi[64];
+        format_value(p, p->def, def, sizeof def);
+        if (p->type == PARAM_ENUM) {
+            struct strbuf c = {0};
+            for (int k = 0; p->choices[k]; k++)
+                strbuf_printf(&c, "%s%s", k ? "|" : "", p->choices[k]);
+            fprintf(f, "    %-16s %-5s default %-10s one of %s\n", p->name, type_name[p->type], def,
+                    c.data);
+            strbuf_free(&c);
+        } else {
+            format_value(p, p->min, lo, sizeof lo);
+            format_value(p, p->max, hi, sizeof hi);
+            fprintf(f, "    %-16s %-5s default %-10s range [%s, %s]\n", p->name,
+                    type_name[p->type], def, lo, hi);
+        }
+        fprintf(f, "        %s\n", p->help);
+    }
+}

@@ -1,0 +1,33 @@
+/* Technique parameters, driven by each technique's table (STYLE.md item 3):
+ * defaults, --set parsing with range checks, the #defines a shader receives,
+ * and the values recorded in outputs. No technique parses a string. */
+#ifndef SB_PARAMS_H
+#define SB_PARAMS_H
+
+#include "../techniques/technique.h"
+#include "util.h"
+
+#include <cjson/cJSON.h>
+#include <stdio.h>
+
+/* A malloc'ed settings struct for t, every member at its default. */
+void *params_defaults(const struct technique *t);
+
+/* Sets one parameter from text. Returns 0, or -1 after logging
+ * "<technique>.<name>: <problem>" (unknown name, bad value, out of range). */
+int params_set(const struct technique *t, void *settings, const char *name, const char *value);
+
+/* Appends "#define <TECH>_<PARAM> <value>" lines (and, for enums, one
+ * "#define <TECH>_<PARAM>_<CHOICE> <index>" per choice). */
+void params_defines(const struct technique *t, const void *settings, struct strbuf *out);
+
+/* {"name": value, ...} with the values in settings. */
+cJSON *params_json(const struct technique *t, const void *settings);
+
+/* "name=value name=value" (for the matrix row). */
+void params_summary(const struct technique *t, const void *settings, struct strbuf *out);
+
+/* Human-readable table for `shadowbench list`. */
+void params_print(const struct technique *t, FILE *f);
+
+#endif

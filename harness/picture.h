@@ -1,0 +1,31 @@
+/* The pictures a person looks at: visibility in grey, and the signed error
+ * as a diverging heatmap with its legend (value scale) drawn on the image. */
+#ifndef SB_PICTURE_H
+#define SB_PICTURE_H
+
+#include <stdint.h>
+
+/* Heatmap range: errors beyond +-PICTURE_ERROR_SCALE saturate. Fixed, so
+ * heatmaps of different cells compare by eye. */
+#define PICTURE_ERROR_SCALE 0.5f
+
+struct picture {
+    int width, height;
+    uint8_t *rgb;  /* width * height * 3, top row first */
+};
+
+/* V in grey (sRGB); pixels with no geometry (distance < 0) in slate blue. */
+void picture_visibility(const float *v, const float *distance, int width, int height,
+                        struct picture *out);
+
+/* e = v_tech - v_gt on scored pixels (blue: too dark, red: too bright),
+ * grey where not scored, with a legend strip added below the image. */
+void picture_error_heatmap(const float *v_tech, const float *v_gt, const float *scored, int width,
+                           int height, struct picture *out);
+
+/* Diverging colormap: t in [-1, 1] -> RGB. */
+void picture_diverging(float t, uint8_t rgb[3]);
+
+void picture_free(struct picture *p);
+
+#endif

@@ -1,0 +1,34 @@
+/* The receiver pass: the scene from the camera, each pixel calling a
+ * technique's shadow_visibility(); writes V_tech (R32F) and the camera
+ * distance (R32F) used for the ground truth's mismatch mask. */
+#ifndef SB_RECEIVER_H
+#define SB_RECEIVER_H
+
+#include "../techniques/shadowmap.h"
+#include "../techniques/technique.h"
+#include "gl.h"
+#include "scene.h"
+#include "scene_mesh.h"
+
+struct receiver {
+    int width, height;
+    GLuint fbo, visibility, distance, depth;
+    struct mat4 view_proj;  /* camera: reversed Z, infinite far */
+    struct vec3 camera_pos;
+};
+
+int receiver_create(struct receiver *r, const struct scene *s, int width, int height);
+
+/* The receiver program for technique t with these settings (its parameters
+ * become #defines). Returns 0 on failure (logged). */
+GLuint receiver_program(const struct technique *t, const void *settings);
+
+void receiver_render(const struct receiver *r, GLuint program, const struct scene_mesh *mesh,
+                     const struct shadowmap *sm);
+
+/* Reads back both targets, top row first; distance is -1 where no geometry. */
+void receiver_read(const struct receiver *r, float *visibility, float *distance);
+
+void receiver_destroy(struct receiver *r);
+
+#endif

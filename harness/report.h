@@ -1,0 +1,48 @@
+/* Run-level outputs of DESIGN.md §8: matrix.csv, matrix.json, run.json and
+ * report.html. Cell-level files are written by run.c. */
+#ifndef SB_REPORT_H
+#define SB_REPORT_H
+
+#include "../techniques/technique.h"
+#include "metrics.h"
+
+#include <cjson/cJSON.h>
+#include <stdbool.h>
+
+/* One (scene, technique, parameter set) evaluation. */
+struct cell {
+    const char *scene;                   /* scene name */
+    const struct technique *technique;
+    cJSON *params;                       /* values used */
+    char *params_text;                   /* "name=value name=value" */
+    struct metrics m;
+    double gt_noise_rmse;                /* the ground truth's own error over the scored mask */
+    double gt_noise_penumbra_rmse;       /* ... over the penumbra band */
+};
+
+struct report_scene {
+    const char *name, *description, *shows;
+    double gt_seconds, gt_mrays_per_second;
+    bool gt_cached;
+};
+
+struct report {
+    const char *out_dir;
+    cJSON *run;  /* run.json, built by the caller */
+    const struct report_scene *scenes;
+    int scene_count;
+    const struct cell *cells;
+    int cell_count;
+};
+
+/* Every metric of a cell as a flat JSON object (scene, technique, params,
+ * metrics, noise floor): the row of matrix.json and the body of metrics.json. */
+cJSON *report_cell_json(const struct cell *c);
+
+/* Writes a JSON value atomically (pretty-printed). Returns 0 or -1. */
+int report_write_json(const char *path, const cJSON *value);
+
+/* matrix.csv, matrix.json, run.json, report.html. Returns 0 or -1. */
+int report_write(const struct report *r);
+
+#endif

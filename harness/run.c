@@ -1,0 +1,469 @@
+/* The harness loop. Per scene: the ground truth (cached), the shadow-map
+ * products the selected techniques need (rendered once, timed), then one
+ * receiver pass per technique, scored and written out (DESIGN.md §2, §8). */
+#include "run.h"
+#include "catalog.h"
+#include "gl_context.h"
+#include "groundtruth.h"
+#include "image.h"
+#include "log.h"
+#include "metrics.h"
+#include "params.h"
+#include "picture.h"
+#include "receiver.h"
+#include "report.h"
+#include "scene_mesh.h"
+#include "shader.h"
+#include "util.h"
+
+#include <OpenEXR/openexr.h>
+#include <embree3/rtcore.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+static void fill_defaults(struct run_options *o)
+{
+    if (!o->width) o->width = 512;
+    if (!o->height) o->height = 512;
+    if (!o->gt_samples) o->gt_samples = 1024;
+    if (!o->shadow_map_size) o->shadow_map_size = SHADOWMAP_DEFAULT_SIZE;
+    if (!o->frames) o->frames = 5;
+    if (!o->out_dir) o->out_dir = "results/runs/latest";
+    if (!o->technique_count)
+        for (const struct technique *const *t = technique_list; *t; t++)
+            o->techniques[o->technique_count++] = *t;
+}
+
+static int registry_index(const struct technique *t)
+{
+    int i = 0;
+    while (technique_list[i] != t)
+        i++;
+    return i;
+}
+
+/* Loads every scene named on the command line (or every shipped one) before
+ * any heavy work, so bad input fails fast with status 2. */
+static int load_scenes(const struct run_options *o, struct scene *scenes, int *count)
+{
+    char **paths = NULL;
+    int n = o->scene_count;
+    if (n == 0) {
+        n = catalog_shipped(&paths);
+        if (n <= 0) {
+            if (n == 0)
+                log_error("no shipped scenes found");
+            return -1;
+        }
+    } else {
+        paths = xcalloc((size_t)n, sizeof *paths);
+        for (int i = 0; i < n; i++)
+            if (!(paths[i] = catalog_resolve(o->scenes[i]))) {
+                catalog_free(paths, n);
+                return -1;
+            }
+    }
+    int rc = 0;
+    *count = 0;
+    for (int i = 0; i < n && i < RUN_MAX_SCENES && !rc; i++) {
+        rc = scene_load(paths[i], &scenes[i]);
+        if (!rc)
+            (*count)++;
+    }
+    catalog_free(paths, n);
+    return rc;
+}
+
+static int prepare_out_dir(const char *dir)
+{
+    if (util_mkdirs(dir) != 0)
+        return -1;
+    if (!util_dir_writable(dir)) {
+        log_error("%s: output folder is not writable", dir);
+        return -1;
+    }
+    return 0;
+}
+
+/* Wall time of one GL job around glFinish: on llvmpipe the timer queries do
+ * not measure the work (DESIGN.md §7). Median of `frames` after `warmup`. */
+struct gl_job {
+    void (*run)(const struct gl_job *job);
+    struct shadowmap *sm;
+    const struct scene_mesh *mesh;
+    const struct receiver *receiver;
+    GLuint program;
+    enum shadowmap_product product;
+};
+
+static void job_product(const struct gl_job *j) { shadowmap_render_product(j->sm, j->mesh, j->product); }
+static void job_receiver(const struct gl_job *j) { receiver_render(j->receiver, j->program, j->mesh, j->sm); }
+
+static double time_gl_ms(const struct gl_job *job, int warmup, int frames)
+{
+    double samples[1000];
+    glFinish();
+    for (int i = 0; i < warmup; i++) {
+        job->run(job);
+        glFinish();
+    }
+    for (int i = 0; i < frames; i++) {
+        double t0 = util_now_ms();
+        job->run(job);
+        glFinish();
+        samples[i] = util_now_ms() - t0;
+    }
+    return util_median(samples, frames);
+}
+
+static int write_pictures(const char *dir, const char *name, const float *v, const float *distance,
+                          int w, int h)
+{
+    struct picture p;
+    picture_visibility(v, distance, w, h, &p);
+    char *path = util_printf("%s/%s.png", dir, name);
+    int rc = image_write_png(path, p.width, p.height, 3, p.rgb);
+    free(path);
+    picture_free(&p);
+    return rc;
+}
+
+/* Everything of one scene that the cells share. */
+struct scene_run {
+    const struct run_options *o;
+    const struct scene *scene;
+    struct gt_image gt;
+    struct scene_mesh mesh;
+    struct shadowmap sm;
+    struct receiver receiver;
+    double product_ms[3];  /* by log2 of the SM_* flag */
+    float *v, *distance, *scored, *error;
+    char *dir;
+};
+
+static double product_cost(const struct scene_run *sr, unsigned needs, unsigned which)
+{
+    double ms = 0;
+    for (int k = 0; k < 3; k++)
+        if (needs & which & (1u << k))
+            ms += sr->product_ms[k];
+    return ms;
+}
+
+static int run_cell(struct scene_run *sr, const struct technique *t, const void *settings,
+                    GLuint program, struct cell *c)
+{
+    const struct run_options *o = sr->o;
+    const int w = o->width, h = o->height, count = w * h;
+    shadowmap_require(&sr->sm, &sr->mesh, t->needs);
+    struct gl_job job = {.run = job_receiver, .sm = &sr->sm, .mesh = &sr->mesh,
+                         .receiver = &sr->receiver, .program = program};
+    c->m.ms_receiver = time_gl_ms(&job, o->warmup, o->frames);
+    c->m.ms_shadowmap = product_cost(sr, t->needs, SM_DEPTH);
+    c->m.ms_filter_prep = product_cost(sr, t->needs, SM_MOMENTS | SM_MOMENTS_SAT);
+    c->m.ms_total = c->m.ms_shadowmap + c->m.ms_filter_prep + c->m.ms_receiver;
+    receiver_read(&sr->receiver, sr->v, sr->distance);
+
+    c->m.mismatch_pixels = metrics_score_mask(sr->gt.mask, sr->gt.distance, sr->distance, count,
+                                              sr->scored);
+    metrics_compute(sr->v, sr->gt.v, sr->scored, sr->distance, w, h, &c->m);
+    c->gt_noise_rmse = gt_rms_difference(sr->gt.v, sr->gt.v_alt, sr->scored, count) / sqrt(2.0);
+    unsigned char *band = xmalloc((size_t)count);
+    metrics_penumbra_mask(sr->gt.v, sr->scored, w, h, band);
+    float *band_f = xmalloc(sizeof(float) * (size_t)count);
+    for (int i = 0; i < count; i++)
+        band_f[i] = band[i];
+    c->gt_noise_penumbra_rmse = gt_rms_difference(sr->gt.v, sr->gt.v_alt, band_f, count) / sqrt(2.0);
+    free(band_f);
+    free(band);
+
+    c->scene = sr->scene->name;
+    c->technique = t;
+    c->params = params_json(t, settings);
+    struct strbuf text = {0};
+    params_summary(t, settings, &text);
+    c->params_text = text.data ? text.data : xstrdup("");
+
+    for (int i = 0; i < count; i++)
+        sr->error[i] = sr->scored[i] > 0.5f ? sr->v[i] - sr->gt.v[i] : 0.0f;
+    char *dir = util_printf("%s/%s", sr->dir, t->name);
+    char *vis_exr = util_printf("%s/visibility.exr", dir), *err_exr = util_printf("%s/error.exr", dir);
+    char *heat = util_printf("%s/heatmap.png", dir), *json = util_printf("%s/metrics.json", dir);
+    struct picture hm;
+    picture_error_heatmap(sr->v, sr->gt.v, sr->scored, w, h, &hm);
+    cJSON *mj = report_cell_json(c);
+    int rc = util_mkdirs(dir) ||
+             image_write_exr(vis_exr, w, h, &(struct exr_channel){"V", sr->v}, 1) ||
+             image_write_exr(err_exr, w, h, &(struct exr_channel){"E", sr->error}, 1) ||
+             write_pictures(dir, "visibility", sr->v, sr->distance, w, h) ||
+             image_write_png(heat, hm.width, hm.height, 3, hm.rgb) || report_write_json(json, mj);
+    cJSON_Delete(mj);
+    picture_free(&hm);
+    free(vis_exr), free(err_exr), free(heat), free(json), free(dir);
+
+    log_info("  %-10s rmse %.4f  penumbra_rmse %.4f  leak %.4f  dark %.4f  %7.2f ms%s", t->name,
+             c->m.rmse, c->m.penumbra_rmse, c->m.leak_fraction, c->m.dark_fraction, c->m.ms_total,
+             c->m.nonfinite ? "  NON-FINITE VALUES" : "");
+    return rc ? -1 : 0;
+}
+
+static int run_scene(struct scene_run *sr, GLuint *programs, struct cell *cells, int *cell_count)
+{
+    const struct run_options *o = sr->o;
+    const int w = o->width, h = o->height, count = w * h;
+    log_info("scene %s: %zu triangles", sr->scene->name, sr->scene->triangle_count);
+    sr->dir = util_printf("%s/%s", o->out_dir, sr->scene->name);
+    if (util_mkdirs(sr->dir) != 0)
+        return -1;
+
+    scene_mesh_upload(sr->scene, &sr->mesh);
+    if (shadowmap_create(&sr->sm, sr->scene, &(struct shadowmap_desc){.size_texels = o->shadow_map_size}) ||
+        receiver_create(&sr->receiver, sr->scene, w, h))
+        return -1;
+    if (gt_obtain(sr->scene, &sr->sm.frustum,
+                  &(struct gt_desc){.width = w, .height = h, .samples = o->gt_samples},
+                  o->cache_dir, &sr->gt) != 0)
+        return -1;
+
+    unsigned needed = 0;
+    for (int i = 0; i < o->technique_count; i++)
+        needed |= o->techniques[i]->needs;
+    for (int k = 0; k < 3; k++)
+        if (needed & (1u << k)) {
+            struct gl_job job = {.run = job_product, .sm = &sr->sm, .mesh = &sr->mesh,
+                                 .product = (enum shadowmap_product)(1u << k)};
+            sr->product_ms[k] = time_gl_ms(&job, o->warmup, o->frames);
+        }
+
+    sr->v = xmalloc(sizeof(float) * (size_t)count);
+    sr->distance = xmalloc(sizeof(float) * (size_t)count);
+    sr->scored = xmalloc(sizeof(float) * (size_t)count);
+    sr->error = xmalloc(sizeof(float) * (size_t)count);
+    for (int i = 0; i < o->technique_count; i++) {
+        const struct technique *t = o->techniques[i];
+        int ri = registry_index(t);
+        if (run_cell(sr, t, o->settings[ri], programs[ri], &cells[(*cell_count)++]) != 0)
+            return -1;
+    }
+
+    /* The scored mask is the same for every cell of the scene (same camera,
+     * same geometry): groundtruth.exr carries the last cell's. */
+    char *gt_path = util_printf("%s/groundtruth.exr", sr->dir);
+    struct exr_channel ch[] = {{"V", sr->gt.v}, {"V_weighted", sr->gt.v_weighted}, {"mask", sr->scored}};
+    int rc = image_write_exr(gt_path, w, h, ch, 3) ||
+             write_pictures(sr->dir, "groundtruth", sr->gt.v, sr->gt.distance, w, h);
+    free(gt_path);
+    return rc ? -1 : 0;
+}
+
+static void scene_run_free(struct scene_run *sr)
+{
+    gt_image_free(&sr->gt);
+    receiver_destroy(&sr->receiver);
+    shadowmap_destroy(&sr->sm);
+    scene_mesh_destroy(&sr->mesh);
+    free(sr->v), free(sr->distance), free(sr->scored), free(sr->error), free(sr->dir);
+    memset(sr, 0, sizeof *sr);
+}
+
+static char *git_describe(void)
+{
+    char buf[128] = "unknown";
+    char *cmd = util_printf("git -C '%s' describe --always --dirty 2>/dev/null", SB_SOURCE_DIR);
+    FILE *p = popen(cmd, "r");
+    free(cmd);
+    if (p) {
+        if (!fgets(buf, sizeof buf, p))
+            strcpy(buf, "unknown");
+        pclose(p);
+    }
+    buf[strcspn(buf, "\n")] = '\0';
+    return xstrdup(buf);
+}
+
+static char *cpu_model(void)
+{
+    char line[512];
+    FILE *f = fopen("/proc/cpuinfo", "r");
+    char *model = NULL;
+    while (f && !model && fgets(line, sizeof line, f))
+        if (strncmp(line, "model name", 10) == 0 && strchr(line, ':')) {
+            char *v = strchr(line, ':') + 2;
+            v[strcspn(v, "\n")] = '\0';
+            model = xstrdup(v);
+        }
+    if (f)
+        fclose(f);
+    return model ? model : xstrdup("unknown");
+}
+
+static cJSON *run_json(const struct run_options *o, double seconds)
+{
+    cJSON *r = cJSON_CreateObject();
+    struct strbuf cmd = {0};
+    for (int i = 0; i < o->argc; i++)
+        strbuf_printf(&cmd, "%s%s", i ? " " : "", o->argv[i]);
+    cJSON_AddStringToObject(r, "command_line", cmd.data ? cmd.data : "");
+    strbuf_free(&cmd);
+    char *git = git_describe(), *cpu = cpu_model();
+    cJSON_AddStringToObject(r, "shadowbench_version", SB_VERSION);
+    cJSON_AddStringToObject(r, "git_describe", git);
+    cJSON_AddStringToObject(r, "gl_renderer", gl_context_renderer());
+    cJSON_AddStringToObject(r, "gl_version", gl_context_version());
+    cJSON_AddStringToObject(r, "embree_version", RTC_VERSION_STRING);
+    cJSON_AddStringToObject(r, "openexr_version", OPENEXR_VERSION_STRING);
+    cJSON_AddStringToObject(r, "cpu", cpu);
+    cJSON_AddNumberToObject(r, "cpu_threads", (double)sysconf(_SC_NPROCESSORS_ONLN));
+    char date[64];
+    time_t now = time(NULL);
+    strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", gmtime(&now));
+    cJSON_AddStringToObject(r, "date", date);
+    cJSON_AddNumberToObject(r, "width", o->width);
+    cJSON_AddNumberToObject(r, "height", o->height);
+    cJSON_AddNumberToObject(r, "gt_samples", o->gt_samples);
+    cJSON_AddNumberToObject(r, "shadow_map_size", o->shadow_map_size);
+    cJSON_AddNumberToObject(r, "frames", o->frames);
+    cJSON_AddNumberToObject(r, "warmup_frames", o->warmup);
+    cJSON_AddNumberToObject(r, "seconds", seconds);
+    free(git);
+    free(cpu);
+    return r;
+}
+
+static void fill_settings(struct run_options *o, void **owned)
+{
+    for (int i = 0; technique_list[i]; i++)
+        if (!o->settings[i])
+            o->settings[i] = owned[i] = params_defaults(technique_list[i]);
+}
+
+int run_main(const struct run_options *given)
+{
+    double start = util_now_ms();
+    struct run_options o = *given;
+    fill_defaults(&o);
+    void *owned[RUN_MAX_TECHNIQUES] = {0};
+    fill_settings(&o, owned);
+
+    static struct scene scenes[RUN_MAX_SCENES];
+    int scene_count = 0, status = EXIT_CHECK_FAILED;
+    struct cell *cells = NULL;
+    int cell_count = 0;
+    GLuint programs[RUN_MAX_TECHNIQUES] = {0};
+    struct report_scene rs[RUN_MAX_SCENES] = {0};
+
+    if (load_scenes(&o, scenes, &scene_count) != 0 || prepare_out_dir(o.out_dir) != 0) {
+        status = EXIT_USAGE;
+        goto out_free_scenes;
+    }
+    for (int s = 0; s < scene_count; s++) {
+        struct shadowmap_frustum f;
+        if (shadowmap_fit(&scenes[s], &f) != 0) {
+            status = EXIT_USAGE;
+            goto out_free_scenes;
+        }
+    }
+    if (gl_context_create() != 0 || shader_init(o.shader_dir) != 0)
+        goto out_free_scenes;
+    for (int i = 0; i < o.technique_count; i++) {
+        int ri = registry_index(o.techniques[i]);
+        if (!(programs[ri] = receiver_program(o.techniques[i], o.settings[ri])))
+            goto out_free_gl;
+    }
+
+    log_info("run: %d scene(s) x %d technique(s), %dx%d, %d GT samples, %d^2 shadow map, median of "
+             "%d frames on %s", scene_count, o.technique_count, o.width, o.height, o.gt_samples,
+             o.shadow_map_size, o.frames, gl_context_renderer());
+    cells = xcalloc((size_t)scene_count * (size_t)o.technique_count, sizeof *cells);
+    int failed = 0;
+    for (int s = 0; s < scene_count; s++) {
+        struct scene_run sr = {.o = &o, .scene = &scenes[s]};
+        failed |= run_scene(&sr, programs, cells, &cell_count);
+        rs[s] = (struct report_scene){scenes[s].name, scenes[s].description, scenes[s].shows,
+                                      sr.gt.seconds, sr.gt.mrays_per_second, sr.gt.cached};
+        scene_run_free(&sr);
+        if (failed)
+            break;
+    }
+    if (!failed) {
+        double seconds = (util_now_ms() - start) * 1e-3;
+        struct report rep = {.out_dir = o.out_dir, .run = run_json(&o, seconds), .scenes = rs,
+                             .scene_count = scene_count, .cells = cells, .cell_count = cell_count};
+        failed = report_write(&rep);
+        cJSON_Delete(rep.run);
+    }
+    if (!failed) {
+        long bad = 0;
+        for (int i = 0; i < cell_count; i++)
+            bad += cells[i].m.nonfinite > 0;
+        status = bad ? EXIT_CHECK_FAILED : EXIT_OK;
+        if (bad)
+            log_error("%ld cell(s) produced NaN or Inf visibility", bad);
+        printf("report: %s/report.html\nmatrix: %s/matrix.csv\n", o.out_dir, o.out_dir);
+        log_info("run finished in %.1f s", (util_now_ms() - start) * 1e-3);
+    }
+
+    for (int i = 0; i < cell_count; i++) {
+        cJSON_Delete(cells[i].params);
+        free(cells[i].params_text);
+    }
+    free(cells);
+out_free_gl:
+    for (int i = 0; i < RUN_MAX_TECHNIQUES; i++)
+        if (programs[i])
+            glDeleteProgram(programs[i]);
+    gl_context_destroy();
+out_free_scenes:
+    for (int s = 0; s < scene_count; s++)
+        scene_free(&scenes[s]);
+    for (int i = 0; i < RUN_MAX_TECHNIQUES; i++)
+        free(owned[i]);
+    return status;
+}
+
+int run_gt(const struct run_options *given)
+{
+    struct run_options o = *given;
+    fill_defaults(&o);
+    struct scene s;
+    char *path = catalog_resolve(o.scenes[0]);
+    if (!path)
+        return EXIT_USAGE;
+    int rc = scene_load(path, &s);
+    free(path);
+    struct shadowmap_frustum f;
+    if (rc != 0 || shadowmap_fit(&s, &f) != 0) {
+        scene_free(&s);
+        return EXIT_USAGE;
+    }
+    char *dir = util_printf("%s/%s", o.out_dir, s.name);
+    if (prepare_out_dir(dir) != 0) {
+        free(dir);
+        scene_free(&s);
+        return EXIT_USAGE;
+    }
+    struct gt_image gt;
+    int status = EXIT_CHECK_FAILED;
+    if (gt_obtain(&s, &f, &(struct gt_desc){.width = o.width, .height = o.height, .samples = o.gt_samples},
+                  o.cache_dir, &gt) == 0) {
+        /* No GL pass here: the mask lacks run's silhouette check (DESIGN.md §6). */
+        char *out = util_printf("%s/groundtruth.exr", dir);
+        struct exr_channel ch[] = {{"V", gt.v}, {"V_weighted", gt.v_weighted}, {"mask", gt.mask}};
+        if (image_write_exr(out, o.width, o.height, ch, 3) == 0 &&
+            write_pictures(dir, "groundtruth", gt.v, gt.distance, o.width, o.height) == 0) {
+            double noise = gt_rms_difference(gt.v, gt.v_alt, gt.mask, o.width * o.height) / sqrt(2.0);
+            printf("%s\nnoise floor (rms error of V at %d samples): %.5f\n", out, o.gt_samples, noise);
+            status = EXIT_OK;
+        }
+        free(out);
+        gt_image_free(&gt);
+    }
+    free(dir);
+    scene_free(&s);
+    return status;
+}

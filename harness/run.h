@@ -1,0 +1,34 @@
+/* The harness loop: scenes x techniques -> cells, and the `gt` command. */
+#ifndef SB_RUN_H
+#define SB_RUN_H
+
+#include "../techniques/technique.h"
+
+/* Exit statuses (DESIGN.md §10). */
+enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_USAGE = 2 };
+
+#define RUN_MAX_SCENES 64
+#define RUN_MAX_TECHNIQUES 32
+
+struct run_options {
+    const char *scenes[RUN_MAX_SCENES];  /* names or paths; none = every shipped scene */
+    int scene_count;
+    const struct technique *techniques[RUN_MAX_TECHNIQUES];  /* none = every technique */
+    int technique_count;
+    void *settings[RUN_MAX_TECHNIQUES];  /* per technique_list index; NULL = defaults */
+    int width, height;                   /* image size, default 512 x 512 */
+    int gt_samples;                      /* default 1024 */
+    int shadow_map_size;                 /* default 1024 */
+    int frames;                          /* timed frames, default 5 */
+    int warmup;                          /* untimed frames first (0 allowed; the CLI's default is 2) */
+    const char *out_dir;                 /* default results/runs/latest */
+    const char *cache_dir;               /* NULL: no ground-truth cache */
+    const char *shader_dir;              /* NULL: found automatically */
+    int argc;                            /* the command line, for run.json */
+    char **argv;
+};
+
+int run_main(const struct run_options *o);
+int run_gt(const struct run_options *o);
+
+#endif

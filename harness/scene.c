@@ -1,0 +1,21 @@
+#include "scene.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void scene_free(struct scene *s)
+{
+    free(s->path);
+    free(s->name);
+    free(s->description);
+    free(s->shows);
+    free(s->positions);
+    free(s->normals);
+    free(s->indices);
+    memset(s, 0, sizeof *s);
+}
+
+float scene_extent(const struct scene *s)
+{
+    return v3_length(v3_sub(s->bounds_max, s->bounds_min));
+}

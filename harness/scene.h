@@ -1,0 +1,60 @@
+/* A scene as the harness sees it (DESIGN.md §4): world-space triangles, one
+ * perspective camera, one area light. Loaded from glTF by scene_gltf.cpp, the
+ * only C++ in the project; everything downstream is C. */
+#ifndef SB_SCENE_H
+#define SB_SCENE_H
+
+#include "vecmath.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+enum light_shape { LIGHT_RECT, LIGHT_DISK };
+
+struct scene_light {
+    enum light_shape shape;
+    float width, height;  /* rect: full size along x, y (world units) */
+    float radius;         /* disk (world units) */
+    struct vec3 pos;      /* centre */
+    struct vec3 x, y, z;  /* orthonormal; emits towards -z, one side only */
+};
+
+struct scene_camera {
+    struct vec3 pos;
+    struct vec3 x, y, z;  /* orthonormal; looks along -z, y up */
+    float yfov_rad;       /* vertical field of view */
+    float znear;          /* > 0 (world units) */
+};
+
+struct scene {
+    char *path;
+    char *name;           /* file stem, e.g. "floating_box_sphere" */
+    char *description;    /* extras.shadowbench.description or "" */
+    char *shows;          /* extras.shadowbench.shows or "" */
+    float *positions;     /* xyz per vertex, world space */
+    float *normals;       /* xyz per vertex, world space, unit length */
+    uint32_t *indices;    /* 3 per triangle */
+    size_t vertex_count, triangle_count;
+    struct scene_camera camera;
+    struct scene_light light;
+    struct vec3 bounds_min, bounds_max;
+    uint64_t hash;        /* of the file's bytes and every loaded array */
+};
+
+/* Loads path into *s. On failure logs one line "<path>: <problem>" and
+ * returns a negative value; *s is then empty (scene_free is still safe). */
+int scene_load(const char *path, struct scene *s);
+void scene_free(struct scene *s);
+
+/* Length of the bounding box diagonal: the scene's size for epsilons. */
+float scene_extent(const struct scene *s);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,486 @@
+// glTF 2.0 -> struct scene (DESIGN.md §4), the project's only C++: tinygltf
+// parses, this file validates and flattens into world-space triangles and
+// hands C a plain struct. Every problem is reported once, as
+// "<file>: <problem>", and nothing partially loaded is returned.
+
+#include <tiny_gltf.h>
+
+#include <cjson/cJSON.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <vector>
+
+extern "C" {
+#include "log.h"
+#include "scene.h"
+#include "util.h"
+}
+
+namespace {
+
+struct load_error {
+    std::string what;
+};
+
+[[noreturn]] void fail(const std::string &what) { throw load_error{what}; }
+
+std::string fmt(const char *f, ...) __attribute__((format(printf, 1, 2)));
+std::string fmt(const char *f, ...)
+{
+    char buf[512];
+    va_list ap;
+    va_start(ap, f);
+    vsnprintf(buf, sizeof buf, f, ap);
+    va_end(ap);
+    return buf;
+}
+
+const char *mode_name(int mode)
+{
+    static const char *const names[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP",
+                                        "TRIANGLES", "TRIANGLE_STRIP", "TRIANGLE_FAN"};
+    return mode >= 0 && mode < 7 ? names[mode] : "unknown";
+}
+
+// Column-major 4x4 of a node: its matrix, or T * R * S.
+struct mat4 node_local(const tinygltf::Node &n)
+{
+    struct mat4 m = m4_identity();
+    if (n.matrix.size() == 16) {
+        for (int i = 0; i < 16; i++)
+            m.m[i] = (float)n.matrix[i];
+        return m;
+    }
+    double q[4] = {0, 0, 0, 1}, s[3] = {1, 1, 1}, t[3] = {0, 0, 0};
+    if (n.rotation.size() == 4)
+        for (int i = 0; i < 4; i++) q[i] = n.rotation[i];
+    if (n.scale.size() == 3)
+        for (int i = 0; i < 3; i++) s[i] = n.scale[i];
+    if (n.translation.size() == 3)
+        for (int i = 0; i < 3; i++) t[i] = n.translation[i];
+    double x = q[0], y = q[1], z = q[2], w = q[3];
+    double r[9] = {1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w),
+                   2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w),
+                   2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y)};
+    for (int c = 0; c < 3; c++)
+        for (int row = 0; row < 3; row++)
+            m.m[c * 4 + row] = (float)(r[c * 3 + row] * s[c]);
+    for (int i = 0; i < 3; i++)
+        m.m[12 + i] = (float)t[i];
+    return m;
+}
+
+// Orthonormal frame of a node's world matrix (scale removed): origin and
+// axes, z rebuilt first so that -z (the emit / look direction) is exact.
+bool node_frame(struct mat4 m, struct vec3 *o, struct vec3 *x, struct vec3 *y, struct vec3 *z)
+{
+    struct vec3 cx = v3(m.m[0], m.m[1], m.m[2]), cz = v3(m.m[8], m.m[9], m.m[10]);
+    *o = v3(m.m[12], m.m[13], m.m[14]);
+    *z = v3_normalize(cz);
+    *x = v3_normalize(v3_sub(cx, v3_scale(*z, v3_dot(cx, *z))));
+    *y = v3_cross(*z, *x);
+    return std::isfinite(v3_dot(*x, *x) + v3_dot(*z, *z) + v3_dot(*o, *o)) &&
+           v3_length(*x) > 0.5f && v3_length(*z) > 0.5f;
+}
+
+class loader {
+public:
+    loader(const tinygltf::Model &model) : m(model) {}
+
+    std::vector<float> pos, nrm;
+    std::vector<uint32_t> idx;
+    bool have_camera = false, have_light = false;
+    struct scene_camera camera = {};
+    struct scene_light light = {};
+
+    void run()
+    {
+        std::vector<int> roots;
+        if (!m.scenes.empty()) {
+            int si = m.defaultScene >= 0 ? m.defaultScene : 0;
+            if (si >= (int)m.scenes.size())
+                fail(fmt("malformed glTF: default scene %d does not exist", si));
+            roots = m.scenes[si].nodes;
+        } else {  // no scenes: every node that is nobody's child is a root
+            std::vector<bool> child(m.nodes.size());
+            for (const auto &n : m.nodes)
+                for (int c : n.children)
+                    if (c >= 0 && c < (int)child.size()) child[c] = true;
+            for (size_t i = 0; i < child.size(); i++)
+                if (!child[i]) roots.push_back((int)i);
+        }
+        for (int r : roots)
+            visit(r, m4_identity(), 0);
+    }
+
+private:
+    const tinygltf::Model &m;
+
+    void visit(int ni, struct mat4 parent, int depth)
+    {
+        if (ni < 0 || ni >= (int)m.nodes.size())
+            fail(fmt("malformed glTF: node %d does not exist", ni));
+        if (depth > 64)
+            fail(fmt("malformed glTF: node %d is nested more than 64 deep (a cycle?)", ni));
+        const tinygltf::Node &n = m.nodes[ni];
+        struct mat4 world = m4_mul(parent, node_local(n));
+        if (n.camera >= 0 && !have_camera)
+            take_camera(n.camera, world);
+        if (!have_light && n.extras.IsObject() && n.extras.Has("area_light"))
+            take_light(ni, n.extras.Get("area_light"), world);
+        if (n.mesh >= 0) {
+            if (n.mesh >= (int)m.meshes.size())
+                fail(fmt("malformed glTF: node %d names mesh %d, which does not exist", ni, n.mesh));
+            const tinygltf::Mesh &mesh = m.meshes[n.mesh];
+            for (size_t p = 0; p < mesh.primitives.size(); p++)
+                take_primitive(n.mesh, (int)p, mesh.primitives[p], world);
+        }
+        for (int c : n.children)
+            visit(c, world, depth + 1);
+    }
+
+    void take_camera(int ci, struct mat4 world)
+    {
+        if (ci >= (int)m.cameras.size())
+            fail(fmt("malformed glTF: camera %d does not exist", ci));
+        const tinygltf::Camera &c = m.cameras[ci];
+        if (c.type != "perspective")
+            fail(fmt("camera %d is %s: only perspective cameras are supported", ci,
+                     c.type.empty() ? "untyped" : c.type.c_str()));
+        if (!(c.perspective.yfov > 0 && c.perspective.yfov < M_PI))
+            fail(fmt("camera %d: yfov must be in (0, pi), got %g", ci, c.perspective.yfov));
+        if (!(c.perspective.znear > 0))
+            fail(fmt("camera %d: znear must be positive, got %g", ci, c.perspective.znear));
+        if (!node_frame(world, &camera.pos, &camera.x, &camera.y, &camera.z))
+            fail(fmt("camera %d: its node has a degenerate transform", ci));
+        camera.yfov_rad = (float)c.perspective.yfov;
+        camera.znear = (float)c.perspective.znear;
+        have_camera = true;
+    }
+
+    void take_light(int ni, const tinygltf::Value &l, struct mat4 world)
+    {
+        const char *where = "area light";
+        if (!l.IsObject() || !l.Has("shape") || !l.Get("shape").IsString())
+            fail(fmt("%s (node %d): \"shape\" must be \"rect\" or \"disk\"", where, ni));
+        std::string shape = l.Get("shape").Get<std::string>();
+        if (shape == "rect") {
+            const tinygltf::Value &s = l.Get("size");
+            if (!s.IsArray() || s.ArrayLen() != 2 || !s.Get(0).IsNumber() || !s.Get(1).IsNumber())
+                fail(fmt("%s (node %d): \"size\" must be an array of two numbers", where, ni));
+            double w = s.Get(0).GetNumberAsDouble(), h = s.Get(1).GetNumberAsDouble();
+            if (!(w > 0 && h > 0))
+                fail(fmt("%s (node %d): size must be positive, got [%g, %g]", where, ni, w, h));
+            light.shape = LIGHT_RECT;
+            light.width = (float)w;
+            light.height = (float)h;
+        } else if (shape == "disk") {
+            const tinygltf::Value &r = l.Get("radius");
+            if (!r.IsNumber())
+                fail(fmt("%s (node %d): \"radius\" must be a number", where, ni));
+            double rad = r.GetNumberAsDouble();
+            if (!(rad > 0))
+                fail(fmt("%s (node %d): radius must be positive, got %g", where, ni, rad));
+            light.shape = LIGHT_DISK;
+            light.radius = (float)rad;
+            light.width = light.height = (float)(2 * rad);
+        } else {
+            fail(fmt("%s (node %d): \"shape\" must be \"rect\" or \"disk\", got \"%s\"", where, ni,
+                     shape.c_str()));
+        }
+        if (!node_frame(world, &light.pos, &light.x, &light.y, &light.z))
+            fail(fmt("%s (node %d): the node has a degenerate transform", where, ni));
+        have_light = true;
+    }
+
+    // Bounds-checked view of an accessor's elements.
+    struct span {
+        const unsigned char *base;
+        size_t stride, count;
+    };
+
+    span accessor_span(int ai, const char *what, int mi, int pi, size_t elem_size)
+    {
+        if (ai < 0 || ai >= (int)m.accessors.size())
+            fail(fmt("mesh %d primitive %d: %s accessor %d does not exist", mi, pi, what, ai));
+        const tinygltf::Accessor &a = m.accessors[ai];
+        if (a.sparse.isSparse)
+            fail(fmt("mesh %d primitive %d: %s accessor %d is sparse, which is not supported", mi, pi,
+                     what, ai));
+        if (a.bufferView < 0 || a.bufferView >= (int)m.bufferViews.size())
+            fail(fmt("mesh %d primitive %d: %s accessor %d has no buffer view", mi, pi, what, ai));
+        const tinygltf::BufferView &bv = m.bufferViews[a.bufferView];
+        if (bv.buffer < 0 || bv.buffer >= (int)m.buffers.size())
+            fail(fmt("malformed buffers: buffer view %d names buffer %d, which does not exist",
+                     a.bufferView, bv.buffer));
+        const tinygltf::Buffer &b = m.buffers[bv.buffer];
+        if (bv.byteOffset + bv.byteLength > b.data.size())
+            fail(fmt("malformed buffers: buffer view %d ends at byte %zu, past the end of buffer %d "
+                     "(%zu bytes)", a.bufferView, bv.byteOffset + bv.byteLength, bv.buffer,
+                     b.data.size()));
+        size_t stride = bv.byteStride ? bv.byteStride : elem_size;
+        size_t end = a.count ? a.byteOffset + stride * (a.count - 1) + elem_size : 0;
+        if (end > bv.byteLength)
+            fail(fmt("malformed buffers: %s accessor %d reads past the end of buffer view %d", what,
+                     ai, a.bufferView));
+        return span{b.data.data() + bv.byteOffset + a.byteOffset, stride, a.count};
+    }
+
+    span vec3_span(int ai, const char *what, int mi, int pi)
+    {
+        const tinygltf::Accessor &a = m.accessors.at(ai);
+        if (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || a.type != TINYGLTF_TYPE_VEC3)
+            fail(fmt("mesh %d primitive %d: %s must be FLOAT VEC3", mi, pi, what));
+        return accessor_span(ai, what, mi, pi, 12);
+    }
+
+    void take_primitive(int mi, int pi, const tinygltf::Primitive &p, struct mat4 world)
+    {
+        if (p.mode != -1 && p.mode != TINYGLTF_MODE_TRIANGLES)
+            fail(fmt("mesh %d primitive %d has mode %d (%s): only TRIANGLES (4) is supported", mi, pi,
+                     p.mode, mode_name(p.mode)));
+        auto pa = p.attributes.find("POSITION");
+        if (pa == p.attributes.end())
+            fail(fmt("mesh %d primitive %d has no POSITION attribute", mi, pi));
+        if (pa->second < 0 || pa->second >= (int)m.accessors.size())
+            fail(fmt("mesh %d primitive %d: POSITION accessor %d does not exist", mi, pi, pa->second));
+        span ps = vec3_span(pa->second, "POSITION", mi, pi);
+        size_t base = pos.size() / 3, nv = ps.count;
+
+        for (size_t v = 0; v < nv; v++) {
+            float f[3];
+            memcpy(f, ps.base + v * ps.stride, sizeof f);
+            struct vec3 w = m4_point(world, v3(f[0], f[1], f[2]));
+            if (!std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
+                fail(fmt("mesh %d primitive %d: vertex %zu is not finite", mi, pi, v));
+            pos.insert(pos.end(), {w.x, w.y, w.z});
+        }
+
+        size_t first_index = idx.size();
+        if (p.indices >= 0) {
+            if (p.indices >= (int)m.accessors.size())
+                fail(fmt("mesh %d primitive %d: index accessor %d does not exist", mi, pi, p.indices));
+            const tinygltf::Accessor &a = m.accessors[p.indices];
+            size_t es = a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
+                        : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
+                        : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT   ? 4
+                                                                                    : 0;
+            if (!es || a.type != TINYGLTF_TYPE_SCALAR)
+                fail(fmt("mesh %d primitive %d: indices must be unsigned SCALAR", mi, pi));
+            span is = accessor_span(p.indices, "index", mi, pi, es);
+            if (is.count % 3)
+                fail(fmt("mesh %d primitive %d: %zu indices is not a whole number of triangles", mi,
+                         pi, is.count));
+            for (size_t i = 0; i < is.count; i++) {
+                const unsigned char *e = is.base + i * is.stride;
+                uint32_t v = es == 1 ? e[0] : es == 2 ? (uint32_t)(e[0] | e[1] << 8)
+                                                      : (uint32_t)e[0] | (uint32_t)e[1] << 8 |
+                                                            (uint32_t)e[2] << 16 | (uint32_t)e[3] << 24;
+                if (v >= nv)
+                    fail(fmt("mesh %d primitive %d: index %u at position %zu is out of range (%zu "
+                             "vertices)", mi, pi, v, i, nv));
+                idx.push_back((uint32_t)base + v);
+            }
+        } else {
+            if (nv % 3)
+                fail(fmt("mesh %d primitive %d: %zu vertices without indices is not a whole number "
+                         "of triangles", mi, pi, nv));
+            for (size_t v = 0; v < nv; v++)
+                idx.push_back((uint32_t)(base + v));
+        }
+
+        nrm.resize(pos.size(), 0.0f);
+        auto na = p.attributes.find("NORMAL");
+        if (na != p.attributes.end() && na->second >= 0 && na->second < (int)m.accessors.size()) {
+            span ns = vec3_span(na->second, "NORMAL", mi, pi);
+            if (ns.count != nv)
+                fail(fmt("mesh %d primitive %d: NORMAL has %zu elements, POSITION %zu", mi, pi,
+                         ns.count, nv));
+            struct mat4 inv_t = normal_matrix(world);
+            for (size_t v = 0; v < nv; v++) {
+                float f[3];
+                memcpy(f, ns.base + v * ns.stride, sizeof f);
+                struct vec3 n = v3_normalize(m4_vector(inv_t, v3(f[0], f[1], f[2])));
+                if (!std::isfinite(n.x + n.y + n.z))
+                    fail(fmt("mesh %d primitive %d: normal %zu is not finite", mi, pi, v));
+                memcpy(&nrm[(base + v) * 3], &n, sizeof n);
+            }
+        } else {
+            compute_normals(base, first_index);
+        }
+    }
+
+    // Inverse transpose of the upper 3x3 (the cofactor matrix suffices up to
+    // scale, and normals are renormalised).
+    static struct mat4 normal_matrix(struct mat4 w)
+    {
+        struct vec3 a = v3(w.m[0], w.m[1], w.m[2]), b = v3(w.m[4], w.m[5], w.m[6]),
+                    c = v3(w.m[8], w.m[9], w.m[10]);
+        struct vec3 ca = v3_cross(b, c), cb = v3_cross(c, a), cc = v3_cross(a, b);
+        struct mat4 r = m4_identity();
+        float cols[3][3] = {{ca.x, ca.y, ca.z}, {cb.x, cb.y, cb.z}, {cc.x, cc.y, cc.z}};
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++)
+                r.m[i * 4 + j] = cols[i][j];
+        return r;
+    }
+
+    // Area-weighted vertex normals for a primitive without NORMAL.
+    void compute_normals(size_t base, size_t first_index)
+    {
+        for (size_t i = first_index; i < idx.size(); i += 3) {
+            struct vec3 p[3];
+            for (int k = 0; k < 3; k++)
+                memcpy(&p[k], &pos[idx[i + k] * 3], sizeof p[k]);
+            struct vec3 n = v3_cross(v3_sub(p[1], p[0]), v3_sub(p[2], p[0]));
+            for (int k = 0; k < 3; k++) {
+                float *dst = &nrm[idx[i + k] * 3];
+                dst[0] += n.x, dst[1] += n.y, dst[2] += n.z;
+            }
+        }
+        for (size_t v = base; v < pos.size() / 3; v++) {
+            struct vec3 n;
+            memcpy(&n, &nrm[v * 3], sizeof n);
+            n = v3_length(n) > 0 ? v3_normalize(n) : v3(0, 0, 1);  // isolated degenerate
+            memcpy(&nrm[v * 3], &n, sizeof n);
+        }
+    }
+};
+
+bool skip_images(tinygltf::Image *, const int, std::string *, std::string *, int, int,
+                 const unsigned char *, int, void *)
+{
+    return true;  // textures are ignored (DESIGN.md §4)
+}
+
+std::string first_line(const std::string &s)
+{
+    size_t b = s.find_first_not_of(" \t\r\n");
+    if (b == std::string::npos)
+        return "unknown error";
+    size_t e = s.find_first_of("\r\n", b);
+    return s.substr(b, e == std::string::npos ? std::string::npos : e - b);
+}
+
+std::string string_extra(const tinygltf::Value &v, const char *key)
+{
+    return v.IsObject() && v.Has(key) && v.Get(key).IsString() ? v.Get(key).Get<std::string>() : "";
+}
+
+void load(const char *path, const char *bytes, size_t size, struct scene *s)
+{
+    bool glb = size >= 4 && memcmp(bytes, "glTF", 4) == 0;
+    if (size > 0x7fffffffu)
+        fail("file is larger than 2 GiB");
+    if (!glb) {  // our own JSON check: a precise position instead of a parser's essay
+        const char *end = nullptr;
+        cJSON *j = cJSON_ParseWithLengthOpts(bytes, size, &end, 0);
+        if (!j) {
+            const char *at = cJSON_GetErrorPtr();
+            size_t off = at && at >= bytes && at <= bytes + size ? (size_t)(at - bytes) : 0;
+            int line = 1;
+            for (size_t i = 0; i < off; i++)
+                line += bytes[i] == '\n';
+            fail(fmt("malformed JSON at line %d (byte %zu)", line, off));
+        }
+        cJSON_Delete(j);
+    }
+
+    std::string dir(path);
+    size_t slash = dir.find_last_of('/');
+    dir = slash == std::string::npos ? "." : dir.substr(0, slash);
+
+    tinygltf::TinyGLTF gltf;
+    gltf.SetImageLoader(skip_images, nullptr);
+    tinygltf::Model model;
+    std::string err, warn;
+    bool ok = glb ? gltf.LoadBinaryFromMemory(&model, &err, &warn, (const unsigned char *)bytes,
+                                              (unsigned)size, dir)
+                  : gltf.LoadASCIIFromString(&model, &err, &warn, bytes, (unsigned)size, dir);
+    if (!ok)
+        fail("malformed glTF: " + first_line(err));
+
+    loader l(model);
+    l.run();
+    if (!l.have_camera)
+        fail("no camera: need a node with a perspective camera");
+    if (!l.have_light)
+        fail("no area light: need a node whose extras hold \"area_light\"");
+    if (l.idx.empty())
+        fail("no triangles");
+
+    s->vertex_count = l.pos.size() / 3;
+    s->triangle_count = l.idx.size() / 3;
+    s->positions = (float *)xmalloc(l.pos.size() * sizeof(float));
+    s->normals = (float *)xmalloc(l.nrm.size() * sizeof(float));
+    s->indices = (uint32_t *)xmalloc(l.idx.size() * sizeof(uint32_t));
+    memcpy(s->positions, l.pos.data(), l.pos.size() * sizeof(float));
+    memcpy(s->normals, l.nrm.data(), l.nrm.size() * sizeof(float));
+    memcpy(s->indices, l.idx.data(), l.idx.size() * sizeof(uint32_t));
+    s->camera = l.camera;
+    s->light = l.light;
+
+    const tinygltf::Value empty;
+    const tinygltf::Value &sx = model.scenes.empty() ? empty
+        : model.scenes[model.defaultScene >= 0 ? model.defaultScene : 0].extras;
+    const tinygltf::Value &meta = sx.IsObject() && sx.Has("shadowbench") ? sx.Get("shadowbench") : empty;
+    s->description = xstrdup(string_extra(meta, "description").c_str());
+    s->shows = xstrdup(string_extra(meta, "shows").c_str());
+}
+
+}  // namespace
+
+extern "C" int scene_load(const char *path, struct scene *s)
+{
+    *s = scene{};
+    char *bytes = nullptr;
+    size_t size = 0;
+    int err = util_read_file(path, &bytes, &size);
+    if (err) {
+        log_error("%s: cannot open: %s", path, strerror(-err));
+        return err;
+    }
+    try {
+        load(path, bytes, size, s);
+    } catch (const load_error &e) {
+        log_error("%s: %s", path, e.what.c_str());
+        free(bytes);
+        scene_free(s);
+        return -EINVAL;
+    } catch (const std::exception &e) {  // tinygltf/json internals
+        log_error("%s: malformed glTF: %s", path, e.what());
+        free(bytes);
+        scene_free(s);
+        return -EINVAL;
+    }
+
+    s->path = xstrdup(path);
+    const char *base = strrchr(path, '/');
+    std::string stem = base ? base + 1 : path;
+    size_t dot = stem.find_last_of('.');
+    s->name = xstrdup((dot == std::string::npos ? stem : stem.substr(0, dot)).c_str());
+
+    s->bounds_min = v3(INFINITY, INFINITY, INFINITY);
+    s->bounds_max = v3(-INFINITY, -INFINITY, -INFINITY);
+    for (size_t v = 0; v < s->vertex_count; v++) {
+        struct vec3 p = v3(s->positions[3 * v], s->positions[3 * v + 1], s->positions[3 * v + 2]);
+        s->bounds_min = v3_min(s->bounds_min, p);
+        s->bounds_max = v3_max(s->bounds_max, p);
+    }
+
+    // The cache key (DESIGN.md §6): the file's bytes plus everything it
+    // resolved to, so a changed external buffer is noticed too.
+    uint64_t h = util_hash(UTIL_HASH_INIT, bytes, size);
+    h = util_hash(h, s->positions, s->vertex_count * 3 * sizeof(float));
+    h = util_hash(h, s->indices, s->triangle_count * 3 * sizeof(uint32_t));
+    h = util_hash(h, &s->camera, sizeof s->camera);
+    h = util_hash(h, &s->light, sizeof s->light);
+    s->hash = h;
+    free(bytes);
+    return 0;
+}

@@ -1,0 +1,284 @@
+#include "util.h"
+#include "log.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+void *xmalloc(size_t size)
+{
+    void *p = malloc(size ? size : 1);
+    if (!p) {
+        log_error("out of memory (%zu bytes)", size);
+        abort();
+    }
+    return p;
+}
+
+void *xcalloc(size_t count, size_t size)
+{
+    void *p = calloc(count ? count : 1, size ? size : 1);
+    if (!p) {
+        log_error("out of memory (%zu x %zu bytes)", count, size);
+        abort();
+    }
+    return p;
+}
+
+void *xrealloc(void *p, size_t size)
+{
+    p = realloc(p, size ? size : 1);
+    if (!p) {
+        log_error("out of memory (%zu bytes)", size);
+        abort();
+    }
+    return p;
+}
+
+char *xstrdup(const char *s)
+{
+    size_t n = strlen(s) + 1;
+    return memcpy(xmalloc(n), s, n);
+}
+
+int util_read_file(const char *path, char **data, size_t *size)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return -errno;
+    struct stat st;
+    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
+        int err = S_ISDIR(st.st_mode) ? -EISDIR : -errno;
+        fclose(f);
+        return err ? err : -EINVAL;
+    }
+    char *buf = xmalloc((size_t)st.st_size + 1);
+    size_t n = fread(buf, 1, (size_t)st.st_size, f);
+    int err = ferror(f) ? -EIO : 0;
+    fclose(f);
+    if (err) {
+        free(buf);
+        return err;
+    }
+    buf[n] = '\0';
+    *data = buf;
+    *size = n;
+    return 0;
+}
+
+int util_write_file_atomic(const char *path, const void *data, size_t size)
+{
+    char *tmp = util_printf("%s.tmp.%ld", path, (long)getpid());
+    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd < 0) {
+        int err = -errno;
+        log_error("%s: cannot write: %s", path, strerror(errno));
+        free(tmp);
+        return err;
+    }
+    const char *p = data;
+    size_t left = size;
+    while (left > 0) {
+        ssize_t n = write(fd, p, left);
+        if (n < 0) {
+            if (errno == EINTR)
+                continue;
+            int err = -errno;
+            log_error("%s: cannot write: %s", path, strerror(errno));
+            close(fd);
+            unlink(tmp);
+            free(tmp);
+            return err;
+        }
+        p += n;
+        left -= (size_t)n;
+    }
+    if (close(fd) != 0 || rename(tmp, path) != 0) {
+        int err = -errno;
+        log_error("%s: cannot write: %s", path, strerror(errno));
+        unlink(tmp);
+        free(tmp);
+        return err;
+    }
+    free(tmp);
+    return 0;
+}
+
+int util_mkdirs(const char *path)
+{
+    char *p = xstrdup(path);
+    for (char *s = p + 1;; s++) {
+        char c = *s;
+        if (c != '/' && c != '\0')
+            continue;
+        *s = '\0';
+        if (mkdir(p, 0755) != 0 && errno != EEXIST) {
+            int err = -errno;
+            log_error("%s: cannot create folder: %s", p, strerror(errno));
+            free(p);
+            return err;
+        }
+        *s = c;
+        if (c == '\0')
+            break;
+    }
+    free(p);
+    struct stat st;
+    if (stat(path, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        log_error("%s: not a folder", path);
+        return -ENOTDIR;
+    }
+    return 0;
+}
+
+bool util_dir_writable(const char *dir)
+{
+    char *probe = util_printf("%s/.shadowbench-probe.%ld", dir, (long)getpid());
+    int fd = open(probe, O_WRONLY | O_CREAT | O_EXCL, 0644);
+    if (fd >= 0) {
+        close(fd);
+        unlink(probe);
+    }
+    free(probe);
+    return fd >= 0;
+}
+
+bool util_file_exists(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+const char *util_exe_dir(void)
+{
+    static char dir[4096];
+    if (dir[0])
+        return dir;
+    ssize_t n = readlink("/proc/self/exe", dir, sizeof dir - 1);
+    if (n <= 0) {
+        strcpy(dir, ".");
+        return dir;
+    }
+    dir[n] = '\0';
+    char *slash = strrchr(dir, '/');
+    if (slash && slash != dir)
+        *slash = '\0';
+    return dir;
+}
+
+uint64_t util_hash(uint64_t h, const void *data, size_t size)
+{
+    const unsigned char *p = data;
+    for (size_t i = 0; i < size; i++) {
+        h ^= p[i];
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+double util_now_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e3 + (double)ts.tv_nsec * 1e-6;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+double util_median(double *values, int n)
+{
+    qsort(values, (size_t)n, sizeof *values, cmp_double);
+    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+void strbuf_append(struct strbuf *sb, const char *s, size_t n)
+{
+    if (sb->len + n + 1 > sb->cap) {
+        sb->cap = (sb->len + n + 1) * 2;
+        sb->data = xrealloc(sb->data, sb->cap);
+    }
+    memcpy(sb->data + sb->len, s, n);
+    sb->len += n;
+    sb->data[sb->len] = '\0';
+}
+
+void strbuf_printf(struct strbuf *sb, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(NULL, 0, fmt, ap);
+    va_end(ap);
+    if (sb->len + (size_t)n + 1 > sb->cap) {
+        sb->cap = (sb->len + (size_t)n + 1) * 2;
+        sb->data = xrealloc(sb->data, sb->cap);
+    }
+    va_start(ap, fmt);
+    vsnprintf(sb->data + sb->len, (size_t)n + 1, fmt, ap);
+    va_end(ap);
+    sb->len += (size_t)n;
+}
+
+void strbuf_free(struct strbuf *sb)
+{
+    free(sb->data);
+    *sb = (struct strbuf){0};
+}
+
+char *util_printf(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(NULL, 0, fmt, ap);
+    va_end(ap);
+    char *s = xmalloc((size_t)n + 1);
+    va_start(ap, fmt);
+    vsnprintf(s, (size_t)n + 1, fmt, ap);
+    va_end(ap);
+    return s;
+}
+
+const char *util_find_dir(const char *override, const char *env, const char *sub, const char *probe)
+{
+    static char found[4][4096];
+    static int next;
+    const char *given = override ? override : getenv(env);
+    char *candidates[4] = {0};
+    int n = 0;
+    if (given && *given)
+        candidates[n++] = xstrdup(given);
+    else {
+        candidates[n++] = util_printf("%s/%s", util_exe_dir(), sub);
+        candidates[n++] = util_printf("%s/../share/shadowbench/%s", util_exe_dir(), sub);
+        candidates[n++] = util_printf("%s/%s", SB_SOURCE_DIR, sub);
+    }
+    const char *result = NULL;
+    for (int i = 0; i < n && !result; i++) {
+        char *p = util_printf("%s/%s", candidates[i], probe);
+        if (util_file_exists(p)) {
+            char *slot = found[next++ % 4];
+            snprintf(slot, sizeof found[0], "%s", candidates[i]);
+            result = slot;
+        }
+        free(p);
+    }
+    if (!result) {
+        if (given && *given)
+            log_error("%s: not a shadowbench %s folder (no %s in it)", given, sub, probe);
+        else
+            log_error("cannot find the %s folder (looked next to the executable and in %s); set %s",
+                      sub, SB_SOURCE_DIR, env);
+    }
+    for (int i = 0; i < n; i++)
+        free(candidates[i]);
+    return result;
+}

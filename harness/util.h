@@ -1,0 +1,66 @@
+/* Small helpers every module uses: files, atomic writes, hashing, a growable
+ * string, the wall clock. */
+#ifndef SB_UTIL_H
+#define SB_UTIL_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#define ARRAY_SIZE(a) (sizeof(a) / sizeof((a)[0]))
+
+/* Reads a whole file; *data is NUL-terminated (not counted in *size).
+ * Returns 0 or -errno; logs nothing (the caller knows what the file is). */
+int util_read_file(const char *path, char **data, size_t *size);
+
+/* Writes to "<path>.tmp.<pid>" then renames over path, so a reader never sees
+ * a half-written file. Returns 0 or a negative errno, and logs the failure. */
+int util_write_file_atomic(const char *path, const void *data, size_t size);
+
+/* mkdir -p. Returns 0 or -errno, and logs the failure. */
+int util_mkdirs(const char *path);
+
+/* True when a file can be created in dir (it is probed, then removed). */
+bool util_dir_writable(const char *dir);
+
+bool util_file_exists(const char *path);
+
+/* Directory part of the running executable's path (from /proc/self/exe). */
+const char *util_exe_dir(void);
+
+/* FNV-1a, 64 bit: a cache key, not a cryptographic hash. */
+#define UTIL_HASH_INIT 0xcbf29ce484222325ull
+uint64_t util_hash(uint64_t h, const void *data, size_t size);
+
+double util_now_ms(void);
+
+/* Median of n values (n >= 1); sorts the array in place. */
+double util_median(double *values, int n);
+
+/* A growable NUL-terminated string. Zero-initialise; free with strbuf_free. */
+struct strbuf {
+    char *data;
+    size_t len, cap;
+};
+void strbuf_printf(struct strbuf *sb, const char *fmt, ...)
+    __attribute__((format(printf, 2, 3)));
+void strbuf_append(struct strbuf *sb, const char *s, size_t n);
+void strbuf_free(struct strbuf *sb);
+
+/* Returns a malloc'ed formatted string (aborts on out of memory). */
+char *util_printf(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+void *xmalloc(size_t size);
+void *xcalloc(size_t count, size_t size);
+void *xrealloc(void *p, size_t size);
+char *xstrdup(const char *s);
+
+
+
+/* Finds a data folder (shaders/, scenes/): `override` if non-NULL, else the
+ * environment variable `env`, else "<exe dir>/<sub>", "<exe dir>/../share/
+ * shadowbench/<sub>", then the source tree's "<sub>". The first that holds
+ * `probe` wins. Returns a static string or NULL (logged). */
+const char *util_find_dir(const char *override, const char *env, const char *sub, const char *probe);
+
+#endif

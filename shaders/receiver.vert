@@ -1,0 +1,16 @@
+#version 450 core
+// Receiver pass: the scene from the camera.
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+
+uniform mat4 u_camera_view_proj;
+
+out vec3 v_pos_world;
+out vec3 v_normal_world;
+
+void main()
+{
+    v_pos_world = a_position;
+    v_normal_world = a_normal;
+    gl_Position = u_camera_view_proj * vec4(a_position, 1.0);
+}

@@ -1,0 +1,14 @@
+// The shadow-map layer's uniform block. Mirrored by struct shadowmap_block
+// in techniques/shadowmap.h: keep in sync (std140, binding 0).
+layout(std140, binding = 0) uniform ShadowMapBlock {
+    mat4 light_view_proj;     // world -> light clip, reversed Z in [0, 1]
+    mat4 light_view;          // world -> light space (light looks along -Z)
+    vec4 light_pos_world;     // xyz: light centre
+    vec4 light_dir_world;     // xyz: emit direction
+    vec2 light_size_uv;       // light size in shadow-map UV at the near plane
+    vec2 texel_size_uv;       // 1 / map size
+    vec2 near_window_world;   // frustum window at the near plane (world units)
+    float near_world;         // planar depth range of the geometry (world units)
+    float far_world;
+    float map_size_texels;
+} sm;

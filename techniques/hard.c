@@ -1,0 +1,41 @@
+/* hard — one depth comparison per pixel: the classic shadow map
+ * (Williams 1978, "Casting curved shadows on curved surfaces").
+ *
+ * Computes V = 1 if the receiver's linear light depth, minus a bias, is not
+ * behind the depth stored in the nearest shadow-map texel, else 0. It knows
+ * nothing of the light's size, so its shadow has no penumbra at all.
+ *
+ * Parameters:
+ *   constant_bias  depth offset in linear shadow-map depth units ([0,1]
+ *                  spans near..far of the light frustum).
+ *   slope_bias     offset in texels of the receiver's own depth slope: 1
+ *                  covers the depth change across one texel at the receiver's
+ *                  angle to the light (tan θ, capped at 10).
+ *
+ * How it fails: aliasing (blocky edges at the texel grid), acne (self-
+ * shadowing stripes) when the bias is too small, peter-panning (shadows
+ * detached from their casters) when it is too large, and a hard edge where
+ * the truth has a penumbra. */
+#include "technique.h"
+
+struct hard_settings {
+    float constant_bias;  /* linear depth units, [0, 0.1] */
+    float slope_bias;     /* texels of depth slope, [0, 16] */
+};
+
+static const struct technique_param hard_params[] = {
+    {"constant_bias", "constant depth offset, linear shadow-map depth units (1 = near..far)",
+     offsetof(struct hard_settings, constant_bias), PARAM_FLOAT, 0.0005, 0.0, 0.1, NULL},
+    {"slope_bias", "slope-scaled offset, in texels of the receiver's depth slope",
+     offsetof(struct hard_settings, slope_bias), PARAM_FLOAT, 1.0, 0.0, 16.0, NULL},
+    {NULL},
+};
+
+const struct technique technique_hard = {
+    .name = "hard",
+    .summary = "one depth comparison: aliased hard edge, no penumbra",
+    .needs = SM_DEPTH,
+    .params = hard_params,
+    .settings_size = sizeof(struct hard_settings),
+    .shader = "hard.glsl",
+};

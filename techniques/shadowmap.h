@@ -1,0 +1,86 @@
+/* The shared shadow-map layer (DESIGN.md §5): the light's frustum, and the
+ * products techniques sample, keyed by product, not by technique (STYLE.md
+ * item 5). Each product is rendered once per light pose and shared by every
+ * technique of a run. */
+#ifndef SB_SHADOWMAP_H
+#define SB_SHADOWMAP_H
+
+#include "../harness/gl.h"
+#include "../harness/scene.h"
+#include "../harness/scene_mesh.h"
+#include "technique.h"
+
+#include <stdbool.h>
+
+/* Widest half-angle of the light frustum: geometry beyond it is outside the
+ * map (and unscored), as an engine's fixed-FOV spot shadow would be. */
+#define SHADOWMAP_MAX_HALF_ANGLE_DEG 75.0
+
+/* Perspective frustum from the light centre along the light's -Z, fitted to
+ * the scene geometry in front of the light. */
+struct shadowmap_frustum {
+    struct mat4 view;             /* world -> light space */
+    struct mat4 view_proj;        /* world -> clip, reversed Z in [0, 1] */
+    float near_world, far_world;  /* planar depth range of the geometry */
+    float l, r, b, t;             /* window at the near plane, light space */
+    float light_size_uv[2];       /* light size in shadow-map UV at the near plane */
+};
+
+/* Fits f to s. Returns 0, or -1 after logging when nothing is in front of
+ * the light. Pure math: the ground truth uses it for its mask. */
+int shadowmap_fit(const struct scene *s, struct shadowmap_frustum *f);
+
+/* Is the world point inside the frustum (and so covered by the map)? */
+bool shadowmap_inside(const struct shadowmap_frustum *f, struct vec3 p);
+
+/* std140 mirror of `uniform ShadowMapBlock` in shaders/shadow_block.glsl.
+ * Keep in sync with it. */
+struct shadowmap_block {
+    float light_view_proj[16];
+    float light_view[16];
+    float light_pos_world[4];     /* xyz: light centre */
+    float light_dir_world[4];     /* xyz: emit direction (the light's -Z) */
+    float light_size_uv[2];       /* at the near plane */
+    float texel_size_uv[2];       /* 1 / map size */
+    float near_window_world[2];   /* r - l, t - b */
+    float near_world, far_world;  /* planar depth range */
+    float map_size_texels;
+    float pad[3];
+};
+_Static_assert(sizeof(struct shadowmap_block) == 208, "std140 layout of ShadowMapBlock");
+_Static_assert(offsetof(struct shadowmap_block, light_size_uv) == 160, "std140 layout");
+_Static_assert(offsetof(struct shadowmap_block, near_world) == 184, "std140 layout");
+
+/* Zero means default (sokol style); shadowmap_create fills the defaults. */
+struct shadowmap_desc {
+    int size_texels;  /* square map, default 1024, [16, 8192] */
+};
+
+#define SHADOWMAP_DEFAULT_SIZE 1024
+
+struct shadowmap {
+    struct shadowmap_desc desc;       /* filled */
+    struct shadowmap_frustum frustum;
+    unsigned current;                 /* SM_* products valid for this light pose */
+    GLuint ubo;
+    GLuint depth_texture, depth_fbo, depth_program;
+};
+
+/* Fits the frustum to s and creates GL objects. Returns 0 or -1 (logged). */
+int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct shadowmap_desc *desc);
+
+/* Renders one product unconditionally (the harness times this call). */
+void shadowmap_render_product(struct shadowmap *sm, const struct scene_mesh *mesh,
+                              enum shadowmap_product product);
+
+/* Renders whichever of `products` is not current yet. */
+void shadowmap_require(struct shadowmap *sm, const struct scene_mesh *mesh, unsigned products);
+
+/* Binds the uniform block (binding 0) and the product textures to the units
+ * shaders/shadow_common.glsl declares. */
+void shadowmap_bind(const struct shadowmap *sm);
+
+/* Accepts a half-built map. */
+void shadowmap_destroy(struct shadowmap *sm);
+
+#endif

@@ -1,0 +1,39 @@
+/* Runs a shell command for the CLI tests; returns its exit status and what
+ * it wrote to stderr (stdout is kept separately). */
+#ifndef SB_RUN_CMD_H
+#define SB_RUN_CMD_H
+
+#include "util.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+static int run_cmd(const char *cmd, struct strbuf *err, struct strbuf *out)
+{
+    char err_path[] = "/tmp/sb_test_stderr_XXXXXX";
+    int fd = mkstemp(err_path);
+    close(fd);
+    char *full = util_printf("%s 2>%s", cmd, err_path);
+    FILE *p = popen(full, "r");
+    char buf[4096];
+    size_t n;
+    while (p && (n = fread(buf, 1, sizeof buf, p)) > 0)
+        if (out)
+            strbuf_append(out, buf, n);
+    int status = p ? pclose(p) : -1;
+    char *text = NULL;
+    size_t size = 0;
+    if (err && util_read_file(err_path, &text, &size) == 0) {
+        strbuf_append(err, text, size);
+        free(text);
+    }
+    if (err && !err->data)
+        strbuf_append(err, "", 0);
+    unlink(err_path);
+    free(full);
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+#endif

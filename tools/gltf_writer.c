@@ -1,0 +1,207 @@
+#include "gltf_writer.h"
+#include "log.h"
+#include "util.h"
+
+#include <cjson/cJSON.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static uint32_t add_vertex(struct mesh_builder *m, struct vec3 p)
+{
+    m->positions = xrealloc(m->positions, sizeof(float) * 3 * (m->vertex_count + 1));
+    memcpy(&m->positions[3 * m->vertex_count], &p, sizeof p);
+    return (uint32_t)m->vertex_count++;
+}
+
+static void add_index(struct mesh_builder *m, uint32_t i)
+{
+    m->indices = xrealloc(m->indices, sizeof(uint32_t) * (m->index_count + 1));
+    m->indices[m->index_count++] = i;
+}
+
+void mesh_add_triangle(struct mesh_builder *m, struct vec3 a, struct vec3 b, struct vec3 c)
+{
+    add_index(m, add_vertex(m, a));
+    add_index(m, add_vertex(m, b));
+    add_index(m, add_vertex(m, c));
+}
+
+void mesh_add_quad(struct mesh_builder *m, struct vec3 corner, struct vec3 u, struct vec3 v)
+{
+    uint32_t a = add_vertex(m, corner), b = add_vertex(m, v3_add(corner, u)),
+             c = add_vertex(m, v3_add(v3_add(corner, u), v)), d = add_vertex(m, v3_add(corner, v));
+    const uint32_t tris[6] = {a, b, c, a, c, d};
+    for (int i = 0; i < 6; i++)
+        add_index(m, tris[i]);
+}
+
+void mesh_add_box(struct mesh_builder *m, struct vec3 lo, struct vec3 hi)
+{
+    struct vec3 d = v3_sub(hi, lo), ex = v3(d.x, 0, 0), ey = v3(0, d.y, 0), ez = v3(0, 0, d.z);
+    mesh_add_quad(m, lo, ey, ex);                                /* -z */
+    mesh_add_quad(m, v3_add(lo, ez), ex, ey);                    /* +z */
+    mesh_add_quad(m, lo, ez, ey);                                /* -x */
+    mesh_add_quad(m, v3_add(lo, ex), ey, ez);                    /* +x */
+    mesh_add_quad(m, lo, ex, ez);                                /* -y */
+    mesh_add_quad(m, v3_add(lo, ey), ez, ex);                    /* +y */
+}
+
+void mesh_add_sphere(struct mesh_builder *m, struct vec3 c, float r, int segments)
+{
+    const int rings = segments / 2;
+    uint32_t base = (uint32_t)m->vertex_count;
+    for (int i = 0; i <= rings; i++) {
+        float th = (float)M_PI * (float)i / (float)rings;
+        for (int j = 0; j <= segments; j++) {
+            float ph = 2.0f * (float)M_PI * (float)j / (float)segments;
+            add_vertex(m, v3_add(c, v3(r * sinf(th) * cosf(ph), r * cosf(th), r * sinf(th) * sinf(ph))));
+        }
+    }
+    for (int i = 0; i < rings; i++)
+        for (int j = 0; j < segments; j++) {
+            uint32_t a = base + (uint32_t)(i * (segments + 1) + j), b = a + (uint32_t)segments + 1;
+            if (i > 0) /* no degenerate triangles at the poles */
+                add_index(m, a), add_index(m, a + 1), add_index(m, b);
+            if (i < rings - 1)
+                add_index(m, a + 1), add_index(m, b + 1), add_index(m, b);
+        }
+}
+
+void mesh_free(struct mesh_builder *m)
+{
+    free(m->positions);
+    free(m->indices);
+    memset(m, 0, sizeof *m);
+}
+
+static char *base64(const unsigned char *p, size_t n)
+{
+    static const char t[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    char *out = xmalloc(4 * ((n + 2) / 3) + 1), *o = out;
+    for (size_t i = 0; i < n; i += 3) {
+        uint32_t v = (uint32_t)p[i] << 16 | (i + 1 < n ? (uint32_t)p[i + 1] << 8 : 0) |
+                     (i + 2 < n ? p[i + 2] : 0);
+        *o++ = t[v >> 18 & 63];
+        *o++ = t[v >> 12 & 63];
+        *o++ = i + 1 < n ? t[v >> 6 & 63] : '=';
+        *o++ = i + 2 < n ? t[v & 63] : '=';
+    }
+    *o = '\0';
+    return out;
+}
+
+/* Node matrix of a frame at `pos` whose -Z looks at `target`. */
+static cJSON *look_at_matrix(struct vec3 pos, struct vec3 target)
+{
+    struct vec3 z = v3_normalize(v3_sub(pos, target));
+    struct vec3 up = fabsf(z.y) > 0.99f ? v3(0, 0, -1) : v3(0, 1, 0);
+    struct vec3 x = v3_normalize(v3_cross(up, z)), y = v3_cross(z, x);
+    const double m[16] = {x.x, x.y, x.z, 0, y.x, y.y, y.z, 0, z.x, z.y, z.z, 0, pos.x, pos.y, pos.z, 1};
+    return cJSON_CreateDoubleArray(m, 16);
+}
+
+int gltf_write(const char *path, const struct mesh_builder *m, const struct gltf_scene_desc *d)
+{
+    size_t pos_bytes = m->vertex_count * 12, idx_bytes = m->index_count * 4;
+    unsigned char *buf = xmalloc(pos_bytes + idx_bytes);
+    memcpy(buf, m->positions, pos_bytes);
+    memcpy(buf + pos_bytes, m->indices, idx_bytes);
+    char *b64 = base64(buf, pos_bytes + idx_bytes);
+    char *uri = util_printf("data:application/octet-stream;base64,%s", b64);
+    free(b64);
+    free(buf);
+
+    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (size_t i = 0; i < m->vertex_count * 3; i++) {
+        lo[i % 3] = fminf(lo[i % 3], m->positions[i]);
+        hi[i % 3] = fmaxf(hi[i % 3], m->positions[i]);
+    }
+
+    cJSON *g = cJSON_CreateObject();
+    cJSON *asset = cJSON_AddObjectToObject(g, "asset");
+    cJSON_AddStringToObject(asset, "version", "2.0");
+    cJSON_AddStringToObject(asset, "generator", "shadowbench tools/gltf_writer.c");
+    cJSON_AddNumberToObject(g, "scene", 0);
+    cJSON *scene = cJSON_CreateObject();
+    cJSON_AddItemToArray(cJSON_AddArrayToObject(g, "scenes"), scene);
+    cJSON_AddItemToObject(scene, "nodes", cJSON_CreateIntArray((const int[]){0, 1, 2}, 3));
+    cJSON *meta = cJSON_AddObjectToObject(cJSON_AddObjectToObject(scene, "extras"), "shadowbench");
+    cJSON_AddStringToObject(meta, "description", d->description);
+    cJSON_AddStringToObject(meta, "shows", d->shows);
+
+    cJSON *nodes = cJSON_AddArrayToObject(g, "nodes");
+    cJSON *n_mesh = cJSON_CreateObject(), *n_cam = cJSON_CreateObject(), *n_light = cJSON_CreateObject();
+    cJSON_AddStringToObject(n_mesh, "name", "geometry");
+    cJSON_AddNumberToObject(n_mesh, "mesh", 0);
+    cJSON_AddStringToObject(n_cam, "name", "camera");
+    cJSON_AddNumberToObject(n_cam, "camera", 0);
+    cJSON_AddItemToObject(n_cam, "matrix", look_at_matrix(d->camera_pos, d->camera_target));
+    cJSON_AddStringToObject(n_light, "name", "area light");
+    cJSON_AddItemToObject(n_light, "matrix", look_at_matrix(d->light_pos, d->light_target));
+    cJSON *al = cJSON_AddObjectToObject(cJSON_AddObjectToObject(n_light, "extras"), "area_light");
+    if (d->light_disk) {
+        cJSON_AddStringToObject(al, "shape", "disk");
+        cJSON_AddNumberToObject(al, "radius", d->light_radius);
+    } else {
+        cJSON_AddStringToObject(al, "shape", "rect");
+        cJSON_AddItemToObject(al, "size", cJSON_CreateFloatArray((const float[]){d->light_width, d->light_height}, 2));
+    }
+    cJSON_AddItemToArray(nodes, n_mesh);
+    cJSON_AddItemToArray(nodes, n_cam);
+    cJSON_AddItemToArray(nodes, n_light);
+
+    cJSON *cam = cJSON_CreateObject();
+    cJSON_AddStringToObject(cam, "type", "perspective");
+    cJSON *persp = cJSON_AddObjectToObject(cam, "perspective");
+    cJSON_AddNumberToObject(persp, "yfov", d->camera_yfov_rad);
+    cJSON_AddNumberToObject(persp, "znear", d->camera_znear);
+    cJSON_AddItemToArray(cJSON_AddArrayToObject(g, "cameras"), cam);
+
+    cJSON *prim = cJSON_CreateObject();
+    cJSON_AddNumberToObject(cJSON_AddObjectToObject(prim, "attributes"), "POSITION", 0);
+    cJSON_AddNumberToObject(prim, "indices", 1);
+    cJSON_AddNumberToObject(prim, "mode", 4);
+    cJSON *mesh = cJSON_CreateObject();
+    cJSON_AddItemToArray(cJSON_AddArrayToObject(mesh, "primitives"), prim);
+    cJSON_AddItemToArray(cJSON_AddArrayToObject(g, "meshes"), mesh);
+
+    cJSON *acc = cJSON_AddArrayToObject(g, "accessors");
+    cJSON *a0 = cJSON_CreateObject(), *a1 = cJSON_CreateObject();
+    cJSON_AddNumberToObject(a0, "bufferView", 0);
+    cJSON_AddNumberToObject(a0, "componentType", 5126);
+    cJSON_AddNumberToObject(a0, "count", (double)m->vertex_count);
+    cJSON_AddStringToObject(a0, "type", "VEC3");
+    cJSON_AddItemToObject(a0, "min", cJSON_CreateFloatArray(lo, 3));
+    cJSON_AddItemToObject(a0, "max", cJSON_CreateFloatArray(hi, 3));
+    cJSON_AddNumberToObject(a1, "bufferView", 1);
+    cJSON_AddNumberToObject(a1, "componentType", 5125);
+    cJSON_AddNumberToObject(a1, "count", (double)m->index_count);
+    cJSON_AddStringToObject(a1, "type", "SCALAR");
+    cJSON_AddItemToArray(acc, a0);
+    cJSON_AddItemToArray(acc, a1);
+
+    cJSON *views = cJSON_AddArrayToObject(g, "bufferViews");
+    cJSON *v0 = cJSON_CreateObject(), *v1 = cJSON_CreateObject();
+    cJSON_AddNumberToObject(v0, "buffer", 0);
+    cJSON_AddNumberToObject(v0, "byteLength", (double)pos_bytes);
+    cJSON_AddNumberToObject(v0, "target", 34962);
+    cJSON_AddNumberToObject(v1, "buffer", 0);
+    cJSON_AddNumberToObject(v1, "byteOffset", (double)pos_bytes);
+    cJSON_AddNumberToObject(v1, "byteLength", (double)idx_bytes);
+    cJSON_AddNumberToObject(v1, "target", 34963);
+    cJSON_AddItemToArray(views, v0);
+    cJSON_AddItemToArray(views, v1);
+
+    cJSON *b = cJSON_CreateObject();
+    cJSON_AddNumberToObject(b, "byteLength", (double)(pos_bytes + idx_bytes));
+    cJSON_AddStringToObject(b, "uri", uri);
+    cJSON_AddItemToArray(cJSON_AddArrayToObject(g, "buffers"), b);
+    free(uri);
+
+    char *text = cJSON_Print(g);
+    int rc = util_write_file_atomic(path, text, strlen(text));
+    cJSON_free(text);
+    cJSON_Delete(g);
+    return rc ? -1 : 0;
+}

@@ -1,0 +1,38 @@
+/* Writes shadowbench scenes as glTF 2.0 with an embedded buffer: one mesh of
+ * triangles, a perspective camera and an area light, each placed by a
+ * look-at. Used by tools/make_scenes.c (the shipped scenes) and by the tests
+ * (scenes generated on the fly, e.g. the closed-form parallel planes). */
+#ifndef SB_GLTF_WRITER_H
+#define SB_GLTF_WRITER_H
+
+#include "vecmath.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+struct mesh_builder {
+    float *positions;
+    uint32_t *indices;
+    size_t vertex_count, index_count;
+};
+
+void mesh_add_triangle(struct mesh_builder *m, struct vec3 a, struct vec3 b, struct vec3 c);
+/* Parallelogram corner, corner + u, corner + u + v, corner + v. */
+void mesh_add_quad(struct mesh_builder *m, struct vec3 corner, struct vec3 u, struct vec3 v);
+void mesh_add_box(struct mesh_builder *m, struct vec3 lo, struct vec3 hi);
+void mesh_add_sphere(struct mesh_builder *m, struct vec3 centre, float radius, int segments);
+void mesh_free(struct mesh_builder *m);
+
+struct gltf_scene_desc {
+    const char *description, *shows;
+    struct vec3 camera_pos, camera_target;
+    float camera_yfov_rad, camera_znear;
+    struct vec3 light_pos, light_target;  /* the light faces its target */
+    int light_disk;                       /* 0: rect width x height, 1: disk of radius */
+    float light_width, light_height, light_radius;
+};
+
+/* Returns 0 or -1 (logged). */
+int gltf_write(const char *path, const struct mesh_builder *m, const struct gltf_scene_desc *d);
+
+#endif
