@@ -202,12 +202,16 @@ static int parse_options(int argc, char **argv, const char *usage, bool is_gt, s
     o->cache_dir = "results/cache";
     o->out_dir = is_gt ? "results/gt" : "results/runs/latest";
     o->warmup = 2;
-    int c;
+    int c, index = 0;
     optind = 1;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "qvh", long_options, NULL)) != -1) {
-        if (c == '?' || (is_gt && run_only(c))) {
+    while ((c = getopt_long(argc, argv, "qvh", long_options, &index)) != -1) {
+        if (c == '?') {
             log_error("%s: unknown option (see --help)", argv[optind - 1]);
+            return -1;
+        }
+        if (is_gt && run_only(c)) {
+            log_error("--%s: unknown option for gt (see --help)", long_options[index].name);
             return -1;
         }
         int rc = 0;

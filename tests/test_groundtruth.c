@@ -10,8 +10,8 @@
  * Also: same seed -> same image; the error falls from N to 4N; the two-seed
  * noise-floor estimate matches the true error. */
 #include "check.h"
-#include "gltf_writer.h"
 #include "groundtruth.h"
+#include "parallel_planes.h"
 #include "shadowmap.h"
 #include "util.h"
 
@@ -19,30 +19,12 @@
 #include <string.h>
 #include <unistd.h>
 
-#define H_LIGHT 4.0f
-#define H_BLOCK 2.0f
+#define H_LIGHT PP_H_LIGHT
+#define H_BLOCK PP_H_BLOCK
 #define LIGHT_W 1.0f
 #define IMG 128
 
 static char tmpdir[] = "/tmp/sb_test_gt_XXXXXX";
-
-static void write_parallel_planes(const char *path, bool disk)
-{
-    struct mesh_builder m = {0};
-    mesh_add_quad(&m, v3(-6, 0, -6), v3(0, 0, 12), v3(12, 0, 0));              /* receiver */
-    mesh_add_quad(&m, v3(-8, H_BLOCK, -8), v3(0, 0, 16), v3(8, 0, 0));         /* x < 0 */
-    struct gltf_scene_desc d = {
-        .description = "parallel planes (test)", .shows = "closed form",
-        /* Below the occluder, looking at the receiver across the edge. */
-        .camera_pos = v3(0.0f, 1.2f, 3.0f), .camera_target = v3(0.0f, 0.0f, 0.0f),
-        .camera_yfov_rad = 0.5f, .camera_znear = 0.05f,
-        .light_pos = v3(0, H_LIGHT, 0), .light_target = v3(0, 0, 0),
-        .light_disk = disk, .light_width = LIGHT_W, .light_height = LIGHT_W,
-        .light_radius = 0.5f * LIGHT_W,
-    };
-    CHECK(gltf_write(path, &m, &d) == 0, "writing %s", path);
-    mesh_free(&m);
-}
 
 static double expected_v(double s, bool disk)
 {
@@ -99,7 +81,7 @@ static void check_closed_form(bool disk)
 {
     const char *shape = disk ? "disk" : "rect";
     char *path = util_printf("%s/parallel_planes_%s.gltf", tmpdir, shape);
-    write_parallel_planes(path, disk);
+    write_parallel_planes(path, LIGHT_W, disk);
     struct scene s;
     struct shadowmap_frustum f;
     CHECK(scene_load(path, &s) == 0 && shadowmap_fit(&s, &f) == 0, "loading %s", path);
@@ -141,7 +123,7 @@ static void check_closed_form(bool disk)
 static void check_determinism(void)
 {
     char *path = util_printf("%s/det.gltf", tmpdir);
-    write_parallel_planes(path, false);
+    write_parallel_planes(path, LIGHT_W, false);
     struct scene s;
     struct shadowmap_frustum f;
     CHECK(scene_load(path, &s) == 0 && shadowmap_fit(&s, &f) == 0, "loading %s", path);

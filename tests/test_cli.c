@@ -1,0 +1,85 @@
+/* Protects the command line's contract (DESIGN.md §10): bad usage or input
+ * gets one clear line and exit status 2, before any heavy work; --help
+ * answers with status 0; list shows every technique's parameters. */
+#include "check.h"
+#include "run_cmd.h"
+
+#include <string.h>
+
+static const char *sb;
+static char dir[] = "/tmp/sb_test_cli_XXXXXX";
+
+static void expect(int status, const char *args, const char *stderr_line)
+{
+    char *cmd = util_printf("%s %s", sb, args);
+    struct strbuf err = {0};
+    int got = run_cmd(cmd, &err, NULL);
+    CHECK(got == status, "'%s': exit %d, wanted %d", args, got, status);
+    if (stderr_line) {
+        char *want = util_printf("shadowbench: error: %s\n", stderr_line);
+        CHECK(strcmp(err.data, want) == 0, "'%s'\n  got:    %s  wanted: %s", args, err.data, want);
+        free(want);
+    }
+    strbuf_free(&err);
+    free(cmd);
+}
+
+static void expect_stdout_has(const char *args, const char *needle)
+{
+    char *cmd = util_printf("%s %s", sb, args);
+    struct strbuf out = {0};
+    int got = run_cmd(cmd, NULL, &out);
+    CHECK(got == 0 && out.data && strstr(out.data, needle), "'%s' must print '%s' and exit 0", args,
+          needle);
+    strbuf_free(&out);
+    free(cmd);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2 || !mkdtemp(dir))
+        return 1;
+    sb = argv[1];
+    const char *small = "--scene floating_box_sphere --width 16 --height 16 --gt-samples 1 --no-cache";
+
+    expect(2, "", NULL);
+    expect(2, "frobnicate", "unknown command 'frobnicate' (commands: run, gt, list; see --help)");
+    expect(2, "run --technique nope", "--technique: unknown technique 'nope' (known: hard)");
+    expect(2, "run --set hard.nope=1", "hard.nope: unknown parameter (hard has: constant_bias, slope_bias)");
+    expect(2, "run --set nope.x=1", "--set: unknown technique 'nope'");
+    expect(2, "run --set hard.slope_bias=99", "hard.slope_bias: 99 is out of range [0.0, 16.0]");
+    expect(2, "run --set hard.slope_bias=abc", "hard.slope_bias: 'abc' is not a number");
+    expect(2, "run --set hard", "--set: 'hard' is not technique.parameter=value");
+    expect(2, "run --width 8", "--width: 8 is out of range [16, 8192]");
+    expect(2, "run --frames x", "--frames: 'x' is not a whole number");
+    expect(2, "run --gt-samples 1000",
+           "--gt-samples: 1000 is not a square number (n*n stratified light samples, e.g. 961 or 1024)");
+    expect(2, "run --bogus", "--bogus: unknown option (see --help)");
+    expect(2, "gt --technique hard", "--technique: unknown option for gt (see --help)");
+    expect(2, "gt", "gt: --scene is required (see --help)");
+    expect(2, "run --scene nope", "unknown scene 'nope' (shipped: floating_box_sphere)");
+
+    /* An output folder that cannot be created: a path through a file. */
+    char *file = util_printf("%s/a_file", dir);
+    util_write_file_atomic(file, "x", 1);
+    char *args = util_printf("run %s --out %s/sub", small, file);
+    char *line = util_printf("%s/sub: cannot create folder: Not a directory", file);
+    expect(2, args, line);
+    free(args), free(line);
+    args = util_printf("gt %s --out %s/sub", small, file);
+    line = util_printf("%s/sub: cannot create folder: Not a directory", file);
+    expect(2, args, line);
+    free(args), free(line), free(file);
+
+    expect_stdout_has("--help", "commands:");
+    expect_stdout_has("run --help", "--shadow-map-size N");
+    expect_stdout_has("gt --help", "V_weighted");
+    expect_stdout_has("list", "slope_bias       float default 1.0        range [0.0, 16.0]");
+    expect_stdout_has("list", "floating_box_sphere");
+
+    char *rm = util_printf("rm -rf '%s'", dir);
+    if (system(rm) != 0)
+        fprintf(stderr, "could not remove %s\n", dir);
+    free(rm);
+    return check_finish();
+}
