@@ -55,8 +55,10 @@ int gl_context_create(void)
 
 void gl_context_destroy(void)
 {
-    if (context)
+    if (context) {
+        OSMesaMakeCurrent(NULL, NULL, 0, 0, 0);  /* releases the framebuffer first */
         OSMesaDestroyContext(context);
+    }
     context = NULL;
 }
 

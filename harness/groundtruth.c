@@ -125,7 +125,7 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
     ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
 
     struct RTCRayHit16 prim;
-    int valid[16];
+    _Alignas(64) int valid[16];  /* Embree loads packet masks with aligned 16-wide loads */
     int pixel[16];
     for (int i = 0; i < 16; i++) {
         int x = tx + i % TILE, y = ty + i / TILE;
@@ -190,7 +190,7 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
     for (int k = 0; k < n * n; k++) {
         const float su = (float)(k % n), sv = (float)(k / n);
         float u[16], v[16], qx[16], qy[16], qz[16], w_sample[16];
-        int active[16];
+        _Alignas(64) int active[16];
         /* Branch-free passes over the lanes, so the compiler vectorises them. */
 #pragma omp simd
         for (int i = 0; i < 16; i++) {
