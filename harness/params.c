@@ -45,7 +45,7 @@ static void format_value(const struct technique_param *p, double v, char *buf, s
 {
     switch (p->type) {
     case PARAM_FLOAT:
-        snprintf(buf, n, "%.9g", v);
+        snprintf(buf, n, "%.7g", v);  /* a float's digits: 0.0005, not 0.000500000024 */
         if (!strpbrk(buf, ".eEn"))
             strncat(buf, ".0", n - strlen(buf) - 1);
         break;
@@ -158,7 +158,12 @@ cJSON *params_json(const struct technique *t, const void *settings)
     for (const struct technique_param *p = t->params; p->name; p++) {
         double v = get(p, settings);
         switch (p->type) {
-        case PARAM_FLOAT: cJSON_AddNumberToObject(o, p->name, (float)v); break;
+        case PARAM_FLOAT: {
+            char buf[64];  /* the float's shortest decimal, as `list` prints it */
+            format_value(p, v, buf, sizeof buf);
+            cJSON_AddNumberToObject(o, p->name, strtod(buf, NULL));
+            break;
+        }
         case PARAM_INT: cJSON_AddNumberToObject(o, p->name, v); break;
         case PARAM_BOOL: cJSON_AddBoolToObject(o, p->name, v != 0); break;
         case PARAM_ENUM: cJSON_AddStringToObject(o, p->name, p->choices[(int)v]); break;

@@ -101,7 +101,7 @@ static int write_html(const struct report *r)
         "body{font:14px/1.4 system-ui,sans-serif;margin:2em;color:#222}\n"
         "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:3px 8px;"
         "text-align:right}th{background:#eee}td.l{text-align:left}\n"
-        "tr.fail td{background:#fdd}figure{display:inline-block;margin:0 12px 12px 0}"
+        "tr.fail td{background:#fdd}figure{display:inline-block;vertical-align:top;margin:0 12px 12px 0}"
         "figure img{display:block;image-rendering:pixelated;width:256px}"
         "figcaption{font-size:12px;max-width:256px}\n"
         "pre{background:#f6f6f6;padding:8px;overflow:auto}\n</style></head><body>\n"
