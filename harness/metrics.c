@@ -55,23 +55,30 @@ static int cmp_float(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-void metrics_compute(const float *v_tech, const float *v_gt, const float *scored,
-                     const float *gl_distance, int width, int height, struct metrics *m)
+void metrics_compute(const float *v_tech, const float *v_gt, const float *v_gt_alt,
+                     const float *scored, const float *gl_distance, int width, int height,
+                     struct metrics *m)
 {
     size_t count = (size_t)width * (size_t)height;
     unsigned char *band = xmalloc(count);
     metrics_penumbra_mask(v_gt, scored, width, height, band);
     float *abs_err = xmalloc(count * sizeof(float));
 
-    double sum2 = 0, sum_abs = 0, sum = 0, max_abs = 0, pen2 = 0;
-    long n = 0, pen = 0, leak = 0, dark = 0, nonfinite = 0, scored_n = 0;
+    double sum2 = 0, sum_abs = 0, sum = 0, max_abs = 0, pen2 = 0, noise2 = 0, pen_noise2 = 0;
+    long n = 0, pen = 0, leak = 0, dark = 0, nonfinite = 0, scored_n = 0, band_n = 0;
     for (size_t i = 0; i < count; i++) {
         bool finite = isfinite(v_tech[i]);
         if (!finite && gl_distance[i] >= 0.0f)
             nonfinite++;
+        band_n += band[i];
         if (scored[i] < 0.5f)
             continue;
         scored_n++;
+        if (v_gt_alt) {
+            double d = (double)v_gt[i] - (double)v_gt_alt[i];
+            noise2 += d * d;
+            pen_noise2 += band[i] ? d * d : 0.0;
+        }
         if (!finite)
             continue;
         double e = (double)v_tech[i] - (double)v_gt[i], a = fabs(e);
@@ -106,6 +113,8 @@ void metrics_compute(const float *v_tech, const float *v_gt, const float *scored
         .ms_filter_prep = m->ms_filter_prep,
         .ms_receiver = m->ms_receiver,
         .ms_total = m->ms_total,
+        .gt_noise_rmse = scored_n ? sqrt(noise2 / (2.0 * scored_n)) : 0,
+        .gt_noise_penumbra_rmse = band_n ? sqrt(pen_noise2 / (2.0 * band_n)) : 0,
     };
     *m = r;
     free(abs_err);
@@ -132,6 +141,8 @@ cJSON *metrics_json(const struct metrics *m)
     NUM(ms_filter_prep);
     NUM(ms_receiver);
     NUM(ms_total);
+    NUM(gt_noise_rmse);
+    NUM(gt_noise_penumbra_rmse);
 #undef NUM
     return o;
 }

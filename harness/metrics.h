@@ -24,6 +24,8 @@ struct metrics {
     long nonfinite;         /* NaN/Inf in V_tech anywhere GL drew geometry */
     long scored_pixels, mismatch_pixels, penumbra_pixels;
     double ms_shadowmap, ms_filter_prep, ms_receiver, ms_total;
+    double gt_noise_rmse;           /* the ground truth's own rms error over the mask */
+    double gt_noise_penumbra_rmse;  /* ... over the penumbra band */
 };
 
 /* scored[i] = 1 where gt_mask is set and GL saw the same surface (camera
@@ -36,9 +38,11 @@ long metrics_score_mask(const float *gt_mask, const float *gt_distance, const fl
 
 /* Fills every error metric (not the timings, not mismatch_pixels). Pixels
  * whose V_tech is not finite are counted in nonfinite and left out of the
- * error sums. */
-void metrics_compute(const float *v_tech, const float *v_gt, const float *scored,
-                     const float *gl_distance, int width, int height, struct metrics *m);
+ * error sums. v_gt_alt (may be NULL) is the ground truth with an independent
+ * seed: rms(v_gt - v_gt_alt) / sqrt(2) is the noise floor. */
+void metrics_compute(const float *v_tech, const float *v_gt, const float *v_gt_alt,
+                     const float *scored, const float *gl_distance, int width, int height,
+                     struct metrics *m);
 
 /* Penumbra band of V_gt dilated by METRICS_PENUMBRA_DILATE, within scored. */
 void metrics_penumbra_mask(const float *v_gt, const float *scored, int width, int height,

@@ -7,7 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define STB_EASY_FONT_IMPLEMENTATION_UNUSED
 #include <stb_easy_font.h>
 
 static const uint8_t no_geometry[3] = {52, 58, 74};

@@ -15,8 +15,6 @@ cJSON *report_cell_json(const struct cell *c)
     for (cJSON *it = m->child; it; it = it->next)
         cJSON_AddNumberToObject(o, it->string, it->valuedouble);
     cJSON_Delete(m);
-    cJSON_AddNumberToObject(o, "gt_noise_rmse", c->gt_noise_rmse);
-    cJSON_AddNumberToObject(o, "gt_noise_penumbra_rmse", c->gt_noise_penumbra_rmse);
     return o;
 }
 
@@ -124,7 +122,7 @@ static int write_html(const struct report *r)
                       "<td>%.4f</td><td>%.4f</td><td>%ld</td><td>%.2f</td><td>%.4f</td></tr>\n",
                       c->m.rmse, c->m.penumbra_rmse, c->m.mae, c->m.bias, c->m.p99_abs,
                       c->m.leak_fraction, c->m.dark_fraction, c->m.nonfinite, c->m.ms_total,
-                      c->gt_noise_rmse);
+                      c->m.gt_noise_rmse);
     }
     strbuf_printf(&h, "</table>\n");
 

@@ -16,8 +16,6 @@ struct cell {
     cJSON *params;                       /* values used */
     char *params_text;                   /* "name=value name=value" */
     struct metrics m;
-    double gt_noise_rmse;                /* the ground truth's own error over the scored mask */
-    double gt_noise_penumbra_rmse;       /* ... over the penumbra band */
 };
 
 struct report_scene {
@@ -36,7 +34,7 @@ struct report {
 };
 
 /* Every metric of a cell as a flat JSON object (scene, technique, params,
- * metrics, noise floor): the row of matrix.json and the body of metrics.json. */
+ * metrics): the row of matrix.json and the body of metrics.json. */
 cJSON *report_cell_json(const struct cell *c);
 
 /* Writes a JSON value atomically (pretty-printed). Returns 0 or -1. */

@@ -171,16 +171,7 @@ static int run_cell(struct scene_run *sr, const struct technique *t, const void 
 
     c->m.mismatch_pixels = metrics_score_mask(sr->gt.mask, sr->gt.distance, sr->distance, count,
                                               sr->scored);
-    metrics_compute(sr->v, sr->gt.v, sr->scored, sr->distance, w, h, &c->m);
-    c->gt_noise_rmse = gt_rms_difference(sr->gt.v, sr->gt.v_alt, sr->scored, count) / sqrt(2.0);
-    unsigned char *band = xmalloc((size_t)count);
-    metrics_penumbra_mask(sr->gt.v, sr->scored, w, h, band);
-    float *band_f = xmalloc(sizeof(float) * (size_t)count);
-    for (int i = 0; i < count; i++)
-        band_f[i] = band[i];
-    c->gt_noise_penumbra_rmse = gt_rms_difference(sr->gt.v, sr->gt.v_alt, band_f, count) / sqrt(2.0);
-    free(band_f);
-    free(band);
+    metrics_compute(sr->v, sr->gt.v, sr->gt.v_alt, sr->scored, sr->distance, w, h, &c->m);
 
     c->scene = sr->scene->name;
     c->technique = t;

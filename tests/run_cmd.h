@@ -10,7 +10,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-static int run_cmd(const char *cmd, struct strbuf *err, struct strbuf *out)
+static inline int run_cmd(const char *cmd, struct strbuf *err, struct strbuf *out)
 {
     char err_path[] = "/tmp/sb_test_stderr_XXXXXX";
     int fd = mkstemp(err_path);
@@ -34,6 +34,15 @@ static int run_cmd(const char *cmd, struct strbuf *err, struct strbuf *out)
     unlink(err_path);
     free(full);
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+/* Removes a test's temporary folder. */
+static inline void remove_tree(const char *dir)
+{
+    char *rm = util_printf("rm -rf '%s'", dir);
+    if (system(rm) != 0)
+        fprintf(stderr, "could not remove %s\n", dir);
+    free(rm);
 }
 
 #endif

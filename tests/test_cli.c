@@ -77,9 +77,6 @@ int main(int argc, char **argv)
     expect_stdout_has("list", "slope_bias       float default 1.0        range [0.0, 16.0]");
     expect_stdout_has("list", "floating_box_sphere");
 
-    char *rm = util_printf("rm -rf '%s'", dir);
-    if (system(rm) != 0)
-        fprintf(stderr, "could not remove %s\n", dir);
-    free(rm);
+    remove_tree(dir);
     return check_finish();
 }

@@ -210,9 +210,6 @@ int main(int argc, char **argv)
 
     strbuf_free(&err), strbuf_free(&out);
     free(out1), free(out2), free(out3);
-    char *rm = util_printf("rm -rf '%s'", dir);
-    if (system(rm) != 0)
-        fprintf(stderr, "could not remove %s\n", dir);
-    free(rm);
+    remove_tree(dir);
     return check_finish();
 }

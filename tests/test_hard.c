@@ -70,9 +70,6 @@ int main(int argc, char **argv)
     free(gt[0].data), free(gt[1].data), free(v[0].data);
     free(gt_path), free(v_path), free(cmd), free(scene);
     strbuf_free(&err);
-    char *rm = util_printf("rm -rf '%s'", dir);
-    if (system(rm) != 0)
-        fprintf(stderr, "could not remove %s\n", dir);
-    free(rm);
+    remove_tree(dir);
     return check_finish();
 }

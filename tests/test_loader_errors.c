@@ -189,9 +189,6 @@ int main(int argc, char **argv)
     case_mesh("bad_index", &m, "mesh 0 primitive 0: index 7 at position 2 is out of range (3 vertices)");
     mesh_free(&m);
 
-    char *rm = util_printf("rm -rf '%s'", dir);
-    if (system(rm) != 0)
-        fprintf(stderr, "could not remove %s\n", dir);
-    free(rm);
+    remove_tree(dir);
     return check_finish();
 }

@@ -26,7 +26,7 @@ static void test_basic_errors(void)
     for (int i = 0; i < N; i++)
         v_tech[i] = i % 2 ? 0.6f : 0.4f;
     struct metrics m = {0};
-    metrics_compute(v_tech, v_gt, scored, dist, W, H, &m);
+    metrics_compute(v_tech, v_gt, NULL, scored, dist, W, H, &m);
     CHECK_NEAR(m.rmse, 0.1, 1e-6, "rmse of +-0.1");
     CHECK_NEAR(m.mae, 0.1, 1e-6, "mae of +-0.1");
     CHECK_NEAR(m.bias, 0.0, 1e-6, "bias of symmetric errors");
@@ -38,9 +38,24 @@ static void test_basic_errors(void)
     reset(0.5f, 0.5f);
     for (int i = 0; i < 50; i++)
         v_tech[i] = 1.0f, scored[i] = 0.0f;
-    metrics_compute(v_tech, v_gt, scored, dist, W, H, &m);
+    metrics_compute(v_tech, v_gt, NULL, scored, dist, W, H, &m);
     CHECK(m.rmse == 0.0 && m.max_abs == 0.0, "unscored pixels must not count: rmse %g", m.rmse);
     CHECK(m.scored_pixels == 50, "scored %ld", m.scored_pixels);
+}
+
+static void test_noise_floor(void)
+{
+    /* A second-seed ground truth differing by +-0.1 everywhere: the two
+     * estimates' difference has rms 0.1, so one image's own error is 0.1/sqrt 2. */
+    reset(0.5f, 0.5f);
+    float alt[N];
+    for (int i = 0; i < N; i++)
+        alt[i] = i % 2 ? 0.6f : 0.4f;
+    struct metrics m = {0};
+    metrics_compute(v_tech, v_gt, alt, scored, dist, W, H, &m);
+    CHECK_NEAR(m.gt_noise_rmse, 0.1 / sqrt(2.0), 1e-6, "noise floor from two seeds");
+    /* V_gt = 0.5 everywhere: every pixel is in the penumbra band. */
+    CHECK_NEAR(m.gt_noise_penumbra_rmse, 0.1 / sqrt(2.0), 1e-6, "noise floor over the band");
 }
 
 static void test_p99_and_bias(void)
@@ -51,7 +66,7 @@ static void test_p99_and_bias(void)
     for (int i = 0; i < N; i++)
         v_tech[i] = (float)i / 100.0f;
     struct metrics m = {0};
-    metrics_compute(v_tech, v_gt, scored, dist, W, H, &m);
+    metrics_compute(v_tech, v_gt, NULL, scored, dist, W, H, &m);
     CHECK_NEAR(m.p99_abs, 0.98, 1e-6, "nearest-rank 99th percentile");
     CHECK_NEAR(m.bias, 0.495, 1e-6, "mean signed error");
     CHECK_NEAR(m.max_abs, 0.99, 1e-6, "max");
@@ -70,12 +85,12 @@ static void test_penumbra_band(void)
     for (int y = 0; y < H; y++)
         v_tech[y * W + 8] = 0.8f;
     struct metrics m = {0};
-    metrics_compute(v_tech, v_gt, scored, dist, W, H, &m);
+    metrics_compute(v_tech, v_gt, NULL, scored, dist, W, H, &m);
     CHECK(m.penumbra_pixels == 50, "band of column 5 dilated by 2: %ld pixels", m.penumbra_pixels);
     CHECK_NEAR(m.penumbra_rmse, 0.0, 1e-9, "error outside the band");
     for (int y = 0; y < H; y++)
         v_tech[y * W + 8] = 1.0f, v_tech[y * W + 3] = 0.2f;
-    metrics_compute(v_tech, v_gt, scored, dist, W, H, &m);
+    metrics_compute(v_tech, v_gt, NULL, scored, dist, W, H, &m);
     CHECK_NEAR(m.penumbra_rmse, sqrt(10 * 0.04 / 50.0), 1e-6, "error inside the band");
 }
 
@@ -94,7 +109,7 @@ static void test_leak_dark_nonfinite(void)
         v_tech[i] = 0.7f;
     v_tech[99] = NAN;
     struct metrics m = {0};
-    metrics_compute(v_tech, v_gt, scored, dist, W, H, &m);
+    metrics_compute(v_tech, v_gt, NULL, scored, dist, W, H, &m);
     CHECK_NEAR(m.leak_fraction, 4.0 / N, 1e-9, "leak share of scored pixels");
     CHECK_NEAR(m.dark_fraction, 3.0 / N, 1e-9, "dark share of scored pixels");
     CHECK(m.nonfinite == 1, "nonfinite %ld", m.nonfinite);
@@ -125,6 +140,7 @@ static void test_score_mask(void)
 int main(void)
 {
     test_basic_errors();
+    test_noise_floor();
     test_p99_and_bias();
     test_penumbra_band();
     test_leak_dark_nonfinite();

@@ -5,6 +5,7 @@
 #include "check.h"
 #include "gl_context.h"
 #include "shader.h"
+#include "run_cmd.h"
 #include "util.h"
 
 #include <fcntl.h>
@@ -100,9 +101,6 @@ int main(void)
     strbuf_free(&log);
 
     gl_context_destroy();
-    char *rm = util_printf("rm -rf '%s'", dir);
-    if (system(rm) != 0)
-        fprintf(stderr, "could not remove %s\n", dir);
-    free(rm);
+    remove_tree(dir);
     return check_finish();
 }
