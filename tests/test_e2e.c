@@ -89,8 +89,10 @@ static void check_outputs(const char *out)
         CHECK(num(m, "penumbra_pixels") > 0, "penumbra present");
         CHECK(num(m, "max_abs") <= 1.0 && num(m, "p99_abs") <= num(m, "max_abs"), "error bounds");
         CHECK(fabs(num(m, "bias")) <= num(m, "mae"), "|bias| <= mae");
-        CHECK(num(m, "mismatch_pixels") >= 0 && num(m, "leak_fraction") >= 0 &&
-              num(m, "dark_fraction") >= 0, "counts");
+        /* GL and the ray tracer sample the same pixel centres of the same
+         * triangles: only silhouette pixels may disagree, a few % at most. */
+        CHECK(num(m, "mismatch_pixels") < 0.03 * W * H, "mismatch_pixels %g",
+              num(m, "mismatch_pixels"));
         CHECK(num(m, "ms_shadowmap") > 0 && num(m, "ms_receiver") > 0 && num(m, "ms_filter_prep") == 0,
               "timings: hard needs the depth product only");
         CHECK_NEAR(num(m, "ms_total"), num(m, "ms_shadowmap") + num(m, "ms_receiver"), 1e-9,
