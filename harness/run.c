@@ -74,6 +74,13 @@ static int load_scenes(const struct run_options *o, struct scene *scenes, int *c
         rc = scene_load(paths[i], &scenes[i]);
         if (!rc)
             (*count)++;
+        /* Outputs go to <out>/<scene name>: two scenes may not share one. */
+        for (int j = 0; j < i && !rc; j++)
+            if (strcmp(scenes[j].name, scenes[i].name) == 0) {
+                log_error("%s: its name '%s' is taken by %s (outputs are per scene name)",
+                          scenes[i].path, scenes[i].name, scenes[j].path);
+                rc = -1;
+            }
     }
     catalog_free(paths, n);
     return rc;

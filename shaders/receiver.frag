@@ -17,8 +17,11 @@ void main()
 {
     vec3 p = v_pos_world;
     // Geometric normal, flipped to face the camera: the ground truth's
-    // convention (DESIGN.md §6), so both shade the same side.
-    vec3 n = normalize(cross(dFdx(p), dFdy(p)));
+    // convention (DESIGN.md §6), so both shade the same side. A triangle too
+    // small for screen-space derivatives falls back to the vertex normal
+    // rather than feeding NaN to the technique.
+    vec3 c = cross(dFdx(p), dFdy(p));
+    vec3 n = dot(c, c) > 0.0 ? normalize(c) : normalize(v_normal_world);
     vec3 to_camera = u_camera_pos - p;
     if (dot(n, to_camera) < 0.0)
         n = -n;

@@ -71,6 +71,19 @@ int main(int argc, char **argv)
     expect(2, args, line);
     free(args), free(line), free(file);
 
+    /* Two scenes with one name would write into one output folder. */
+    char *twin = util_printf("%s/floating_box_sphere.gltf", dir);
+    char *shipped = util_printf("%s/scenes/floating_box_sphere.gltf", SB_SOURCE_DIR);
+    char *text = NULL;
+    size_t size;
+    if (util_read_file(shipped, &text, &size) == 0)
+        util_write_file_atomic(twin, text, size);
+    args = util_printf("run --scene floating_box_sphere --scene %s --no-cache", twin);
+    line = util_printf("%s: its name 'floating_box_sphere' is taken by %s (outputs are per scene name)",
+                       twin, shipped);
+    expect(2, args, line);
+    free(text), free(twin), free(shipped), free(args), free(line);
+
     expect_stdout_has("--help", "commands:");
     expect_stdout_has("run --help", "--shadow-map-size N");
     expect_stdout_has("gt --help", "V_weighted");
