@@ -15,6 +15,7 @@ cJSON *report_cell_json(const struct cell *c)
     for (cJSON *it = m->child; it; it = it->next)
         cJSON_AddNumberToObject(o, it->string, it->valuedouble);
     cJSON_Delete(m);
+    cJSON_AddStringToObject(o, "gl_renderer", c->gl_renderer);
     return o;
 }
 
@@ -51,7 +52,7 @@ static int write_matrix(const struct report *r)
     strbuf_printf(&csv, "scene,technique,params");
     for (size_t k = 0; k < ARRAY_SIZE(columns); k++)
         strbuf_printf(&csv, ",%s", columns[k]);
-    strbuf_printf(&csv, "\n");
+    strbuf_printf(&csv, ",gl_renderer\n");
     cJSON *matrix = cJSON_CreateObject();
     cJSON *cells = cJSON_AddArrayToObject(matrix, "cells");
     for (int i = 0; i < r->cell_count; i++) {
@@ -63,6 +64,8 @@ static int write_matrix(const struct report *r)
         csv_field(&csv, r->cells[i].params_text);
         for (size_t k = 0; k < ARRAY_SIZE(columns); k++)
             strbuf_printf(&csv, ",%.9g", cJSON_GetObjectItem(row, columns[k])->valuedouble);
+        strbuf_printf(&csv, ",");
+        csv_field(&csv, r->cells[i].gl_renderer);
         strbuf_printf(&csv, "\n");
         cJSON_AddItemToArray(cells, row);
     }

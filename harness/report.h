@@ -15,6 +15,7 @@ struct cell {
     const struct technique *technique;
     cJSON *params;                       /* values used */
     char *params_text;                   /* "name=value name=value" */
+    const char *gl_renderer;             /* the device the timings were taken on */
     struct metrics m;
 };
 

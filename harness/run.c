@@ -182,6 +182,7 @@ static int run_cell(struct scene_run *sr, const struct technique *t, const void 
 
     c->scene = sr->scene->name;
     c->technique = t;
+    c->gl_renderer = gl_context_renderer();
     c->params = params_json(t, settings);
     struct strbuf text = {0};
     params_summary(t, settings, &text);

@@ -99,6 +99,8 @@ static void check_outputs(const char *out)
                    "ms_total is the sum of the stages");
         CHECK(num(m, "gt_noise_rmse") > 0 && num(m, "gt_noise_rmse") < 0.05, "noise floor %g",
               num(m, "gt_noise_rmse"));
+        const cJSON *dev = cJSON_GetObjectItem(m, "gl_renderer");
+        CHECK(cJSON_IsString(dev) && strlen(dev->valuestring) > 0, "timings name their device");
         const cJSON *params = cJSON_GetObjectItem(m, "params");
         CHECK(cJSON_GetObjectItem(params, "slope_bias") && cJSON_GetObjectItem(params, "constant_bias"),
               "parameter values recorded");
