@@ -30,14 +30,6 @@ int report_write_json(const char *path, const cJSON *value)
     return rc ? -1 : 0;
 }
 
-/* The metric columns, in matrix order. */
-static const char *const columns[] = {
-    "rmse", "mae", "bias", "max_abs", "p99_abs", "penumbra_rmse", "leak_fraction",
-    "dark_fraction", "nonfinite", "scored_pixels", "mismatch_pixels", "penumbra_pixels",
-    "ms_shadowmap", "ms_filter_prep", "ms_receiver", "ms_total", "gt_noise_rmse",
-    "gt_noise_penumbra_rmse",
-};
-
 static void csv_field(struct strbuf *sb, const char *s)
 {
     strbuf_append(sb, "\"", 1);
@@ -48,10 +40,12 @@ static void csv_field(struct strbuf *sb, const char *s)
 
 static int write_matrix(const struct report *r)
 {
+    /* The metric columns are metrics_json()'s keys, in its order: one list. */
     struct strbuf csv = {0};
     strbuf_printf(&csv, "scene,technique,params");
-    for (size_t k = 0; k < ARRAY_SIZE(columns); k++)
-        strbuf_printf(&csv, ",%s", columns[k]);
+    cJSON *names = metrics_json(&(struct metrics){0});
+    for (const cJSON *it = names->child; it; it = it->next)
+        strbuf_printf(&csv, ",%s", it->string);
     strbuf_printf(&csv, ",gl_renderer\n");
     cJSON *matrix = cJSON_CreateObject();
     cJSON *cells = cJSON_AddArrayToObject(matrix, "cells");
@@ -62,13 +56,14 @@ static int write_matrix(const struct report *r)
         csv_field(&csv, r->cells[i].technique->name);
         strbuf_printf(&csv, ",");
         csv_field(&csv, r->cells[i].params_text);
-        for (size_t k = 0; k < ARRAY_SIZE(columns); k++)
-            strbuf_printf(&csv, ",%.9g", cJSON_GetObjectItem(row, columns[k])->valuedouble);
+        for (const cJSON *it = names->child; it; it = it->next)
+            strbuf_printf(&csv, ",%.9g", cJSON_GetObjectItem(row, it->string)->valuedouble);
         strbuf_printf(&csv, ",");
         csv_field(&csv, r->cells[i].gl_renderer);
         strbuf_printf(&csv, "\n");
         cJSON_AddItemToArray(cells, row);
     }
+    cJSON_Delete(names);
     char *csv_path = util_printf("%s/matrix.csv", r->out_dir);
     char *json_path = util_printf("%s/matrix.json", r->out_dir);
     int rc = util_write_file_atomic(csv_path, csv.data, csv.len) ||
