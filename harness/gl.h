@@ -84,7 +84,14 @@
     X(PFNGLOBJECTLABELPROC, glObjectLabel) \
     X(PFNGLDISPATCHCOMPUTEPROC, glDispatchCompute) \
     X(PFNGLMEMORYBARRIERPROC, glMemoryBarrier) \
-    X(PFNGLBINDIMAGETEXTUREPROC, glBindImageTexture)
+    X(PFNGLBINDIMAGETEXTUREPROC, glBindImageTexture) \
+    X(PFNGLCOPYIMAGESUBDATAPROC, glCopyImageSubData) \
+    X(PFNGLGENSAMPLERSPROC, glGenSamplers) \
+    X(PFNGLDELETESAMPLERSPROC, glDeleteSamplers) \
+    X(PFNGLBINDSAMPLERPROC, glBindSampler) \
+    X(PFNGLSAMPLERPARAMETERIPROC, glSamplerParameteri) \
+    X(PFNGLSAMPLERPARAMETERFVPROC, glSamplerParameterfv) \
+    X(PFNGLUNIFORM2IPROC, glUniform2i)
 
 #define X(type, name) extern type sb_##name;
 GL_FUNCS(X)
@@ -166,6 +173,13 @@ GL_FUNCS(X)
 #define glDispatchCompute sb_glDispatchCompute
 #define glMemoryBarrier sb_glMemoryBarrier
 #define glBindImageTexture sb_glBindImageTexture
+#define glCopyImageSubData sb_glCopyImageSubData
+#define glGenSamplers sb_glGenSamplers
+#define glDeleteSamplers sb_glDeleteSamplers
+#define glBindSampler sb_glBindSampler
+#define glSamplerParameteri sb_glSamplerParameteri
+#define glSamplerParameterfv sb_glSamplerParameterfv
+#define glUniform2i sb_glUniform2i
 
 typedef void (*gl_proc)(void);
 

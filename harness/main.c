@@ -1,6 +1,7 @@
 /* shadowbench: measures real-time shadow techniques against a ray-traced
  * area-light ground truth. This file is the command line only. */
 #include "../techniques/technique.h"
+#include "bench.h"
 #include "catalog.h"
 #include "log.h"
 #include "params.h"
@@ -25,6 +26,7 @@ static const char usage_main[] =
     "commands:\n"
     "  run    every scene x technique: render, score, write the report (the main job)\n"
     "  gt     ray trace one scene's ground truth into an EXR\n"
+    "  bench  median time of each stage of each technique on one scene\n"
     "  list   techniques with every parameter (default, range, meaning), and scenes\n"
     "\n"
     "'shadowbench <command> --help' explains each command's options.\n"
@@ -78,6 +80,28 @@ static const char usage_gt[] =
     "  --gt-samples N        light samples per pixel, a square n*n (default 1024)\n"
     "  --out DIR             output folder (default results/gt)\n"
     "  --cache DIR, --no-cache   as for run (default results/cache)\n"
+    "  -q, --quiet, -v, --verbose\n";
+
+static const char usage_bench[] =
+    "usage: shadowbench bench [options]\n"
+    "\n"
+    "Times every selected technique on one scene, without ground truth or files:\n"
+    "the median wall time (around glFinish; GL timer queries do not measure\n"
+    "llvmpipe's work) of K frames after warm-up, per stage: shadow map (the depth\n"
+    "pass), filter prep (moments, blur, mipmaps, summed-area table) and receiver\n"
+    "pass. Then the texture-fetch limit on the same scene: a receiver pass that\n"
+    "does only the depth fetches of each PCF-family technique, and the ratio of\n"
+    "the technique's receiver pass to it.\n"
+    "\n"
+    "options:\n"
+    "  --scene S             a glTF file or shipped scene (default: the first shipped)\n"
+    "  --technique T[,T...]  techniques to time (default: all)\n"
+    "  --set T.P=V           set a technique parameter (repeatable)\n"
+    "  --width W, --height H receiver size in pixels (default 1024 x 1024)\n"
+    "  --shadow-map-size N   shadow map resolution, 16..8192 (default 1024)\n"
+    "  --frames K            timed frames, the median is reported (default 9)\n"
+    "  --warmup K            untimed frames first (default 3)\n"
+    "  --shaders DIR         GLSL folder, as for run\n"
     "  -q, --quiet, -v, --verbose\n";
 
 static const char usage_list[] =
@@ -175,11 +199,20 @@ static int apply_set(struct run_options *o, const char *arg)
     return params_set(technique_list[index], o->settings[index], name, eq + 1);
 }
 
-/* Options only `run` takes. */
-static bool run_only(int c)
+enum command { CMD_RUN, CMD_GT, CMD_BENCH };
+
+/* Does the command take this option? */
+static bool takes(enum command cmd, int c)
 {
-    return c == OPT_TECHNIQUE || c == OPT_SET || c == OPT_SM_SIZE || c == OPT_FRAMES ||
-           c == OPT_WARMUP || c == OPT_SHADERS;
+    bool gl = c == OPT_TECHNIQUE || c == OPT_SET || c == OPT_SM_SIZE || c == OPT_FRAMES ||
+              c == OPT_WARMUP || c == OPT_SHADERS;
+    bool gt = c == OPT_GT_SAMPLES || c == OPT_OUT || c == OPT_CACHE || c == OPT_NO_CACHE;
+    switch (cmd) {
+    case CMD_RUN: return true;
+    case CMD_GT: return !gl;
+    case CMD_BENCH: return !gt;
+    }
+    return false;
 }
 
 static int parse_gt_samples(const char *text, int *out)
@@ -196,12 +229,35 @@ static int parse_gt_samples(const char *text, int *out)
     return 0;
 }
 
-/* Parses the options of run and gt into o. Returns 0, 1 after --help, or -1. */
-static int parse_options(int argc, char **argv, const char *usage, bool is_gt, struct run_options *o)
+static const char *const command_names[] = {"run", "gt", "bench"};
+
+/* Every technique selected when none is, every setting at its default
+ * unless --set, and the rules across parameters checked. */
+static int finish_techniques(struct run_options *o)
 {
+    if (!o->technique_count)
+        for (const struct technique *const *t = technique_list; *t; t++)
+            o->techniques[o->technique_count++] = *t;
+    for (int i = 0; technique_list[i]; i++)
+        if (!o->settings[i])
+            o->settings[i] = params_defaults(technique_list[i]);
+    for (int i = 0; i < o->technique_count; i++)
+        if (params_check(o->techniques[i], run_settings(o, o->techniques[i])) != 0)
+            return -1;
+    return 0;
+}
+
+/* Parses the options of run, gt and bench into o. Returns 0, 1 after
+ * --help, or -1. */
+static int parse_options(int argc, char **argv, const char *usage, enum command cmd,
+                         struct run_options *o)
+{
+    bool is_gt = cmd == CMD_GT;
     o->cache_dir = "results/cache";
     o->out_dir = is_gt ? "results/gt" : "results/runs/latest";
-    o->warmup = 2;
+    o->warmup = cmd == CMD_BENCH ? 3 : 2;
+    if (cmd == CMD_BENCH)
+        o->width = o->height = 1024, o->frames = 9;
     int c, index = 0;
     optind = 1;
     opterr = 0;
@@ -210,15 +266,17 @@ static int parse_options(int argc, char **argv, const char *usage, bool is_gt, s
             log_error("%s: unknown option (see --help)", argv[optind - 1]);
             return -1;
         }
-        if (is_gt && run_only(c)) {
-            log_error("--%s: unknown option for gt (see --help)", long_options[index].name);
+        if (c >= OPT_SCENE && !takes(cmd, c)) {
+            log_error("--%s: unknown option for %s (see --help)", long_options[index].name,
+                      command_names[cmd]);
             return -1;
         }
         int rc = 0;
         switch (c) {
         case OPT_SCENE:
-            if (o->scene_count == RUN_MAX_SCENES || (is_gt && o->scene_count == 1)) {
-                log_error("--scene: %s", is_gt ? "gt takes one scene" : "too many scenes");
+            if (o->scene_count == RUN_MAX_SCENES || (cmd != CMD_RUN && o->scene_count == 1)) {
+                log_error("--scene: %s", cmd != CMD_RUN ? "gt and bench take one scene"
+                                                         : "too many scenes");
                 return -1;
             }
             o->scenes[o->scene_count++] = optarg;
@@ -250,7 +308,7 @@ static int parse_options(int argc, char **argv, const char *usage, bool is_gt, s
         log_error("gt: --scene is required (see --help)");
         return -1;
     }
-    return 0;
+    return finish_techniques(o);
 }
 
 static int cmd_list(int argc, char **argv)
@@ -303,14 +361,18 @@ int main(int argc, char **argv)
     }
     if (strcmp(cmd, "list") == 0)
         return cmd_list(argc - 1, argv + 1);
-    bool is_run = strcmp(cmd, "run") == 0, is_gt = strcmp(cmd, "gt") == 0;
-    if (!is_run && !is_gt) {
-        log_error("unknown command '%s' (commands: run, gt, list; see --help)", cmd);
+    static const char *const usages[] = {usage_run, usage_gt, usage_bench};
+    static int (*const mains[])(const struct run_options *) = {run_main, run_gt, bench_main};
+    int k = 0;
+    while (k < 3 && strcmp(cmd, command_names[k]) != 0)
+        k++;
+    if (k == 3) {
+        log_error("unknown command '%s' (commands: run, gt, bench, list; see --help)", cmd);
         return EXIT_USAGE;
     }
     struct run_options o = {.argc = argc, .argv = argv};
-    int rc = parse_options(argc - 1, argv + 1, is_run ? usage_run : usage_gt, is_gt, &o);
-    int status = rc > 0 ? EXIT_OK : rc < 0 ? EXIT_USAGE : is_run ? run_main(&o) : run_gt(&o);
+    int rc = parse_options(argc - 1, argv + 1, usages[k], (enum command)k, &o);
+    int status = rc > 0 ? EXIT_OK : rc < 0 ? EXIT_USAGE : mains[k](&o);
     for (int i = 0; i < RUN_MAX_TECHNIQUES; i++)
         free(o.settings[i]);
     return status;

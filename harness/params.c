@@ -11,6 +11,13 @@
 #define MEMBER(settings, p, type) ((type *)((char *)(settings) + (p)->offset))
 #define CMEMBER(settings, p, type) ((const type *)((const char *)(settings) + (p)->offset))
 
+/* "a, b, c" (or "a|b|c") from a NULL-terminated list. */
+static void join(const char *const *items, const char *sep, struct strbuf *out)
+{
+    for (int k = 0; items[k]; k++)
+        strbuf_printf(out, "%s%s", k ? sep : "", items[k]);
+}
+
 static const struct technique_param *find(const struct technique *t, const char *name)
 {
     for (const struct technique_param *p = t->params; p->name; p++)
@@ -85,6 +92,18 @@ int params_set(const struct technique *t, void *settings, const char *name, cons
             log_error("%s.%s: '%s' is not a whole number", t->name, name, value);
             return -1;
         }
+        if (p->choices) {
+            int i = 0;
+            while (p->choices[i] && atoi(p->choices[i]) != (int)v)
+                i++;
+            if (!p->choices[i]) {
+                struct strbuf known = {0};
+                join(p->choices, ", ", &known);
+                log_error("%s.%s: %s is not one of: %s", t->name, name, value, known.data);
+                strbuf_free(&known);
+                return -1;
+            }
+        }
         break;
     case PARAM_BOOL:
         if (!strcasecmp(value, "true") || !strcmp(value, "1") || !strcasecmp(value, "on"))
@@ -102,8 +121,7 @@ int params_set(const struct technique *t, void *settings, const char *name, cons
             i++;
         if (!p->choices[i]) {
             struct strbuf known = {0};
-            for (int k = 0; p->choices[k]; k++)
-                strbuf_printf(&known, "%s%s", k ? ", " : "", p->choices[k]);
+            join(p->choices, ", ", &known);
             log_error("%s.%s: '%s' is not one of: %s", t->name, name, value, known.data);
             strbuf_free(&known);
             return -1;
@@ -121,6 +139,24 @@ int params_set(const struct technique *t, void *settings, const char *name, cons
     }
     put(p, settings, v);
     return 0;
+}
+
+int params_get(const struct technique *t, const void *settings, const char *name, double *value)
+{
+    const struct technique_param *p = find(t, name);
+    if (!p)
+        return -1;
+    *value = get(p, settings);
+    return 0;
+}
+
+int params_check(const struct technique *t, const void *settings)
+{
+    char why[256];
+    if (!t->check || t->check(settings, why, sizeof why) == 0)
+        return 0;
+    log_error("%s: %s", t->name, why);
+    return -1;
 }
 
 static void upper(char *dst, const char *src, size_t n)
@@ -187,10 +223,9 @@ void params_print(const struct technique *t, FILE *f)
     for (const struct technique_param *p = t->params; p->name; p++) {
         char def[64], lo[64], hi[64];
         format_value(p, p->def, def, sizeof def);
-        if (p->type == PARAM_ENUM) {
+        if (p->choices) {
             struct strbuf c = {0};
-            for (int k = 0; p->choices[k]; k++)
-                strbuf_printf(&c, "%s%s", k ? "|" : "", p->choices[k]);
+            join(p->choices, "|", &c);
             fprintf(f, "    %-16s %-5s default %-10s one of %s\n", p->name, type_name[p->type], def,
                     c.data);
             strbuf_free(&c);

@@ -17,6 +17,14 @@ void *params_defaults(const struct technique *t);
  * "<technique>.<name>: <problem>" (unknown name, bad value, out of range). */
 int params_set(const struct technique *t, void *settings, const char *name, const char *value);
 
+/* The value of parameter `name` (enums: the choice's index). Returns 0, or
+ * -1 when t has no such parameter (not logged). */
+int params_get(const struct technique *t, const void *settings, const char *name, double *value);
+
+/* Applies the technique's rules across parameters (technique.check).
+ * Returns 0, or -1 after logging "<technique>: <reason>". */
+int params_check(const struct technique *t, const void *settings);
+
 /* Appends "#define <TECH>_<PARAM> <value>" lines (and, for enums, one
  * "#define <TECH>_<PARAM>_<CHOICE> <index>" per choice). */
 void params_defines(const struct technique *t, const void *settings, struct strbuf *out);

@@ -49,11 +49,13 @@ int receiver_create(struct receiver *r, const struct scene *s, int width, int he
     return 0;
 }
 
-GLuint receiver_program(const struct technique *t, const void *settings)
+GLuint receiver_program(const struct technique *t, const void *settings, enum light_shape shape)
 {
     struct strbuf defines = {0};
+    strbuf_printf(&defines, "#define SM_LIGHT_SHAPE %d\n", shape == LIGHT_RECT ? 0 : 1);
     params_defines(t, settings, &defines);
-    char *label = util_printf("receiver pass: %s", t->name);
+    char *label = util_printf("receiver pass: %s, %s light", t->name,
+                              shape == LIGHT_RECT ? "rect" : "disk");
     GLuint p = shader_program(
         label, defines.data,
         (const struct shader_stage[]){{GL_VERTEX_SHADER, {"receiver.vert"}},

@@ -20,8 +20,9 @@ struct receiver {
 int receiver_create(struct receiver *r, const struct scene *s, int width, int height);
 
 /* The receiver program for technique t with these settings (its parameters
- * become #defines). Returns 0 on failure (logged). */
-GLuint receiver_program(const struct technique *t, const void *settings);
+ * become #defines) and a light of this shape (SM_LIGHT_SHAPE: the PCSS
+ * family's tap pattern follows it). Returns 0 on failure (logged). */
+GLuint receiver_program(const struct technique *t, const void *settings, enum light_shape shape);
 
 void receiver_render(const struct receiver *r, GLuint program, const struct scene_mesh *mesh,
                      const struct shadowmap *sm);

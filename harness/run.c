@@ -14,6 +14,7 @@
 #include "report.h"
 #include "scene_mesh.h"
 #include "shader.h"
+#include "stage_timer.h"
 #include "util.h"
 
 #include <OpenEXR/openexr.h>
@@ -34,17 +35,14 @@ static void fill_defaults(struct run_options *o)
     if (!o->shadow_map_size) o->shadow_map_size = SHADOWMAP_DEFAULT_SIZE;
     if (!o->frames) o->frames = 5;
     if (!o->out_dir) o->out_dir = "results/runs/latest";
-    if (!o->technique_count)
-        for (const struct technique *const *t = technique_list; *t; t++)
-            o->techniques[o->technique_count++] = *t;
 }
 
-static int registry_index(const struct technique *t)
+void *run_settings(const struct run_options *o, const struct technique *t)
 {
     int i = 0;
     while (technique_list[i] != t)
         i++;
-    return i;
+    return o->settings[i];
 }
 
 /* Loads every scene named on the command line (or every shipped one) before
@@ -97,37 +95,6 @@ static int prepare_out_dir(const char *dir)
     return 0;
 }
 
-/* Wall time of one GL job around glFinish: on llvmpipe the timer queries do
- * not measure the work (DESIGN.md §7). Median of `frames` after `warmup`. */
-struct gl_job {
-    void (*run)(const struct gl_job *job);
-    struct shadowmap *sm;
-    const struct scene_mesh *mesh;
-    const struct receiver *receiver;
-    GLuint program;
-    enum shadowmap_product product;
-};
-
-static void job_product(const struct gl_job *j) { shadowmap_render_product(j->sm, j->mesh, j->product); }
-static void job_receiver(const struct gl_job *j) { receiver_render(j->receiver, j->program, j->mesh, j->sm); }
-
-static double time_gl_ms(const struct gl_job *job, int warmup, int frames)
-{
-    double samples[1000];
-    glFinish();
-    for (int i = 0; i < warmup; i++) {
-        job->run(job);
-        glFinish();
-    }
-    for (int i = 0; i < frames; i++) {
-        double t0 = util_now_ms();
-        job->run(job);
-        glFinish();
-        samples[i] = util_now_ms() - t0;
-    }
-    return util_median(samples, frames);
-}
-
 static int write_pictures(const char *dir, const char *name, const float *v, const float *distance,
                           int w, int h)
 {
@@ -148,31 +115,24 @@ struct scene_run {
     struct scene_mesh mesh;
     struct shadowmap sm;
     struct receiver receiver;
-    double product_ms[3];  /* by log2 of the SM_* flag */
+    struct stage_timer timer;
     float *v, *distance, *scored, *error;
     char *dir;
 };
-
-static double product_cost(const struct scene_run *sr, unsigned needs, unsigned which)
-{
-    double ms = 0;
-    for (int k = 0; k < 3; k++)
-        if (needs & which & (1u << k))
-            ms += sr->product_ms[k];
-    return ms;
-}
 
 static int run_cell(struct scene_run *sr, const struct technique *t, const void *settings,
                     GLuint program, struct cell *c)
 {
     const struct run_options *o = sr->o;
     const int w = o->width, h = o->height, count = w * h;
-    shadowmap_require(&sr->sm, &sr->mesh, t->needs);
-    struct gl_job job = {.run = job_receiver, .sm = &sr->sm, .mesh = &sr->mesh,
-                         .receiver = &sr->receiver, .program = program};
-    c->m.ms_receiver = time_gl_ms(&job, o->warmup, o->frames);
-    c->m.ms_shadowmap = product_cost(sr, t->needs, SM_DEPTH);
-    c->m.ms_filter_prep = product_cost(sr, t->needs, SM_MOMENTS | SM_MOMENTS_SAT);
+    struct shadowmap_request req;
+    technique_request(t, settings, &sr->sm.frustum, sr->sm.desc.size_texels, &req);
+    if (shadowmap_prepare(&sr->sm, &req) != 0)
+        return -1;
+    c->m.ms_shadowmap = stage_timer_products_ms(&sr->timer, &req, SM_DEPTH);
+    c->m.ms_filter_prep = stage_timer_products_ms(&sr->timer, &req, SM_MOMENTS | SM_MOMENTS_SAT);
+    shadowmap_require(&sr->sm, &sr->mesh, &req);
+    c->m.ms_receiver = stage_timer_receiver_ms(&sr->timer, &sr->receiver, program);
     c->m.ms_total = c->m.ms_shadowmap + c->m.ms_filter_prep + c->m.ms_receiver;
     receiver_read(&sr->receiver, sr->v, sr->distance);
 
@@ -211,7 +171,7 @@ static int run_cell(struct scene_run *sr, const struct technique *t, const void 
     return rc ? -1 : 0;
 }
 
-static int run_scene(struct scene_run *sr, GLuint *programs, struct cell *cells, int *cell_count)
+static int run_scene(struct scene_run *sr, GLuint (*programs)[2], struct cell *cells, int *cell_count)
 {
     const struct run_options *o = sr->o;
     const int w = o->width, h = o->height, count = w * h;
@@ -224,20 +184,12 @@ static int run_scene(struct scene_run *sr, GLuint *programs, struct cell *cells,
     if (shadowmap_create(&sr->sm, sr->scene, &(struct shadowmap_desc){.size_texels = o->shadow_map_size}) ||
         receiver_create(&sr->receiver, sr->scene, w, h))
         return -1;
+    sr->timer = (struct stage_timer){.sm = &sr->sm, .mesh = &sr->mesh, .warmup = o->warmup,
+                                     .frames = o->frames};
     if (gt_obtain(sr->scene, &sr->sm.frustum,
                   &(struct gt_desc){.width = w, .height = h, .samples = o->gt_samples},
                   o->cache_dir, &sr->gt) != 0)
         return -1;
-
-    unsigned needed = 0;
-    for (int i = 0; i < o->technique_count; i++)
-        needed |= o->techniques[i]->needs;
-    for (int k = 0; k < 3; k++)
-        if (needed & (1u << k)) {
-            struct gl_job job = {.run = job_product, .sm = &sr->sm, .mesh = &sr->mesh,
-                                 .product = (enum shadowmap_product)(1u << k)};
-            sr->product_ms[k] = time_gl_ms(&job, o->warmup, o->frames);
-        }
 
     sr->v = xmalloc(sizeof(float) * (size_t)count);
     sr->distance = xmalloc(sizeof(float) * (size_t)count);
@@ -245,8 +197,8 @@ static int run_scene(struct scene_run *sr, GLuint *programs, struct cell *cells,
     sr->error = xmalloc(sizeof(float) * (size_t)count);
     for (int i = 0; i < o->technique_count; i++) {
         const struct technique *t = o->techniques[i];
-        int ri = registry_index(t);
-        if (run_cell(sr, t, o->settings[ri], programs[ri], &cells[(*cell_count)++]) != 0)
+        if (run_cell(sr, t, run_settings(o, t), programs[i][sr->scene->light.shape],
+                     &cells[(*cell_count)++]) != 0)
             return -1;
     }
 
@@ -334,26 +286,17 @@ static cJSON *run_json(const struct run_options *o, double seconds)
     return r;
 }
 
-static void fill_settings(struct run_options *o, void **owned)
-{
-    for (int i = 0; technique_list[i]; i++)
-        if (!o->settings[i])
-            o->settings[i] = owned[i] = params_defaults(technique_list[i]);
-}
-
 int run_main(const struct run_options *given)
 {
     double start = util_now_ms();
     struct run_options o = *given;
     fill_defaults(&o);
-    void *owned[RUN_MAX_TECHNIQUES] = {0};
-    fill_settings(&o, owned);
 
     static struct scene scenes[RUN_MAX_SCENES];
     int scene_count = 0, status = EXIT_CHECK_FAILED;
     struct cell *cells = NULL;
     int cell_count = 0;
-    GLuint programs[RUN_MAX_TECHNIQUES] = {0};
+    GLuint programs[RUN_MAX_TECHNIQUES][2] = {{0}};  /* by technique, light shape */
     struct report_scene rs[RUN_MAX_SCENES] = {0};
 
     if (load_scenes(&o, scenes, &scene_count) != 0 || prepare_out_dir(o.out_dir) != 0) {
@@ -369,11 +312,14 @@ int run_main(const struct run_options *given)
     }
     if (gl_context_create() != 0 || shader_init(o.shader_dir) != 0)
         goto out_free_scenes;
-    for (int i = 0; i < o.technique_count; i++) {
-        int ri = registry_index(o.techniques[i]);
-        if (!(programs[ri] = receiver_program(o.techniques[i], o.settings[ri])))
-            goto out_free_gl;
-    }
+    for (int s = 0; s < scene_count; s++)
+        for (int i = 0; i < o.technique_count; i++) {
+            enum light_shape shape = scenes[s].light.shape;
+            if (!programs[i][shape] &&
+                !(programs[i][shape] =
+                      receiver_program(o.techniques[i], run_settings(&o, o.techniques[i]), shape)))
+                goto out_free_gl;
+        }
 
     log_info("run: %d scene(s) x %d technique(s), %dx%d, %d GT samples, %d^2 shadow map, median of "
              "%d frames on %s", scene_count, o.technique_count, o.width, o.height, o.gt_samples,
@@ -414,14 +360,13 @@ int run_main(const struct run_options *given)
     free(cells);
 out_free_gl:
     for (int i = 0; i < RUN_MAX_TECHNIQUES; i++)
-        if (programs[i])
-            glDeleteProgram(programs[i]);
+        for (int k = 0; k < 2; k++)
+            if (programs[i][k])
+                glDeleteProgram(programs[i][k]);
     gl_context_destroy();
 out_free_scenes:
     for (int s = 0; s < scene_count; s++)
         scene_free(&scenes[s]);
-    for (int i = 0; i < RUN_MAX_TECHNIQUES; i++)
-        free(owned[i]);
     return status;
 }
 

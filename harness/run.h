@@ -13,9 +13,9 @@ enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_USAGE = 2 };
 struct run_options {
     const char *scenes[RUN_MAX_SCENES];  /* names or paths; none = every shipped scene */
     int scene_count;
-    const struct technique *techniques[RUN_MAX_TECHNIQUES];  /* none = every technique */
+    const struct technique *techniques[RUN_MAX_TECHNIQUES];  /* at least one */
     int technique_count;
-    void *settings[RUN_MAX_TECHNIQUES];  /* per technique_list index; NULL = defaults */
+    void *settings[RUN_MAX_TECHNIQUES];  /* per technique_list index, every one set */
     int width, height;                   /* image size, default 512 x 512 */
     int gt_samples;                      /* default 1024 */
     int shadow_map_size;                 /* default 1024 */
@@ -30,5 +30,8 @@ struct run_options {
 
 int run_main(const struct run_options *o);
 int run_gt(const struct run_options *o);
+
+/* The settings of technique t in o. */
+void *run_settings(const struct run_options *o, const struct technique *t);
 
 #endif

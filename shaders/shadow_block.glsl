@@ -11,4 +11,14 @@ layout(std140, binding = 0) uniform ShadowMapBlock {
     float near_world;         // planar depth range of the geometry (world units)
     float far_world;
     float map_size_texels;
+    int pad0;
+    int sat_format;           // SM_SAT_* of the current summed-area table
+    float sat_scale;          // SM_SAT_INT32: fixed-point units per 1.0 of depth
+    float sat_max_box_texels; // SM_SAT_INT32: boxes are clipped to this side (no overflow)
 } sm;
+
+#define SM_LIGHT_RECT 0  // values of SM_LIGHT_SHAPE (see shadow_common.glsl)
+#define SM_LIGHT_DISK 1
+#define SM_SAT_FP32 0
+#define SM_SAT_FP32_CENTERED 1
+#define SM_SAT_INT32 2

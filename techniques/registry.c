@@ -5,9 +5,19 @@
 #include <string.h>
 
 extern const struct technique technique_hard;
+extern const struct technique technique_pcf;
+extern const struct technique technique_pcss;
+extern const struct technique technique_vsm;
+extern const struct technique technique_savsm;
+extern const struct technique technique_pcss_savsm;
 
 const struct technique *const technique_list[] = {
     &technique_hard,
+    &technique_pcf,
+    &technique_pcss,
+    &technique_vsm,
+    &technique_savsm,
+    &technique_pcss_savsm,
     NULL,
 };
 
@@ -17,4 +27,15 @@ const struct technique *technique_find(const char *name)
         if (strcmp((*t)->name, name) == 0)
             return *t;
     return NULL;
+}
+
+void technique_request(const struct technique *t, const void *settings,
+                       const struct shadowmap_frustum *f, int map_size_texels,
+                       struct shadowmap_request *r)
+{
+    memset(r, 0, sizeof *r);
+    r->products = t->needs;
+    if (t->request)
+        t->request(settings, f, map_size_texels, r);
+    r->products |= SM_DEPTH;
 }

@@ -1,8 +1,10 @@
 #include "shadowmap.h"
 #include "../harness/log.h"
 #include "../harness/shader.h"
+#include "../harness/util.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* ---- frustum ----------------------------------------------------------- */
@@ -85,9 +87,10 @@ bool shadowmap_inside(const struct shadowmap_frustum *f, struct vec3 p)
 
 /* ---- GL products ------------------------------------------------------- */
 
-static void fill_block(const struct shadowmap *sm, const struct scene *s, struct shadowmap_block *b)
+static void fill_block(struct shadowmap *sm, const struct scene *s)
 {
     const struct shadowmap_frustum *f = &sm->frustum;
+    struct shadowmap_block *b = &sm->block;
     memset(b, 0, sizeof *b);
     memcpy(b->light_view_proj, f->view_proj.m, sizeof b->light_view_proj);
     memcpy(b->light_view, f->view.m, sizeof b->light_view);
@@ -103,6 +106,25 @@ static void fill_block(const struct shadowmap *sm, const struct scene *s, struct
     b->map_size_texels = (float)sm->desc.size_texels;
 }
 
+static GLuint map_texture(GLenum format, int levels, int n, const float border[4], const char *label)
+{
+    GLuint t;
+    glGenTextures(1, &t);
+    glBindTexture(GL_TEXTURE_2D, t);
+    glTexStorage2D(GL_TEXTURE_2D, levels, format, n, n);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, levels > 1 ? GL_LINEAR : GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
+    glTexParameterfv(GL_TEXTURE_2D, GL_TEXTURE_BORDER_COLOR, border);
+    gl_label(GL_TEXTURE, t, label);
+    return t;
+}
+
+/* Outside the map is the far plane, so nothing there occludes (lit), as
+ * engines do: hardware depth 0 (reversed Z), moments (1, 1). */
+static const float border_depth[4] = {0, 0, 0, 0}, border_moments[4] = {1, 1, 0, 0};
+
 int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct shadowmap_desc *desc)
 {
     memset(sm, 0, sizeof *sm);
@@ -112,25 +134,24 @@ int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct s
     if (shadowmap_fit(s, &sm->frustum) != 0)
         return -1;
 
-    struct shadowmap_block block;
-    fill_block(sm, s, &block);
+    fill_block(sm, s);
     glGenBuffers(1, &sm->ubo);
     glBindBuffer(GL_UNIFORM_BUFFER, sm->ubo);
-    glBufferData(GL_UNIFORM_BUFFER, sizeof block, &block, GL_STATIC_DRAW);
+    glBufferData(GL_UNIFORM_BUFFER, sizeof sm->block, &sm->block, GL_DYNAMIC_DRAW);
     gl_label(GL_BUFFER, sm->ubo, "ShadowMapBlock");
 
     int n = sm->desc.size_texels;
-    glGenTextures(1, &sm->depth_texture);
-    glBindTexture(GL_TEXTURE_2D, sm->depth_texture);
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, n, n);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    /* Outside the map: depth 0, the far plane in reversed Z, so nothing
-     * there occludes (lit), as engines do. */
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
-    glTexParameterfv(GL_TEXTURE_2D, GL_TEXTURE_BORDER_COLOR, (const float[4]){0, 0, 0, 0});
-    gl_label(GL_TEXTURE, sm->depth_texture, "shadow map: depth");
+    sm->depth_texture = map_texture(GL_DEPTH_COMPONENT32F, 1, n, border_depth, "shadow map: depth");
+    /* The same texture through a comparison sampler: hardware 2x2 PCF. */
+    glGenSamplers(1, &sm->compare_sampler);
+    glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
+    glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
+    glSamplerParameterfv(sm->compare_sampler, GL_TEXTURE_BORDER_COLOR, border_depth);
+    glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
+    glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_COMPARE_FUNC, GL_GEQUAL); /* reversed Z: lit */
+    gl_label(GL_SAMPLER, sm->compare_sampler, "shadow map: depth comparison sampler");
 
     glGenFramebuffers(1, &sm->depth_fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, sm->depth_fbo);
@@ -158,8 +179,128 @@ int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct s
     return 0;
 }
 
+static GLuint compute_program(const char *label, const char *file, const char *defines)
+{
+    return shader_program(label, defines, &(struct shader_stage){GL_COMPUTE_SHADER, {file}}, 1);
+}
+
+int shadowmap_prepare(struct shadowmap *sm, const struct shadowmap_request *r)
+{
+    int n = sm->desc.size_texels;
+    if ((r->products & (SM_MOMENTS | SM_MOMENTS_SAT)) && !sm->moments_raw) {
+        sm->moments_raw = map_texture(GL_RG32F, 1, n, border_moments, "shadow map: raw moments");
+        if (!(sm->moments_program = compute_program("moments from depth", "moments.comp", NULL)))
+            return -1;
+    }
+    if ((r->products & SM_MOMENTS) && !sm->moments) {
+        int levels = 1;
+        while ((n >> levels) > 0)
+            levels++;
+        sm->moments = map_texture(GL_RG32F, levels, n, border_moments, "shadow map: moments");
+        sm->moments_temp = map_texture(GL_RG32F, 1, n, border_moments, "shadow map: blur temporary");
+        if (!(sm->blur_program = compute_program("moments blur", "moments_blur.comp", NULL)))
+            return -1;
+    }
+    if ((r->products & SM_MOMENTS_SAT) && !sm->sat_buffer) {
+        /* Zeroed once: the first row stays zero (the passes never write it). */
+        size_t bytes = sizeof(uint32_t) * 2 * (size_t)(n + 1) * (size_t)(n + 1);
+        void *zero = xcalloc(1, bytes);
+        glGenBuffers(1, &sm->sat_buffer);
+        glBindBuffer(GL_SHADER_STORAGE_BUFFER, sm->sat_buffer);
+        glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)bytes, zero, GL_DYNAMIC_COPY);
+        free(zero);
+        gl_label(GL_BUFFER, sm->sat_buffer, "shadow map: moments SAT");
+        sm->sat_rows_program = compute_program("SAT rows", "sat_build.comp", "#define SAT_PASS_ROWS 1\n");
+        sm->sat_columns_program = compute_program("SAT columns", "sat_build.comp", "#define SAT_PASS_ROWS 0\n");
+        if (!sm->sat_rows_program || !sm->sat_columns_program)
+            return -1;
+    }
+    return 0;
+}
+
+void shadowmap_sat_int32_scale(const struct shadowmap_request *r, int n, float *scale,
+                               float *max_box_texels)
+{
+    /* A box of side s has edges in at most ceil(s) + 1 texels per axis, and
+     * the 16-value read forms boxes one texel wider: (ceil(s) + 2)^2 texels,
+     * each at most 1.0 = 2^k units. */
+    double side = r->sat_max_box_texels > 0 ? fmin(r->sat_max_box_texels, (double)n) : (double)n;
+    double area = (ceil(side) + 2.0) * (ceil(side) + 2.0);
+    int k = 30 - (int)floor(log2(area));
+    k = k > 24 ? 24 : k;  /* float d has 24 significant bits */
+    *scale = ldexpf(1.0f, k);
+    *max_box_texels = (float)side;
+}
+
+static void dispatch_2d(int n)
+{
+    glDispatchCompute((GLuint)(n + 7) / 8, (GLuint)(n + 7) / 8, 1);
+}
+
+static void render_raw_moments(struct shadowmap *sm)
+{
+    glUseProgram(sm->moments_program);
+    glBindBufferBase(GL_UNIFORM_BUFFER, 0, sm->ubo);
+    glBindTextureUnit(0, sm->depth_texture);
+    glBindSampler(0, 0);
+    glBindImageTexture(0, sm->moments_raw, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+    dispatch_2d(sm->desc.size_texels);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+}
+
+static void blur_pass(struct shadowmap *sm, GLuint from, GLuint to, int dx, int dy, int radius)
+{
+    glBindTextureUnit(0, from);
+    glBindImageTexture(0, to, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
+    glUniform2i(glGetUniformLocation(sm->blur_program, "u_direction"), dx, dy);
+    glUniform1i(glGetUniformLocation(sm->blur_program, "u_radius"), radius);
+    dispatch_2d(sm->desc.size_texels);
+    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+}
+
+static void render_moments(struct shadowmap *sm, const struct shadowmap_request *r)
+{
+    int n = sm->desc.size_texels, radius = r->moments_blur_radius_texels;
+    render_raw_moments(sm);
+    if (radius > 0) {
+        glUseProgram(sm->blur_program);
+        blur_pass(sm, sm->moments_raw, sm->moments_temp, 1, 0, radius);
+        blur_pass(sm, sm->moments_temp, sm->moments, 0, 1, radius);
+    } else {
+        glCopyImageSubData(sm->moments_raw, GL_TEXTURE_2D, 0, 0, 0, 0, sm->moments, GL_TEXTURE_2D,
+                           0, 0, 0, 0, n, n, 1);
+    }
+    glBindTexture(GL_TEXTURE_2D, sm->moments);
+    glGenerateMipmap(GL_TEXTURE_2D);
+}
+
+static void render_sat(struct shadowmap *sm, const struct shadowmap_request *r)
+{
+    int n = sm->desc.size_texels;
+    struct shadowmap_block *b = &sm->block;
+    b->sat_format = (int)r->sat_format;
+    if (r->sat_format == SAT_INT32) {
+        shadowmap_sat_int32_scale(r, n, &b->sat_scale, &b->sat_max_box_texels);
+    } else {
+        b->sat_scale = 1.0f;
+        b->sat_max_box_texels = (float)n;
+    }
+    glBindBuffer(GL_UNIFORM_BUFFER, sm->ubo);
+    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof *b, b);
+
+    render_raw_moments(sm);
+    glBindTextureUnit(0, sm->moments_raw);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, sm->sat_buffer);
+    glUseProgram(sm->sat_rows_program);
+    glDispatchCompute((GLuint)(n + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glUseProgram(sm->sat_columns_program);
+    glDispatchCompute((GLuint)(n + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
 void shadowmap_render_product(struct shadowmap *sm, const struct scene_mesh *mesh,
-                              enum shadowmap_product product)
+                              enum shadowmap_product product, const struct shadowmap_request *r)
 {
     switch (product) {
     case SM_DEPTH:
@@ -172,35 +313,65 @@ void shadowmap_render_product(struct shadowmap *sm, const struct scene_mesh *mes
         glBindFramebuffer(GL_FRAMEBUFFER, 0);
         break;
     case SM_MOMENTS:
+        render_moments(sm, r);
+        sm->made.moments_blur_radius_texels = r->moments_blur_radius_texels;
+        break;
     case SM_MOMENTS_SAT:
-        log_error("shadow map: moments products are not implemented yet");
-        return;
+        render_sat(sm, r);
+        sm->made.sat_format = r->sat_format;
+        sm->made.sat_max_box_texels = r->sat_max_box_texels;
+        break;
     }
     sm->current |= product;
 }
 
-void shadowmap_require(struct shadowmap *sm, const struct scene_mesh *mesh, unsigned products)
+bool shadowmap_same_product(enum shadowmap_product p, const struct shadowmap_request *a,
+                            const struct shadowmap_request *b)
+{
+    switch (p) {
+    case SM_DEPTH: return true;
+    case SM_MOMENTS: return a->moments_blur_radius_texels == b->moments_blur_radius_texels;
+    case SM_MOMENTS_SAT:
+        return a->sat_format == b->sat_format &&
+               (a->sat_format != SAT_INT32 || a->sat_max_box_texels == b->sat_max_box_texels);
+    }
+    return false;
+}
+
+void shadowmap_require(struct shadowmap *sm, const struct scene_mesh *mesh,
+                       const struct shadowmap_request *r)
 {
     for (unsigned p = SM_DEPTH; p <= SM_MOMENTS_SAT; p <<= 1)
-        if ((products & p) && !(sm->current & p))
-            shadowmap_render_product(sm, mesh, (enum shadowmap_product)p);
+        if ((r->products & p) &&
+            !((sm->current & p) && shadowmap_same_product((enum shadowmap_product)p, &sm->made, r)))
+            shadowmap_render_product(sm, mesh, (enum shadowmap_product)p, r);
 }
 
 void shadowmap_bind(const struct shadowmap *sm)
 {
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, sm->ubo);
     glBindTextureUnit(0, sm->depth_texture);
+    glBindSampler(0, 0);
+    glBindTextureUnit(1, sm->depth_texture);
+    glBindSampler(1, sm->compare_sampler);
+    glBindTextureUnit(2, sm->moments);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, sm->sat_buffer);
 }
 
 void shadowmap_destroy(struct shadowmap *sm)
 {
-    if (sm->depth_program)
-        glDeleteProgram(sm->depth_program);
+    GLuint programs[] = {sm->depth_program, sm->moments_program, sm->blur_program,
+                         sm->sat_rows_program, sm->sat_columns_program};
+    for (size_t i = 0; i < sizeof programs / sizeof *programs; i++)
+        if (programs[i])
+            glDeleteProgram(programs[i]);
     if (sm->depth_fbo)
         glDeleteFramebuffers(1, &sm->depth_fbo);
-    if (sm->depth_texture)
-        glDeleteTextures(1, &sm->depth_texture);
-    if (sm->ubo)
-        glDeleteBuffers(1, &sm->ubo);
+    if (sm->compare_sampler)
+        glDeleteSamplers(1, &sm->compare_sampler);
+    GLuint textures[] = {sm->depth_texture, sm->moments_raw, sm->moments_temp, sm->moments};
+    glDeleteTextures(4, textures);
+    GLuint buffers[] = {sm->ubo, sm->sat_buffer};
+    glDeleteBuffers(2, buffers);
     memset(sm, 0, sizeof *sm);
 }

@@ -45,9 +45,13 @@ struct shadowmap_block {
     float near_window_world[2];   /* r - l, t - b */
     float near_world, far_world;  /* planar depth range */
     float map_size_texels;
+    int pad0;
+    int sat_format;               /* enum sat_format of the current SAT */
+    float sat_scale;              /* SAT_INT32: fixed-point units per 1.0 of depth */
+    float sat_max_box_texels;     /* SAT_INT32: widest box whose sums fit in 32 bits */
     float pad[3];
 };
-_Static_assert(sizeof(struct shadowmap_block) == 208, "std140 layout of ShadowMapBlock");
+_Static_assert(sizeof(struct shadowmap_block) == 224, "std140 layout of ShadowMapBlock");
 _Static_assert(offsetof(struct shadowmap_block, light_size_uv) == 160, "std140 layout");
 _Static_assert(offsetof(struct shadowmap_block, near_world) == 184, "std140 layout");
 
@@ -61,24 +65,48 @@ struct shadowmap_desc {
 struct shadowmap {
     struct shadowmap_desc desc;       /* filled */
     struct shadowmap_frustum frustum;
-    unsigned current;                 /* SM_* products valid for this light pose */
+    struct shadowmap_block block;     /* as last uploaded to ubo */
+    unsigned current;                 /* SM_* products valid for this light pose ... */
+    struct shadowmap_request made;    /* ... rendered with these options */
     GLuint ubo;
-    GLuint depth_texture, depth_fbo, depth_program;
+    GLuint depth_texture, depth_fbo, depth_program, compare_sampler;
+    GLuint moments_raw, moments_temp, moments;  /* RG32F; `moments` is filtered and mipmapped */
+    GLuint moments_program, blur_program, sat_rows_program, sat_columns_program;
+    GLuint sat_buffer;                /* (N+1)^2 uvec2 */
 };
 
-/* Fits the frustum to s and creates GL objects. Returns 0 or -1 (logged). */
+/* Fits the frustum to s and creates the depth product's GL objects.
+ * Returns 0 or -1 (logged). */
 int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct shadowmap_desc *desc);
 
-/* Renders one product unconditionally (the harness times this call). */
+/* Creates what the products of r need (textures, buffers, programs), so
+ * rendering them later does no set-up work. Returns 0 or -1 (logged). */
+int shadowmap_prepare(struct shadowmap *sm, const struct shadowmap_request *r);
+
+/* Renders one product of r unconditionally (the harness times this call);
+ * SM_MOMENTS and SM_MOMENTS_SAT read the current depth product. */
 void shadowmap_render_product(struct shadowmap *sm, const struct scene_mesh *mesh,
-                              enum shadowmap_product product);
+                              enum shadowmap_product product, const struct shadowmap_request *r);
 
-/* Renders whichever of `products` is not current yet. */
-void shadowmap_require(struct shadowmap *sm, const struct scene_mesh *mesh, unsigned products);
+/* Do requests a and b ask for the same product p (same options)? */
+bool shadowmap_same_product(enum shadowmap_product p, const struct shadowmap_request *a,
+                            const struct shadowmap_request *b);
 
-/* Binds the uniform block (binding 0) and the product textures to the units
- * shaders/shadow_common.glsl declares. */
+/* Makes every product of r current with r's options, rendering only what
+ * is missing or was made with other options. Needs shadowmap_prepare(r). */
+void shadowmap_require(struct shadowmap *sm, const struct scene_mesh *mesh,
+                       const struct shadowmap_request *r);
+
+/* Binds the uniform block (binding 0), the product textures and the SAT
+ * buffer to the units shaders/shadow_common.glsl and sat.glsl declare. */
 void shadowmap_bind(const struct shadowmap *sm);
+
+/* The SAT_INT32 fixed-point scale (units per 1.0 of depth) and the widest
+ * box side in texels it allows, for a request on an n x n map. The scale is
+ * 2^k with k = 30 - floor(log2(largest box area the reader forms)), so
+ * every box sum stays below 2^31. */
+void shadowmap_sat_int32_scale(const struct shadowmap_request *r, int n, float *scale,
+                               float *max_box_texels);
 
 /* Accepts a half-built map. */
 void shadowmap_destroy(struct shadowmap *sm);

@@ -43,13 +43,27 @@ int main(int argc, char **argv)
     const char *small = "--scene floating_box_sphere --width 16 --height 16 --gt-samples 1 --no-cache";
 
     expect(2, "", NULL);
-    expect(2, "frobnicate", "unknown command 'frobnicate' (commands: run, gt, list; see --help)");
-    expect(2, "run --technique nope", "--technique: unknown technique 'nope' (known: hard)");
+    expect(2, "frobnicate", "unknown command 'frobnicate' (commands: run, gt, bench, list; see --help)");
+    expect(2, "run --technique nope",
+           "--technique: unknown technique 'nope' (known: hard, pcf, pcss, vsm, savsm, pcss_savsm)");
     expect(2, "run --set hard.nope=1", "hard.nope: unknown parameter (hard has: constant_bias, slope_bias)");
     expect(2, "run --set nope.x=1", "--set: unknown technique 'nope'");
     expect(2, "run --set hard.slope_bias=99", "hard.slope_bias: 99 is out of range [0.0, 16.0]");
     expect(2, "run --set hard.slope_bias=abc", "hard.slope_bias: 'abc' is not a number");
     expect(2, "run --set hard", "--set: 'hard' is not technique.parameter=value");
+    expect(2, "run --set pcss.blocker_samples=30",
+           "pcss.blocker_samples: 30 is not one of: 16, 25, 32, 64, 100, 128");
+    expect(2, "run --set pcf.pattern=hexagon", "pcf.pattern: 'hexagon' is not one of: grid, poisson");
+    expect(2, "run --set pcf.pattern=grid",
+           "pcf: pattern=grid needs a square sample count (16, 25, 64 or 100), not 32");
+    expect(2, "bench --set pcf.pattern=grid --set pcf.samples=128",
+           "pcf: pattern=grid needs a square sample count (16, 25, 64 or 100), not 128");
+    expect(2, "run --set savsm.sat_format=fp16",
+           "savsm.sat_format: 'fp16' is not one of: fp32, fp32_centered, int32");
+    expect(2, "run --set vsm.bleed_reduction=1", "vsm.bleed_reduction: 1 is out of range [0.0, 0.99]");
+    expect(2, "bench --gt-samples 16", "--gt-samples: unknown option for bench (see --help)");
+    expect(2, "bench --out x", "--out: unknown option for bench (see --help)");
+    expect(2, "bench --scene a --scene b", "--scene: gt and bench take one scene");
     expect(2, "run --width 8", "--width: 8 is out of range [16, 8192]");
     expect(2, "run --frames x", "--frames: 'x' is not a whole number");
     expect(2, "run --gt-samples 1000",
@@ -87,8 +101,11 @@ int main(int argc, char **argv)
     expect_stdout_has("--help", "commands:");
     expect_stdout_has("run --help", "--shadow-map-size N");
     expect_stdout_has("gt --help", "V_weighted");
+    expect_stdout_has("bench --help", "texture-fetch limit");
     expect_stdout_has("list", "slope_bias       float default 1.0        range [0.0, 16.0]");
     expect_stdout_has("list", "floating_box_sphere");
+    expect_stdout_has("list", "samples          int   default 32         one of 16|25|32|64|100|128");
+    expect_stdout_has("list", "sat_format       enum  default int32      one of fp32|fp32_centered|int32");
 
     remove_tree(dir);
     return check_finish();

@@ -1,0 +1,27 @@
+// Depth conversions of DESIGN.md §5, shared by the receiver pass and the
+// products' compute passes. Linear depth d is planar depth rescaled to [0, 1]
+// between the frustum's near and far planes; hardware depth is reversed Z
+// (1 at near, 0 at far).
+#include "shadow_block.glsl"
+
+// Hardware depth -> linear depth in [0, 1].
+float sm_linear_depth(float d_hw)
+{
+    float n = sm.near_world, f = sm.far_world;
+    float z = n * f / (d_hw * (f - n) + n);
+    return (z - n) / (f - n);
+}
+
+// Linear depth in [0, 1] -> hardware depth.
+float sm_hw_depth(float d)
+{
+    float n = sm.near_world, f = sm.far_world;
+    float z = n + d * (f - n);
+    return n * (f - z) / (z * (f - n));
+}
+
+// Linear depth in [0, 1] -> planar depth in world units.
+float sm_world_depth(float d)
+{
+    return sm.near_world + d * (sm.far_world - sm.near_world);
+}

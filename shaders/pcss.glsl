@@ -1,0 +1,35 @@
+// pcss: blocker search -> penumbra -> PCF (see techniques/pcss.c).
+#include "shadow_common.glsl"
+
+float shadow_visibility(ShadowInput s)
+{
+    const bool plane = PCSS_RECEIVER_PLANE_BIAS != 0;
+    float bias = PCSS_CONSTANT_BIAS + (plane ? 0.0 : PCSS_SLOPE_BIAS * s.texel_depth_slope);
+    float bias_hw = sm_bias_hw(s, bias);
+    const bool square = SM_RECT_LIGHT;  // the taps follow the light's shape
+    vec2 noise = sm_pixel_noise(s.frag_coord);
+
+    // 1. Blocker search: the mean planar depth of the occluding taps,
+    // z = n f / (d_hw (f - n) + n) for each.
+    TapFrame search = sm_tap_frame(s, sm_search_half_uv(s, PCSS_LIGHT_SIZE_SCALE), square, noise,
+                                   plane, bias_hw);
+    float n = sm.near_world, f_minus_n = sm.far_world - sm.near_world, nf = n * sm.far_world;
+    float z_sum = 0.0, blockers = 0.0, stored;
+#define PCSS_BLOCKER_TAP(i) \
+    if (sm_occluded_at(search, sm_tap_point(search, i), stored)) { \
+        z_sum += nf / (stored * f_minus_n + n); \
+        blockers += 1.0; \
+    }
+    SM_UNROLL(PCSS_BLOCKER_SAMPLES, PCSS_BLOCKER_TAP)
+    if (blockers == 0.0)
+        return 1.0;
+    if (blockers == float(PCSS_BLOCKER_SAMPLES))
+        return 0.0;
+
+    // 2. Penumbra by similar triangles; 3. PCF over it (another scramble).
+    vec2 filter_uv = sm_penumbra_half_uv(s, z_sum / blockers, PCSS_LIGHT_SIZE_SCALE);
+    float lit;
+    SM_PCF(lit, sm_tap_frame(s, filter_uv, square, noise.yx, plane, bias_hw), PCSS_FILTER_SAMPLES,
+           false)
+    return lit;
+}

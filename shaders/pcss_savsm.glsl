@@ -1,0 +1,30 @@
+// pcss_savsm: PCSS with the SAT's moments (see techniques/pcss_savsm.c).
+#include "shadow_common.glsl"
+#include "chebyshev.glsl"
+#include "sat.glsl"
+
+float shadow_visibility(ShadowInput s)
+{
+    float t = s.depth;
+    vec2 mean_var;
+
+    // 1. Blocker depth from the search box's moments.
+    if (!sat_mean_variance(s.uv, sm_search_half_uv(s, PCSS_SAVSM_LIGHT_SIZE_SCALE), mean_var)
+        || t <= mean_var.x)
+        return 1.0;
+    float alpha = chebyshev_upper_bound(mean_var.x, mean_var.y, t, PCSS_SAVSM_MIN_VARIANCE);
+    if (1.0 - alpha < PCSS_SAVSM_MIN_BLOCKER_FRACTION)
+        return 1.0;
+    float z_occ = clamp((mean_var.x - alpha * t) / (1.0 - alpha), 0.0, t);
+
+    // 2. Penumbra as PCSS: the box of the light's footprint (a disk light:
+    // the square of the same area); 3. VSM over it.
+    vec2 filter_uv = sm_penumbra_half_uv(s, sm_world_depth(z_occ), PCSS_SAVSM_LIGHT_SIZE_SCALE);
+    if (!SM_RECT_LIGHT)
+        filter_uv *= 0.88622693;  // sqrt(pi) / 2
+    filter_uv = max(filter_uv, 0.5 * sm.texel_size_uv);
+    if (!sat_mean_variance(s.uv, filter_uv, mean_var))
+        return 1.0;
+    float p = chebyshev_upper_bound(mean_var.x, mean_var.y, t, PCSS_SAVSM_MIN_VARIANCE);
+    return reduce_light_bleeding(p, PCSS_SAVSM_BLEED_REDUCTION);
+}

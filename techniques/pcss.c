@@ -1,0 +1,66 @@
+/* pcss — percentage-closer soft shadows (Fernando 2005, "Percentage-closer
+ * soft shadows", SIGGRAPH sketch), for a perspective light.
+ *
+ * Computes V in three steps: (1) blocker search: comparisons over the region
+ * of the map through which the receiver sees the light (the light's shape,
+ * projected to the near plane: light_size_uv * (z_r - n) / z_r), averaging
+ * the planar depth of the texels that occlude; (2) penumbra by similar
+ * triangles: a blocker at z_b covers light_size_uv * n (z_r - z_b) / (z_b z_r)
+ * of the map around the receiver; (3) PCF over that region. Taps follow the
+ * light's shape: the square pattern shifted per pixel for a rect light, the
+ * disk pattern rotated per pixel for a disk light. Early-outs: no blocker
+ * found -> lit; every search tap blocked -> umbra.
+ *
+ * Parameters:
+ *   blocker_samples, filter_samples  taps of steps 1 and 3.
+ *   light_size_scale     multiplies the scene's light size (1 = the light
+ *                        the ground truth uses).
+ *   receiver_plane_bias  compare against the receiver's plane at each tap
+ *                        (both steps); the search region is wide, so without
+ *                        it sloped receivers find themselves as blockers.
+ *   constant_bias        depth offset, linear units (1 = near..far).
+ *   slope_bias           without receiver_plane_bias only, texels of slope.
+ *
+ * How it fails: it assumes one planar blocker parallel to the light, so where
+ * blockers at several depths overlap the average depth is wrong and the
+ * penumbra too wide or narrow; few taps give noise (and a wrong early-out
+ * when a small blocker falls between search taps); the search region grows
+ * with the light and the receiver's distance, so a fixed tap count
+ * undersamples large lights; cost grows with both tap counts. */
+#include "technique.h"
+
+struct pcss_settings {
+    int blocker_samples;      /* 16, 25, 32, 64, 100, 128 */
+    int filter_samples;       /* 16, 25, 32, 64, 100, 128 */
+    float light_size_scale;   /* [0.01, 10] */
+    int receiver_plane_bias;  /* bool */
+    float constant_bias;      /* linear depth units, [0, 0.1] */
+    float slope_bias;         /* texels of depth slope, [0, 16] */
+};
+
+static const char *const pcss_sample_counts[] = {"16", "25", "32", "64", "100", "128", NULL};
+
+static const struct technique_param pcss_params[] = {
+    {"blocker_samples", "taps of the blocker search",
+     offsetof(struct pcss_settings, blocker_samples), PARAM_INT, 32, 16, 128, pcss_sample_counts},
+    {"filter_samples", "taps of the PCF over the estimated penumbra",
+     offsetof(struct pcss_settings, filter_samples), PARAM_INT, 32, 16, 128, pcss_sample_counts},
+    {"light_size_scale", "multiplies the scene's light size (1 = the true light)",
+     offsetof(struct pcss_settings, light_size_scale), PARAM_FLOAT, 1.0, 0.01, 10.0, NULL},
+    {"receiver_plane_bias", "compare against the receiver's plane at each tap",
+     offsetof(struct pcss_settings, receiver_plane_bias), PARAM_BOOL, 1, 0, 1, NULL},
+    {"constant_bias", "constant depth offset, linear shadow-map depth units (1 = near..far)",
+     offsetof(struct pcss_settings, constant_bias), PARAM_FLOAT, 0.0005, 0.0, 0.1, NULL},
+    {"slope_bias", "without receiver_plane_bias: offset in texels of the receiver's depth slope",
+     offsetof(struct pcss_settings, slope_bias), PARAM_FLOAT, 1.0, 0.0, 16.0, NULL},
+    {NULL},
+};
+
+const struct technique technique_pcss = {
+    .name = "pcss",
+    .summary = "blocker search, penumbra by similar triangles, PCF of that width",
+    .needs = SM_DEPTH,
+    .params = pcss_params,
+    .settings_size = sizeof(struct pcss_settings),
+    .shader = "pcss.glsl",
+};

@@ -1,0 +1,57 @@
+/* vsm — variance shadow maps (Donnelly and Lauritzen 2006, "Variance shadow
+ * maps", I3D).
+ *
+ * Computes V as the one-sided Chebyshev bound p_max = s² / (s² + (t - m)²)
+ * (for t > m) from the mean m and variance s² of linear depth around the
+ * receiver, read from the moments product (d, d²): prefiltered by a
+ * separable Gaussian, mipmapped, sampled trilinearly at the receiver's
+ * screen footprint. Filtering depths before the test is what comparisons
+ * cannot do, so any linear filter applies.
+ *
+ * Parameters:
+ *   blur_radius_texels  Gaussian prefilter of the moments, taps -r..r with
+ *                       sigma = r / 2 (0 = none: mipmaps only); part of the
+ *                       shared moments product, timed as filter prep.
+ *   min_variance        floor on s², linear depth units squared: hides
+ *                       float error and acne on sloped receivers.
+ *   bleed_reduction     maps p_max in [amount, 1] to [0, 1] (0 = off).
+ *
+ * How it fails: light bleeding. The bound is exact only for two depths; where
+ * a second occluder lies far behind the first, the large variance makes
+ * p_max high inside the nearer one's umbra (leaks). bleed_reduction trades
+ * the leaks for darker, narrower penumbrae. The blur is fixed (no contact
+ * hardening), and min_variance too large lightens contact shadows. */
+#include "technique.h"
+
+struct vsm_settings {
+    int blur_radius_texels;  /* [0, 32] */
+    float min_variance;      /* linear depth², [0, 0.01] */
+    float bleed_reduction;   /* [0, 0.99] */
+};
+
+static const struct technique_param vsm_params[] = {
+    {"blur_radius_texels", "Gaussian prefilter of the moments, radius in texels (sigma = r/2)",
+     offsetof(struct vsm_settings, blur_radius_texels), PARAM_INT, 2, 0, 32, NULL},
+    {"min_variance", "floor on the variance, linear depth units squared",
+     offsetof(struct vsm_settings, min_variance), PARAM_FLOAT, 1e-5, 0.0, 0.01, NULL},
+    {"bleed_reduction", "light-bleeding reduction: p_max below this becomes 0 (0 = off)",
+     offsetof(struct vsm_settings, bleed_reduction), PARAM_FLOAT, 0.0, 0.0, 0.99, NULL},
+    {NULL},
+};
+
+static void vsm_request(const void *settings, const struct shadowmap_frustum *f,
+                        int map_size_texels, struct shadowmap_request *r)
+{
+    (void)f, (void)map_size_texels;
+    r->moments_blur_radius_texels = ((const struct vsm_settings *)settings)->blur_radius_texels;
+}
+
+const struct technique technique_vsm = {
+    .name = "vsm",
+    .summary = "Chebyshev bound from prefiltered moments: light bleeding where occluders overlap",
+    .needs = SM_MOMENTS,
+    .params = vsm_params,
+    .settings_size = sizeof(struct vsm_settings),
+    .shader = "vsm.glsl",
+    .request = vsm_request,
+};
