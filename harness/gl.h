@@ -91,7 +91,8 @@
     X(PFNGLBINDSAMPLERPROC, glBindSampler) \
     X(PFNGLSAMPLERPARAMETERIPROC, glSamplerParameteri) \
     X(PFNGLSAMPLERPARAMETERFVPROC, glSamplerParameterfv) \
-    X(PFNGLUNIFORM2IPROC, glUniform2i)
+    X(PFNGLUNIFORM2IPROC, glUniform2i) \
+    X(PFNGLUNIFORM1FVPROC, glUniform1fv)
 
 #define X(type, name) extern type sb_##name;
 GL_FUNCS(X)
@@ -180,6 +181,7 @@ GL_FUNCS(X)
 #define glSamplerParameteri sb_glSamplerParameteri
 #define glSamplerParameterfv sb_glSamplerParameterfv
 #define glUniform2i sb_glUniform2i
+#define glUniform1fv sb_glUniform1fv
 
 typedef void (*gl_proc)(void);
 

@@ -4,12 +4,14 @@
 // (1 at near, 0 at far).
 #include "shadow_block.glsl"
 
-// Hardware depth -> linear depth in [0, 1].
+// Hardware depth -> linear depth in [0, 1]. `precise`: no fused
+// multiply-adds, so the CPU reproduces it bit for bit (tests/test_sat.c).
 float sm_linear_depth(float d_hw)
 {
     float n = sm.near_world, f = sm.far_world;
-    float z = n * f / (d_hw * (f - n) + n);
-    return (z - n) / (f - n);
+    precise float z = n * f / (d_hw * (f - n) + n);
+    precise float d = (z - n) / (f - n);
+    return d;
 }
 
 // Linear depth in [0, 1] -> hardware depth.

@@ -2,7 +2,9 @@
 // Summed-area table of the moments (Crow 1984; for shadows Lauritzen 2007,
 // "Summed-area variance shadow maps", GPU Gems 3 ch. 8). Two dispatches of
 // this shader: SAT_PASS_ROWS (one invocation per row, a serial prefix sum of
-// the row's moments) then SAT_PASS_COLUMNS (one per column, in place). The
+// the row's moments, converted from the depth map on the way: a separate
+// moments pass would cost more than both scans) then SAT_PASS_COLUMNS (one
+// per column, in place). The
 // table is (N+1)^2 with a zero first row and column, so a box sum never
 // needs a bounds test. On llvmpipe a serial scan per row/column beat a
 // shared-memory work-group scan, and storage buffers beat image load/store.
@@ -14,10 +16,10 @@
 //   SM_SAT_INT32          fixed point, round(m * sm.sat_scale), summed in
 //                         uint32 with wrap-around: a 4-tap box difference is
 //                         exact modulo 2^32, hence exact while the box sum fits
-#include "shadow_block.glsl"
+#include "depth.glsl"
 
 layout(local_size_x = 64) in;
-layout(binding = 0) uniform sampler2D moments;  // (d, d²), unfiltered
+layout(binding = 0) uniform sampler2D depth_map;
 layout(std430, binding = 0) buffer SatBuffer { uvec2 sat[]; };
 
 void main()
@@ -31,16 +33,17 @@ void main()
     if (sm.sat_format == SM_SAT_INT32) {
         uvec2 acc = uvec2(0);
         for (int x = 0; x < n; x++) {
-            acc += uvec2(texelFetch(moments, ivec2(x, line), 0).rg * sm.sat_scale + 0.5);
+            float d = sm_linear_depth(texelFetch(depth_map, ivec2(x, line), 0).r);
+            precise vec2 q = vec2(d, d * d) * sm.sat_scale + 0.5;  // as tests/test_sat.c does
+            acc += uvec2(q);
             sat[base + x + 1] = acc;
         }
     } else {
         bool centered = sm.sat_format == SM_SAT_FP32_CENTERED;
         vec2 acc = vec2(0.0);
         for (int x = 0; x < n; x++) {
-            vec2 m = texelFetch(moments, ivec2(x, line), 0).rg;
-            if (centered)
-                m = vec2(m.x - 0.5, (m.x - 0.5) * (m.x - 0.5));
+            float d = sm_linear_depth(texelFetch(depth_map, ivec2(x, line), 0).r);
+            vec2 m = centered ? vec2(d - 0.5, (d - 0.5) * (d - 0.5)) : vec2(d, d * d);
             acc += m;
             sat[base + x + 1] = floatBitsToUint(acc);
         }

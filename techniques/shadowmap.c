@@ -184,21 +184,50 @@ static GLuint compute_program(const char *label, const char *file, const char *d
     return shader_program(label, defines, &(struct shader_stage){GL_COMPUTE_SHADER, {file}}, 1);
 }
 
+static GLuint image_program(const char *label, const char *fragment, const char *defines)
+{
+    return shader_program(label, defines,
+                          (const struct shader_stage[]){{GL_VERTEX_SHADER, {"fullscreen.vert"}},
+                                                        {GL_FRAGMENT_SHADER, {fragment}}},
+                          2);
+}
+
+/* A framebuffer rendering into level 0 of an RG32F map texture. */
+static GLuint image_target(GLuint texture, const char *label)
+{
+    GLuint fbo;
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, texture, 0);
+    glDrawBuffers(1, (const GLenum[]){GL_COLOR_ATTACHMENT0});
+    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl_label(GL_FRAMEBUFFER, fbo, label);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+        log_error("%s: framebuffer incomplete (0x%x)", label, status);
+        glDeleteFramebuffers(1, &fbo);
+        return 0;
+    }
+    return fbo;
+}
+
 int shadowmap_prepare(struct shadowmap *sm, const struct shadowmap_request *r)
 {
     int n = sm->desc.size_texels;
-    if ((r->products & (SM_MOMENTS | SM_MOMENTS_SAT)) && !sm->moments_raw) {
-        sm->moments_raw = map_texture(GL_RG32F, 1, n, border_moments, "shadow map: raw moments");
-        if (!(sm->moments_program = compute_program("moments from depth", "moments.comp", NULL)))
-            return -1;
-    }
     if ((r->products & SM_MOMENTS) && !sm->moments) {
         int levels = 1;
         while ((n >> levels) > 0)
             levels++;
         sm->moments = map_texture(GL_RG32F, levels, n, border_moments, "shadow map: moments");
         sm->moments_temp = map_texture(GL_RG32F, 1, n, border_moments, "shadow map: blur temporary");
-        if (!(sm->blur_program = compute_program("moments blur", "moments_blur.comp", NULL)))
+        glGenVertexArrays(1, &sm->fullscreen_vao);
+        if (!(sm->moments_fbo = image_target(sm->moments, "moments pass")) ||
+            !(sm->temp_fbo = image_target(sm->moments_temp, "moments blur, rows")) ||
+            !(sm->moments_program = image_program("moments from depth", "moments.frag", NULL)) ||
+            !(sm->blur_rows_program = image_program("moments blur, rows", "moments_blur.frag",
+                                                    "#define BLUR_FROM_DEPTH 1\n")) ||
+            !(sm->blur_columns_program = image_program("moments blur, columns", "moments_blur.frag",
+                                                       "#define BLUR_FROM_DEPTH 0\n")))
             return -1;
     }
     if ((r->products & SM_MOMENTS_SAT) && !sm->sat_buffer) {
@@ -232,43 +261,46 @@ void shadowmap_sat_int32_scale(const struct shadowmap_request *r, int n, float *
     *max_box_texels = (float)side;
 }
 
-static void dispatch_2d(int n)
+/* One full-screen pass of `program` into fbo, reading `source` on unit 0. */
+static void image_pass(struct shadowmap *sm, GLuint fbo, GLuint program, GLuint source)
 {
-    glDispatchCompute((GLuint)(n + 7) / 8, (GLuint)(n + 7) / 8, 1);
-}
-
-static void render_raw_moments(struct shadowmap *sm)
-{
-    glUseProgram(sm->moments_program);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, sm->desc.size_texels, sm->desc.size_texels);
+    glUseProgram(program);
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, sm->ubo);
-    glBindTextureUnit(0, sm->depth_texture);
+    glBindTextureUnit(0, source);
     glBindSampler(0, 0);
-    glBindImageTexture(0, sm->moments_raw, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
-    dispatch_2d(sm->desc.size_texels);
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glBindVertexArray(sm->fullscreen_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-static void blur_pass(struct shadowmap *sm, GLuint from, GLuint to, int dx, int dy, int radius)
+static void blur_pass(struct shadowmap *sm, GLuint fbo, GLuint program, GLuint source,
+                      int dx, int dy, int radius, const float *weights)
 {
-    glBindTextureUnit(0, from);
-    glBindImageTexture(0, to, 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RG32F);
-    glUniform2i(glGetUniformLocation(sm->blur_program, "u_direction"), dx, dy);
-    glUniform1i(glGetUniformLocation(sm->blur_program, "u_radius"), radius);
-    dispatch_2d(sm->desc.size_texels);
-    glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_SHADER_IMAGE_ACCESS_BARRIER_BIT);
+    glUseProgram(program);
+    glUniform1i(glGetUniformLocation(program, "u_radius"), radius);
+    glUniform1fv(glGetUniformLocation(program, "u_weights"), radius + 1, weights);
+    glUniform2i(glGetUniformLocation(program, "u_direction"), dx, dy);
+    image_pass(sm, fbo, program, source);
 }
 
 static void render_moments(struct shadowmap *sm, const struct shadowmap_request *r)
 {
-    int n = sm->desc.size_texels, radius = r->moments_blur_radius_texels;
-    render_raw_moments(sm);
+    int radius = r->moments_blur_radius_texels;
     if (radius > 0) {
-        glUseProgram(sm->blur_program);
-        blur_pass(sm, sm->moments_raw, sm->moments_temp, 1, 0, radius);
-        blur_pass(sm, sm->moments_temp, sm->moments, 0, 1, radius);
+        /* Normalised Gaussian weights, sigma = radius / 2, by |offset|. */
+        float w[SHADOWMAP_MAX_BLUR_RADIUS + 1], sum = 0;
+        for (int k = 0; k <= radius; k++) {
+            w[k] = expf(-2.0f * (float)(k * k) / (float)(radius * radius));
+            sum += k ? 2 * w[k] : w[k];
+        }
+        for (int k = 0; k <= radius; k++)
+            w[k] /= sum;
+        blur_pass(sm, sm->temp_fbo, sm->blur_rows_program, sm->depth_texture, 1, 0, radius, w);
+        blur_pass(sm, sm->moments_fbo, sm->blur_columns_program, sm->moments_temp, 0, 1, radius, w);
     } else {
-        glCopyImageSubData(sm->moments_raw, GL_TEXTURE_2D, 0, 0, 0, 0, sm->moments, GL_TEXTURE_2D,
-                           0, 0, 0, 0, n, n, 1);
+        image_pass(sm, sm->moments_fbo, sm->moments_program, sm->depth_texture);
     }
     glBindTexture(GL_TEXTURE_2D, sm->moments);
     glGenerateMipmap(GL_TEXTURE_2D);
@@ -288,8 +320,9 @@ static void render_sat(struct shadowmap *sm, const struct shadowmap_request *r)
     glBindBuffer(GL_UNIFORM_BUFFER, sm->ubo);
     glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof *b, b);
 
-    render_raw_moments(sm);
-    glBindTextureUnit(0, sm->moments_raw);
+    glBindBufferBase(GL_UNIFORM_BUFFER, 0, sm->ubo);
+    glBindTextureUnit(0, sm->depth_texture);
+    glBindSampler(0, 0);
     glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, sm->sat_buffer);
     glUseProgram(sm->sat_rows_program);
     glDispatchCompute((GLuint)(n + 63) / 64, 1, 1);
@@ -360,17 +393,19 @@ void shadowmap_bind(const struct shadowmap *sm)
 
 void shadowmap_destroy(struct shadowmap *sm)
 {
-    GLuint programs[] = {sm->depth_program, sm->moments_program, sm->blur_program,
-                         sm->sat_rows_program, sm->sat_columns_program};
+    GLuint programs[] = {sm->depth_program, sm->moments_program, sm->blur_rows_program,
+                         sm->blur_columns_program, sm->sat_rows_program, sm->sat_columns_program};
     for (size_t i = 0; i < sizeof programs / sizeof *programs; i++)
         if (programs[i])
             glDeleteProgram(programs[i]);
-    if (sm->depth_fbo)
-        glDeleteFramebuffers(1, &sm->depth_fbo);
+    GLuint fbos[] = {sm->depth_fbo, sm->moments_fbo, sm->temp_fbo};
+    glDeleteFramebuffers(3, fbos);
+    if (sm->fullscreen_vao)
+        glDeleteVertexArrays(1, &sm->fullscreen_vao);
     if (sm->compare_sampler)
         glDeleteSamplers(1, &sm->compare_sampler);
-    GLuint textures[] = {sm->depth_texture, sm->moments_raw, sm->moments_temp, sm->moments};
-    glDeleteTextures(4, textures);
+    GLuint textures[] = {sm->depth_texture, sm->moments_temp, sm->moments};
+    glDeleteTextures(3, textures);
     GLuint buffers[] = {sm->ubo, sm->sat_buffer};
     glDeleteBuffers(2, buffers);
     memset(sm, 0, sizeof *sm);

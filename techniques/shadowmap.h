@@ -61,6 +61,7 @@ struct shadowmap_desc {
 };
 
 #define SHADOWMAP_DEFAULT_SIZE 1024
+#define SHADOWMAP_MAX_BLUR_RADIUS 32  /* BLUR_MAX_RADIUS in shaders/moments_blur.frag */
 
 struct shadowmap {
     struct shadowmap_desc desc;       /* filled */
@@ -70,8 +71,11 @@ struct shadowmap {
     struct shadowmap_request made;    /* ... rendered with these options */
     GLuint ubo;
     GLuint depth_texture, depth_fbo, depth_program, compare_sampler;
-    GLuint moments_raw, moments_temp, moments;  /* RG32F; `moments` is filtered and mipmapped */
-    GLuint moments_program, blur_program, sat_rows_program, sat_columns_program;
+    GLuint moments, moments_temp;     /* RG32F; `moments` is filtered and mipmapped */
+    GLuint moments_fbo, temp_fbo;     /* rendering into level 0 of each */
+    GLuint fullscreen_vao;            /* empty: the full-screen passes need none */
+    GLuint moments_program, blur_rows_program, blur_columns_program;
+    GLuint sat_rows_program, sat_columns_program;
     GLuint sat_buffer;                /* (N+1)^2 uvec2 */
 };
 

@@ -75,7 +75,7 @@ static void int32_exact(const uint32_t *sat, const float *moments, float scale)
 {
     /* The reference: round(m * scale) as the shader does it (float multiply
      * by a power of two is exact, then + 0.5 and truncation), summed in
-     * uint32 by rows then columns. */
+     * uint32. */
     uint32_t *q = xmalloc(sizeof(uint32_t) * 2 * N * N), *ref = xcalloc(2 * STRIDE * STRIDE, sizeof *ref);
     for (int i = 0; i < 2 * N * N; i++)
         q[i] = (uint32_t)(moments[i] * scale + 0.5f);
@@ -174,7 +174,8 @@ int main(void)
     scene_mesh_upload(&s, &mesh);
     CHECK(shadowmap_create(&sm, &s, &(struct shadowmap_desc){.size_texels = N}) == 0, "shadow map");
 
-    /* Raw moments (d, d²): the SAT's input. */
+    /* The SAT's input: linear depth from the depth map, converted as
+     * shaders/depth.glsl does (same float operations, no fused ones). */
     float *moments = NULL;
     double var_rms[3], mean_rms[3];
     for (int f = SAT_FP32; f <= SAT_INT32; f++) {
@@ -182,9 +183,17 @@ int main(void)
         uint32_t *sat = build_sat(&sm, &mesh, (enum sat_format)f, &scale);
         if (!moments) {
             moments = xmalloc(sizeof(float) * 2 * N * N);
-            glBindTexture(GL_TEXTURE_2D, sm.moments_raw);
+            float *depth = xmalloc(sizeof(float) * N * N);
+            glBindTexture(GL_TEXTURE_2D, sm.depth_texture);
             glPixelStorei(GL_PACK_ALIGNMENT, 4);
-            glGetTexImage(GL_TEXTURE_2D, 0, GL_RG, GL_FLOAT, moments);
+            glGetTexImage(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT, GL_FLOAT, depth);
+            float n = sm.block.near_world, f = sm.block.far_world;
+            for (int i = 0; i < N * N; i++) {
+                float z = n * f / (depth[i] * (f - n) + n);
+                float d = (z - n) / (f - n);
+                moments[2 * i] = d, moments[2 * i + 1] = d * d;
+            }
+            free(depth);
             int far_from_half = 0;
             for (int i = 0; i < N * N; i++)
                 far_from_half += fabsf(moments[2 * i] - 0.5f) > 0.35f;
