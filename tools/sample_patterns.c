@@ -1,6 +1,6 @@
 /* Writes shaders/sample_patterns.glsl: the PCF/PCSS sample tables, as GLSL
  * constants. The tap loops that read them unroll (shadow_common.glsl's
- * SM_FOR_TAPS), so every index is a constant and each point costs nothing;
+ * SM_UNROLL), so every index is a constant and each point costs nothing;
  * on llvmpipe a uniform-block table was 1.7x slower per tap.
  *
  * Two progressive Poisson-disk sets of SAMPLE_PATTERN_MAX points:
@@ -22,6 +22,7 @@
  * table serves every sample count (the first N points).
  * Deterministic (fixed seed): `build/sample_patterns > shaders/sample_patterns.glsl`
  * reproduces the committed file, which test_sample_patterns checks. */
+#define _GNU_SOURCE  /* M_PI */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
