@@ -4,13 +4,21 @@
 // (1 at near, 0 at far).
 #include "shadow_block.glsl"
 
-// Hardware depth -> linear depth in [0, 1]. `precise`: no fused
-// multiply-adds, so the CPU reproduces it bit for bit (tests/test_sat.c).
-float sm_linear_depth(float d_hw)
+// Hardware depth -> planar depth in world units. `precise` here and below:
+// no fused multiply-adds, so the CPU reproduces it bit for bit
+// (tests/test_sat.c).
+float sm_planar_depth(float d_hw)
 {
     float n = sm.near_world, f = sm.far_world;
     precise float z = n * f / (d_hw * (f - n) + n);
-    precise float d = (z - n) / (f - n);
+    return z;
+}
+
+// Hardware depth -> linear depth in [0, 1].
+float sm_linear_depth(float d_hw)
+{
+    float n = sm.near_world, f = sm.far_world;
+    precise float d = (sm_planar_depth(d_hw) - n) / (f - n);
     return d;
 }
 

@@ -9,15 +9,13 @@ float shadow_visibility(ShadowInput s)
     const bool square = SM_RECT_LIGHT;  // the taps follow the light's shape
     vec2 noise = sm_pixel_noise(s.frag_coord);
 
-    // 1. Blocker search: the mean planar depth of the occluding taps,
-    // z = n f / (d_hw (f - n) + n) for each.
+    // 1. Blocker search: the mean planar depth of the occluding taps.
     TapFrame search = sm_tap_frame(s, sm_search_half_uv(s, PCSS_LIGHT_SIZE_SCALE), square, noise,
                                    plane, bias_hw);
-    float n = sm.near_world, f_minus_n = sm.far_world - sm.near_world, nf = n * sm.far_world;
     float z_sum = 0.0, blockers = 0.0, stored;
 #define PCSS_BLOCKER_TAP(i) \
     if (sm_occluded_at(search, sm_tap_point(search, i), stored)) { \
-        z_sum += nf / (stored * f_minus_n + n); \
+        z_sum += sm_planar_depth(stored); \
         blockers += 1.0; \
     }
     SM_UNROLL(PCSS_BLOCKER_SAMPLES, PCSS_BLOCKER_TAP)

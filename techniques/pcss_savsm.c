@@ -38,12 +38,10 @@ struct pcss_savsm_settings {
     float bleed_reduction;       /* [0, 0.99] */
 };
 
-static const char *const pcss_savsm_sat_formats[] = {"fp32", "fp32_centered", "int32", NULL};
-
 static const struct technique_param pcss_savsm_params[] = {
     {"sat_format", "summed-area table precision: fp32, fp32_centered (sums of d - 0.5), int32 (exact)",
      offsetof(struct pcss_savsm_settings, sat_format), PARAM_ENUM, SAT_INT32, 0, 2,
-     pcss_savsm_sat_formats},
+     sat_format_names},
     {"light_size_scale", "multiplies the scene's light size (1 = the true light)",
      offsetof(struct pcss_savsm_settings, light_size_scale), PARAM_FLOAT, 1.0, 0.01, 10.0, NULL},
     {"min_variance", "floor on the variance, linear depth units squared",

@@ -21,6 +21,8 @@ const struct technique *const technique_list[] = {
     NULL,
 };
 
+const char *const sat_format_names[] = {"fp32", "fp32_centered", "int32", NULL};
+
 const struct technique *technique_find(const char *name)
 {
     for (const struct technique *const *t = technique_list; *t; t++)

@@ -35,13 +35,11 @@ struct savsm_settings {
 
 #define SAVSM_MAX_FOOTPRINT_TEXELS 64.0f
 
-static const char *const savsm_sat_formats[] = {"fp32", "fp32_centered", "int32", NULL};
-
 static const struct technique_param savsm_params[] = {
     {"box_width_texels", "side of the filter box, shadow-map texels",
      offsetof(struct savsm_settings, box_width_texels), PARAM_FLOAT, 5.0, 1.0, 1024.0, NULL},
     {"sat_format", "summed-area table precision: fp32, fp32_centered (sums of d - 0.5), int32 (exact)",
-     offsetof(struct savsm_settings, sat_format), PARAM_ENUM, SAT_INT32, 0, 2, savsm_sat_formats},
+     offsetof(struct savsm_settings, sat_format), PARAM_ENUM, SAT_INT32, 0, 2, sat_format_names},
     {"min_variance", "floor on the variance, linear depth units squared",
      offsetof(struct savsm_settings, min_variance), PARAM_FLOAT, 1e-5, 0.0, 0.01, NULL},
     {"bleed_reduction", "light-bleeding reduction: p_max below this becomes 0 (0 = off)",

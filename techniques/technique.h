@@ -25,6 +25,9 @@ enum sat_format {
     SAT_INT32,          /* fixed point in uint32, exact differences by wrap-around */
 };
 
+/* Their parameter spellings, by enum value, NULL-terminated. */
+extern const char *const sat_format_names[];
+
 /* What one technique asks of the shared layer: products and their options.
  * Two cells with equal requests share the products; a different request
  * (e.g. another blur radius) re-renders them. Zero means default. */
