@@ -1,9 +1,9 @@
 #version 450 core
-// Moments product with a prefilter: one direction of a separable Gaussian
-// of (d, d²), taps -radius..radius clamped at the map's edge, normalised
-// weights from the harness (sigma = radius / 2). BLUR_FROM_DEPTH: the rows
-// pass reads the depth map and converts each tap (one full-map pass fewer:
-// on llvmpipe each costs ~40 ms at 2048^2). Filtering moments is what makes
+// Moments product: one direction of a separable Gaussian of (d, d²), taps
+// -radius..radius clamped at the map's edge, normalised weights from the
+// harness (sigma = radius / 2; radius 0: the conversion alone).
+// BLUR_FROM_DEPTH: the rows pass reads the depth map and converts each tap
+// (one full-map pass fewer: on llvmpipe each costs ~40 ms at 2048^2). Filtering moments is what makes
 // VSM filterable (Donnelly and Lauritzen 2006).
 #include "depth.glsl"
 
@@ -12,7 +12,7 @@ layout(location = 0) out vec2 out_moments;
 
 #define BLUR_MAX_RADIUS 32
 uniform ivec2 u_direction;                     // (1, 0) or (0, 1)
-uniform int u_radius;                          // 1..BLUR_MAX_RADIUS
+uniform int u_radius;                          // 0..BLUR_MAX_RADIUS
 uniform float u_weights[BLUR_MAX_RADIUS + 1];  // by |offset|
 
 vec2 moments_at(ivec2 p)

@@ -223,7 +223,6 @@ int shadowmap_prepare(struct shadowmap *sm, const struct shadowmap_request *r)
         glGenVertexArrays(1, &sm->fullscreen_vao);
         if (!(sm->moments_fbo = image_target(sm->moments, "moments pass")) ||
             !(sm->temp_fbo = image_target(sm->moments_temp, "moments blur, rows")) ||
-            !(sm->moments_program = image_program("moments from depth", "moments.frag", NULL)) ||
             !(sm->blur_rows_program = image_program("moments blur, rows", "moments_blur.frag",
                                                     "#define BLUR_FROM_DEPTH 1\n")) ||
             !(sm->blur_columns_program = image_program("moments blur, columns", "moments_blur.frag",
@@ -287,20 +286,21 @@ static void blur_pass(struct shadowmap *sm, GLuint fbo, GLuint program, GLuint s
 
 static void render_moments(struct shadowmap *sm, const struct shadowmap_request *r)
 {
+    /* Normalised Gaussian weights, sigma = radius / 2, by |offset|. Radius
+     * 0 is the rows pass alone with weight 1: depth converted to moments. */
     int radius = r->moments_blur_radius_texels;
+    float w[SHADOWMAP_MAX_BLUR_RADIUS + 1], sum = 0;
+    for (int k = 0; k <= radius; k++) {
+        w[k] = expf(-2.0f * (float)(k * k) / (float)(radius * radius > 0 ? radius * radius : 1));
+        sum += k ? 2 * w[k] : w[k];
+    }
+    for (int k = 0; k <= radius; k++)
+        w[k] /= sum;
     if (radius > 0) {
-        /* Normalised Gaussian weights, sigma = radius / 2, by |offset|. */
-        float w[SHADOWMAP_MAX_BLUR_RADIUS + 1], sum = 0;
-        for (int k = 0; k <= radius; k++) {
-            w[k] = expf(-2.0f * (float)(k * k) / (float)(radius * radius));
-            sum += k ? 2 * w[k] : w[k];
-        }
-        for (int k = 0; k <= radius; k++)
-            w[k] /= sum;
         blur_pass(sm, sm->temp_fbo, sm->blur_rows_program, sm->depth_texture, 1, 0, radius, w);
         blur_pass(sm, sm->moments_fbo, sm->blur_columns_program, sm->moments_temp, 0, 1, radius, w);
     } else {
-        image_pass(sm, sm->moments_fbo, sm->moments_program, sm->depth_texture);
+        blur_pass(sm, sm->moments_fbo, sm->blur_rows_program, sm->depth_texture, 1, 0, 0, w);
     }
     glBindTexture(GL_TEXTURE_2D, sm->moments);
     glGenerateMipmap(GL_TEXTURE_2D);
@@ -393,7 +393,7 @@ void shadowmap_bind(const struct shadowmap *sm)
 
 void shadowmap_destroy(struct shadowmap *sm)
 {
-    GLuint programs[] = {sm->depth_program, sm->moments_program, sm->blur_rows_program,
+    GLuint programs[] = {sm->depth_program, sm->blur_rows_program,
                          sm->blur_columns_program, sm->sat_rows_program, sm->sat_columns_program};
     for (size_t i = 0; i < sizeof programs / sizeof *programs; i++)
         if (programs[i])

@@ -74,7 +74,7 @@ struct shadowmap {
     GLuint moments, moments_temp;     /* RG32F; `moments` is filtered and mipmapped */
     GLuint moments_fbo, temp_fbo;     /* rendering into level 0 of each */
     GLuint fullscreen_vao;            /* empty: the full-screen passes need none */
-    GLuint moments_program, blur_rows_program, blur_columns_program;
+    GLuint blur_rows_program, blur_columns_program;
     GLuint sat_rows_program, sat_columns_program;
     GLuint sat_buffer;                /* (N+1)^2 uvec2 */
 };
