@@ -11,6 +11,7 @@
 
 static const uint8_t no_geometry[3] = {52, 58, 74};
 static const uint8_t not_scored[3] = {96, 96, 96};
+static const uint8_t not_scored_hatch[3] = {128, 128, 128};
 
 void picture_free(struct picture *p)
 {
@@ -24,17 +25,24 @@ static void put(struct picture *p, int x, int y, const uint8_t c[3])
         memcpy(&p->rgb[((size_t)y * p->width + x) * 3], c, 3);
 }
 
-void picture_visibility(const float *v, const float *distance, int width, int height,
-                        struct picture *out)
+void picture_visibility(const float *v, const float *distance, const float *scored, int width,
+                        int height, struct picture *out)
 {
     out->width = width;
     out->height = height;
     out->rgb = xmalloc((size_t)width * height * 3);
-    for (int i = 0; i < width * height; i++) {
-        uint8_t g = image_srgb8(v[i]);
-        const uint8_t grey[3] = {g, g, g};
-        memcpy(&out->rgb[(size_t)i * 3], distance[i] >= 0.0f ? grey : no_geometry, 3);
-    }
+    for (int y = 0; y < height; y++)
+        for (int x = 0; x < width; x++) {
+            int i = y * width + x;
+            uint8_t g = image_srgb8(v[i]);
+            const uint8_t grey[3] = {g, g, g};
+            const uint8_t *c = grey;
+            if (distance[i] < 0.0f)
+                c = no_geometry;
+            else if (scored && scored[i] < 0.5f)
+                c = (x + y) % 8 < 4 ? not_scored : not_scored_hatch;
+            memcpy(&out->rgb[(size_t)i * 3], c, 3);
+        }
 }
 
 /* ColorBrewer RdBu (11 classes), from blue (-1) through white to red (+1). */

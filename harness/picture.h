@@ -14,9 +14,11 @@ struct picture {
     uint8_t *rgb;  /* width * height * 3, top row first */
 };
 
-/* V in grey (sRGB); pixels with no geometry (distance < 0) in slate blue. */
-void picture_visibility(const float *v, const float *distance, int width, int height,
-                        struct picture *out);
+/* V in grey (sRGB); pixels with no geometry (distance < 0) in slate blue;
+ * where scored is given, unscored pixels hatched in grey (the ground truth
+ * there is not computed or not compared). */
+void picture_visibility(const float *v, const float *distance, const float *scored, int width,
+                        int height, struct picture *out);
 
 /* e = v_tech - v_gt on scored pixels (blue: too dark, red: too bright),
  * grey where not scored, with a legend strip added below the image. */

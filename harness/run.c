@@ -96,10 +96,10 @@ static int prepare_out_dir(const char *dir)
 }
 
 static int write_pictures(const char *dir, const char *name, const float *v, const float *distance,
-                          int w, int h)
+                          const float *scored, int w, int h)
 {
     struct picture p;
-    picture_visibility(v, distance, w, h, &p);
+    picture_visibility(v, distance, scored, w, h, &p);
     char *path = util_printf("%s/%s.png", dir, name);
     int rc = image_write_png(path, p.width, p.height, 3, p.rgb);
     free(path);
@@ -159,7 +159,7 @@ static int run_cell(struct scene_run *sr, const struct technique *t, const void 
     int rc = util_mkdirs(dir) ||
              image_write_exr(vis_exr, w, h, &(struct exr_channel){"V", sr->v}, 1) ||
              image_write_exr(err_exr, w, h, &(struct exr_channel){"E", sr->error}, 1) ||
-             write_pictures(dir, "visibility", sr->v, sr->distance, w, h) ||
+             write_pictures(dir, "visibility", sr->v, sr->distance, NULL, w, h) ||
              image_write_png(heat, hm.width, hm.height, 3, hm.rgb) || report_write_json(json, mj);
     cJSON_Delete(mj);
     picture_free(&hm);
@@ -207,7 +207,7 @@ static int run_scene(struct scene_run *sr, GLuint (*programs)[2], struct cell *c
     char *gt_path = util_printf("%s/groundtruth.exr", sr->dir);
     struct exr_channel ch[] = {{"V", sr->gt.v}, {"V_weighted", sr->gt.v_weighted}, {"mask", sr->scored}};
     int rc = image_write_exr(gt_path, w, h, ch, 3) ||
-             write_pictures(sr->dir, "groundtruth", sr->gt.v, sr->gt.distance, w, h);
+             write_pictures(sr->dir, "groundtruth", sr->gt.v, sr->gt.distance, sr->scored, w, h);
     free(gt_path);
     return rc ? -1 : 0;
 }
@@ -399,7 +399,7 @@ int run_gt(const struct run_options *given)
         char *out = util_printf("%s/groundtruth.exr", dir);
         struct exr_channel ch[] = {{"V", gt.v}, {"V_weighted", gt.v_weighted}, {"mask", gt.mask}};
         if (image_write_exr(out, o.width, o.height, ch, 3) == 0 &&
-            write_pictures(dir, "groundtruth", gt.v, gt.distance, o.width, o.height) == 0) {
+            write_pictures(dir, "groundtruth", gt.v, gt.distance, gt.mask, o.width, o.height) == 0) {
             double noise = gt_rms_difference(gt.v, gt.v_alt, gt.mask, o.width * o.height) / sqrt(2.0);
             printf("%s\nnoise floor (rms error of V at %d samples): %.5f\n", out, o.gt_samples, noise);
             status = EXIT_OK;

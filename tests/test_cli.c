@@ -71,7 +71,7 @@ int main(int argc, char **argv)
     expect(2, "run --bogus", "--bogus: unknown option (see --help)");
     expect(2, "gt --technique hard", "--technique: unknown option for gt (see --help)");
     expect(2, "gt", "gt: --scene is required (see --help)");
-    expect(2, "run --scene nope", "unknown scene 'nope' (shipped: floating_box_sphere)");
+    expect(2, "run --scene nope", "unknown scene 'nope' (shipped: contact_hardening, curved_receivers, floating_box_sphere, grazing_receiver, large_light, map_border, overlapping_occluders, parallel_planes, parallel_planes_disk, stanford_bunny, thin_features)");
 
     /* An output folder that cannot be created: a path through a file. */
     char *file = util_printf("%s/a_file", dir);

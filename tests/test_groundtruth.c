@@ -10,6 +10,7 @@
  * Also: same seed -> same image; the error falls from N to 4N; the two-seed
  * noise-floor estimate matches the true error. */
 #include "check.h"
+#include "catalog.h"
 #include "groundtruth.h"
 #include "parallel_planes.h"
 #include "shadowmap.h"
@@ -21,7 +22,7 @@
 
 #define H_LIGHT PP_H_LIGHT
 #define H_BLOCK PP_H_BLOCK
-#define LIGHT_W 1.0f
+#define LIGHT_W 1.0f  /* the shipped parallel_planes scenes' */
 #define IMG 128
 
 static char tmpdir[] = "/tmp/sb_test_gt_XXXXXX";
@@ -79,9 +80,9 @@ static struct profile_error profile_error(const struct scene *s, const struct gt
 
 static void check_closed_form(bool disk)
 {
+    /* The shipped scenes themselves (light width LIGHT_W). */
     const char *shape = disk ? "disk" : "rect";
-    char *path = util_printf("%s/parallel_planes_%s.gltf", tmpdir, shape);
-    write_parallel_planes(path, LIGHT_W, disk);
+    char *path = catalog_resolve(disk ? "parallel_planes_disk" : "parallel_planes");
     struct scene s;
     struct shadowmap_frustum f;
     CHECK(scene_load(path, &s) == 0 && shadowmap_fit(&s, &f) == 0, "loading %s", path);
@@ -116,7 +117,6 @@ static void check_closed_form(bool disk)
 
     gt_image_free(&lo), gt_image_free(&hi), gt_image_free(&lo2);
     scene_free(&s);
-    unlink(path);
     free(path);
 }
 

@@ -8,11 +8,8 @@
  *     hard has no penumbra at all;
  *   - two occluders far apart in depth, one over the other: vsm bleeds
  *     light, and bleed_reduction reduces it;
- *   - every technique on every shipped scene and on a disk-light scene:
- *     no NaN or Inf. */
+ *   - every technique on every shipped scene: no NaN or Inf. */
 #include "check.h"
-#include "gltf_writer.h"
-#include "parallel_planes.h"
 #include "run_cmd.h"
 #include "technique.h"
 
@@ -65,11 +62,9 @@ static void no_nonfinite(const cJSON *m, const char *what)
 
 static void penumbra_order(void)
 {
-    char *scene = util_printf("%s/parallel_planes.gltf", dir);
-    write_parallel_planes(scene, 1.0f, false);
-    char *args = util_printf("--scene %s --technique hard,pcf,pcss,pcss_savsm --width 192 --height 192 "
-                             "--gt-samples 1024 --shadow-map-size 1024", scene);
-    cJSON *m = run_cells("planes", args, 0);
+    cJSON *m = run_cells("planes", "--scene parallel_planes --technique hard,pcf,pcss,pcss_savsm "
+                                   "--width 192 --height 192 --gt-samples 1024 "
+                                   "--shadow-map-size 1024", 0);
     if (m) {
         double hard = metric(m, "hard", "penumbra_rmse"), pcf = metric(m, "pcf", "penumbra_rmse"),
                pcss = metric(m, "pcss", "penumbra_rmse"),
@@ -96,41 +91,19 @@ static void penumbra_order(void)
         no_nonfinite(m, "parallel planes");
         cJSON_Delete(m);
     }
-    free(args), free(scene);
-}
-
-/* A tilted light over two plates far apart in depth: A (height 3) hides
- * the left part of B (height 1) in the map, and A's edge there projects
- * onto the receiver inside B's umbra (x in 0.4..1.2), where a filter region
- * in the map holds both depths: the variance is large, so the Chebyshev
- * bound is high in a true umbra. */
-static void write_overlapping_plates(const char *path)
-{
-    struct mesh_builder m = {0};
-    mesh_add_quad(&m, v3(-4, 0, -3), v3(0, 0, 6), v3(8, 0, 0));       /* receiver */
-    mesh_add_quad(&m, v3(-6, 3, -3), v3(0, 0, 6), v3(4.6f, 0, 0));    /* A: x < -1.4 */
-    mesh_add_quad(&m, v3(-0.8f, 1, -1), v3(0, 0, 2), v3(1.2f, 0, 0)); /* B: x in -0.8..0.4 */
-    struct gltf_scene_desc d = {
-        .description = "overlapping plates (test)", .shows = "VSM light bleeding",
-        .camera_pos = v3(0.6f, 2.5f, 2.5f), .camera_target = v3(0.5f, 0.0f, 0.0f),
-        .camera_yfov_rad = 0.6f, .camera_znear = 0.05f,
-        .light_pos = v3(-2, 4, 0), .light_target = v3(0.5f, 0, 0),
-        .light_width = 0.5f, .light_height = 0.5f,
-    };
-    CHECK(gltf_write(path, &m, &d) == 0, "writing %s", path);
-    mesh_free(&m);
 }
 
 static void vsm_bleeding(void)
 {
-    char *scene = util_printf("%s/overlapping_plates.gltf", dir);
-    write_overlapping_plates(scene);
+    /* The shipped overlapping_occluders: two plates far apart in depth,
+     * whose edges overlap in the map over a true umbra (see
+     * tools/scene_library.c). */
     double leak[2] = {NAN, NAN}, reduction[2] = {0.0, 0.5};
     for (int k = 0; k < 2; k++) {
         char *name = util_printf("plates%d", k);
-        char *args = util_printf("--scene %s --technique vsm --set vsm.blur_radius_texels=8 "
-                                 "--set vsm.bleed_reduction=%g --width 160 --height 160 "
-                                 "--gt-samples 256", scene, reduction[k]);
+        char *args = util_printf("--scene overlapping_occluders --technique vsm "
+                                 "--set vsm.blur_radius_texels=8 --set vsm.bleed_reduction=%g "
+                                 "--width 160 --height 160 --gt-samples 256", reduction[k]);
         cJSON *m = run_cells(name, args, 0);
         if (m) {
             leak[k] = metric(m, "vsm", "leak_fraction");
@@ -148,12 +121,11 @@ static void vsm_bleeding(void)
     CHECK(leak[0] > 0.005, "vsm must leak light here: leak_fraction %.4f", leak[0]);
     CHECK(leak[1] < 0.5 * leak[0], "bleed_reduction must reduce the leak: %.4f -> %.4f", leak[0],
           leak[1]);
-    free(scene);
 }
 
 /* A NaN or Inf in any cell fails the run (exit 1): every technique at its
- * defaults on every shipped scene, and on a disk light (the other tap
- * pattern). */
+ * defaults on every shipped scene (rect and disk lights, so both tap
+ * patterns). */
 static void all_finite(void)
 {
     cJSON *m = run_cells("shipped", "--width 96 --height 96 --gt-samples 16", 0);
@@ -161,14 +133,6 @@ static void all_finite(void)
         no_nonfinite(m, "shipped scenes");
         cJSON_Delete(m);
     }
-    char *scene = util_printf("%s/planes_disk.gltf", dir);
-    write_parallel_planes(scene, 1.0f, true);
-    char *args = util_printf("--scene %s --width 96 --height 96 --gt-samples 16", scene);
-    if ((m = run_cells("disk", args, 0))) {
-        no_nonfinite(m, "disk light");
-        cJSON_Delete(m);
-    }
-    free(args), free(scene);
 }
 
 int main(int argc, char **argv)

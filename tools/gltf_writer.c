@@ -7,33 +7,43 @@
 #include <stdlib.h>
 #include <string.h>
 
-static uint32_t add_vertex(struct mesh_builder *m, struct vec3 p)
+/* Capacity for n + 1 elements, doubling. */
+static size_t grow(size_t n)
 {
-    m->positions = xrealloc(m->positions, sizeof(float) * 3 * (m->vertex_count + 1));
+    return (n & (n - 1)) == 0 ? (n ? 2 * n : 64) : 0;
+}
+
+uint32_t mesh_add_vertex(struct mesh_builder *m, struct vec3 p)
+{
+    size_t cap = grow(m->vertex_count);
+    if (cap)
+        m->positions = xrealloc(m->positions, sizeof(float) * 3 * cap);
     memcpy(&m->positions[3 * m->vertex_count], &p, sizeof p);
     return (uint32_t)m->vertex_count++;
 }
 
-static void add_index(struct mesh_builder *m, uint32_t i)
+void mesh_add_index(struct mesh_builder *m, uint32_t i)
 {
-    m->indices = xrealloc(m->indices, sizeof(uint32_t) * (m->index_count + 1));
+    size_t cap = grow(m->index_count);
+    if (cap)
+        m->indices = xrealloc(m->indices, sizeof(uint32_t) * cap);
     m->indices[m->index_count++] = i;
 }
 
 void mesh_add_triangle(struct mesh_builder *m, struct vec3 a, struct vec3 b, struct vec3 c)
 {
-    add_index(m, add_vertex(m, a));
-    add_index(m, add_vertex(m, b));
-    add_index(m, add_vertex(m, c));
+    mesh_add_index(m, mesh_add_vertex(m, a));
+    mesh_add_index(m, mesh_add_vertex(m, b));
+    mesh_add_index(m, mesh_add_vertex(m, c));
 }
 
 void mesh_add_quad(struct mesh_builder *m, struct vec3 corner, struct vec3 u, struct vec3 v)
 {
-    uint32_t a = add_vertex(m, corner), b = add_vertex(m, v3_add(corner, u)),
-             c = add_vertex(m, v3_add(v3_add(corner, u), v)), d = add_vertex(m, v3_add(corner, v));
+    uint32_t a = mesh_add_vertex(m, corner), b = mesh_add_vertex(m, v3_add(corner, u)),
+             c = mesh_add_vertex(m, v3_add(v3_add(corner, u), v)), d = mesh_add_vertex(m, v3_add(corner, v));
     const uint32_t tris[6] = {a, b, c, a, c, d};
     for (int i = 0; i < 6; i++)
-        add_index(m, tris[i]);
+        mesh_add_index(m, tris[i]);
 }
 
 void mesh_add_box(struct mesh_builder *m, struct vec3 lo, struct vec3 hi)
@@ -55,16 +65,36 @@ void mesh_add_sphere(struct mesh_builder *m, struct vec3 c, float r, int segment
         float th = (float)M_PI * (float)i / (float)rings;
         for (int j = 0; j <= segments; j++) {
             float ph = 2.0f * (float)M_PI * (float)j / (float)segments;
-            add_vertex(m, v3_add(c, v3(r * sinf(th) * cosf(ph), r * cosf(th), r * sinf(th) * sinf(ph))));
+            mesh_add_vertex(m, v3_add(c, v3(r * sinf(th) * cosf(ph), r * cosf(th), r * sinf(th) * sinf(ph))));
         }
     }
     for (int i = 0; i < rings; i++)
         for (int j = 0; j < segments; j++) {
             uint32_t a = base + (uint32_t)(i * (segments + 1) + j), b = a + (uint32_t)segments + 1;
             if (i > 0) /* no degenerate triangles at the poles */
-                add_index(m, a), add_index(m, a + 1), add_index(m, b);
+                mesh_add_index(m, a), mesh_add_index(m, a + 1), mesh_add_index(m, b);
             if (i < rings - 1)
-                add_index(m, a + 1), add_index(m, b + 1), add_index(m, b);
+                mesh_add_index(m, a + 1), mesh_add_index(m, b + 1), mesh_add_index(m, b);
+        }
+}
+
+void mesh_add_torus(struct mesh_builder *m, struct vec3 c, float major, float minor, int major_segments,
+                    int minor_segments)
+{
+    uint32_t base = (uint32_t)m->vertex_count;
+    for (int i = 0; i <= major_segments; i++) {
+        float ph = 2.0f * (float)M_PI * (float)i / (float)major_segments;
+        for (int j = 0; j <= minor_segments; j++) {
+            float th = 2.0f * (float)M_PI * (float)j / (float)minor_segments;
+            float r = major + minor * cosf(th);
+            mesh_add_vertex(m, v3_add(c, v3(r * cosf(ph), minor * sinf(th), r * sinf(ph))));
+        }
+    }
+    for (int i = 0; i < major_segments; i++)
+        for (int j = 0; j < minor_segments; j++) {
+            uint32_t a = base + (uint32_t)(i * (minor_segments + 1) + j), b = a + (uint32_t)minor_segments + 1;
+            mesh_add_index(m, a), mesh_add_index(m, a + 1), mesh_add_index(m, b + 1);
+            mesh_add_index(m, a), mesh_add_index(m, b + 1), mesh_add_index(m, b);
         }
 }
 

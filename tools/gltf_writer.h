@@ -16,11 +16,18 @@ struct mesh_builder {
     size_t vertex_count, index_count;
 };
 
+/* Returns the new vertex's index. */
+uint32_t mesh_add_vertex(struct mesh_builder *m, struct vec3 p);
+void mesh_add_index(struct mesh_builder *m, uint32_t i);
 void mesh_add_triangle(struct mesh_builder *m, struct vec3 a, struct vec3 b, struct vec3 c);
 /* Parallelogram corner, corner + u, corner + u + v, corner + v. */
 void mesh_add_quad(struct mesh_builder *m, struct vec3 corner, struct vec3 u, struct vec3 v);
 void mesh_add_box(struct mesh_builder *m, struct vec3 lo, struct vec3 hi);
 void mesh_add_sphere(struct mesh_builder *m, struct vec3 centre, float radius, int segments);
+/* A torus around the +y axis through centre: major radius to the tube's
+ * centre, minor radius of the tube. */
+void mesh_add_torus(struct mesh_builder *m, struct vec3 centre, float major, float minor,
+                    int major_segments, int minor_segments);
 void mesh_free(struct mesh_builder *m);
 
 struct gltf_scene_desc {

@@ -1,0 +1,358 @@
+/* The shipped scenes. Each isolates one phenomenon with only the geometry it
+ * needs (y is up, the ground is y = 0, units are arbitrary but consistent);
+ * the comment above each builder says what it shows and why the geometry is
+ * what it is. */
+#include "scene_library.h"
+#include "log.h"
+#include "util.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static void ground(struct mesh_builder *m, float x0, float z0, float x1, float z1)
+{
+    mesh_add_quad(m, v3(x0, 0, z0), v3(0, 0, z1 - z0), v3(x1 - x0, 0, 0));  /* normal +y */
+}
+
+/* A horizontal plate at height y (normal +y, seen from both sides). */
+static void plate(struct mesh_builder *m, float x0, float z0, float x1, float z1, float y)
+{
+    mesh_add_quad(m, v3(x0, y, z0), v3(0, 0, z1 - z0), v3(x1 - x0, 0, 0));
+}
+
+/* A unit box and a sphere floating at different heights over a ground
+ * plane, under a 1.2 x 1.2 rect light 6 units up: two penumbrae of
+ * different widths (the higher sphere's is wider) on a flat receiver. */
+static int floating_box_sphere(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    ground(m, -6, -6, 6, 6);
+    mesh_add_box(m, v3(-2.0f, 1.0f, -0.5f), v3(-1.0f, 2.0f, 0.5f));
+    mesh_add_sphere(m, v3(1.5f, 2.6f, 0.0f), 0.6f, 48);
+    *d = (struct gltf_scene_desc){
+        .description = "A box (bottom 1 above the ground) and a sphere (bottom 2 above) over a "
+                       "ground plane under a 1.2 x 1.2 rect light.",
+        .shows = "penumbra width growing with the blocker-receiver distance; the basic "
+                 "end-to-end case",
+        .camera_pos = v3(0.0f, 7.0f, 8.5f), .camera_target = v3(0.0f, 0.5f, 0.0f),
+        .camera_yfov_rad = 0.75f, .camera_znear = 0.1f,
+        .light_pos = v3(0.5f, 6.0f, 0.0f), .light_target = v3(0.5f, 0.0f, 0.0f),
+        .light_width = 1.2f, .light_height = 1.2f,
+    };
+    return 0;
+}
+
+void scene_parallel_planes(struct mesh_builder *m, struct gltf_scene_desc *d, float light_width,
+                           bool disk)
+{
+    ground(m, -6, -6, 6, 6);
+    plate(m, -8, -8, 0, 8, PP_H_BLOCK);  /* the half-plane x < 0, edge along z */
+    *d = (struct gltf_scene_desc){
+        .description = disk ? "A disk light 4 above a receiver plane; an occluder half-plane 2 "
+                              "above it, its straight edge parallel to both."
+                            : "A square light 4 above a receiver plane; an occluder half-plane 2 "
+                              "above it, its straight edge parallel to both.",
+        .shows = disk ? "the closed-form case for a disk light: the penumbra is the visible "
+                        "circular segment of the light, 1 unit wide"
+                      : "the closed-form case: a linear penumbra ramp 1 unit wide; the "
+                        "PCSS model is exact here",
+        .camera_pos = v3(0.0f, 1.2f, 3.0f), .camera_target = v3(0.0f, 0.0f, 0.0f),
+        .camera_yfov_rad = 0.5f, .camera_znear = 0.05f,
+        .light_pos = v3(0, PP_H_LIGHT, 0), .light_target = v3(0, 0, 0),
+        .light_disk = disk, .light_width = light_width, .light_height = light_width,
+        .light_radius = 0.5f * light_width,
+    };
+}
+
+static int parallel_planes(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    scene_parallel_planes(m, d, 1.0f, false);
+    return 0;
+}
+
+static int parallel_planes_disk(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    scene_parallel_planes(m, d, 1.0f, true);
+    return 0;
+}
+
+/* A thin pole standing on the ground, lit from the side by a light of about
+ * its own height's size: at the foot the blocker touches the receiver and the
+ * shadow is hard; towards the tip's shadow the blocker-receiver distance
+ * grows, the penumbra widens past the pole's width and the shadow fades out.
+ * A fixed kernel (pcf) blurs the foot and stays too hard at the tip. */
+static int contact_hardening(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    ground(m, -3, -3, 6, 3);
+    mesh_add_box(m, v3(-0.12f, 0.0f, -0.12f), v3(0.12f, 2.5f, 0.12f));
+    *d = (struct gltf_scene_desc){
+        .description = "A pole 2.5 tall and 0.24 thick on the ground; a 1.2 x 1.2 rect light up "
+                       "and to the side casts its shadow along the ground.",
+        .shows = "contact hardening: a hard shadow at the pole's foot, widening and fading "
+                 "towards the tip's shadow",
+        .camera_pos = v3(1.3f, 3.4f, 5.2f), .camera_target = v3(1.3f, 0.5f, 0.0f),
+        .camera_yfov_rad = 0.8f, .camera_znear = 0.05f,
+        .light_pos = v3(-3.0f, 5.0f, 0.0f), .light_target = v3(1.5f, 0.0f, 0.0f),
+        .light_width = 1.2f, .light_height = 1.2f,
+    };
+    return 0;
+}
+
+/* Two plates far apart in depth under a tilted light: A (height 3, wholly
+ * in front of the light's plane, so the map's near plane stays at a sane
+ * 0.3) hides the left part of B (height 1) in the map, and A's edge there projects onto
+ * the receiver inside B's umbra (x in 0.4..1.2). A filter region in the map
+ * there holds both depths: the variance is large, so VSM's Chebyshev bound is
+ * high in a true umbra (light bleeding), and a PCSS blocker search averages
+ * the two depths into one that belongs to neither. */
+static int overlapping_occluders(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    ground(m, -4, -3, 4, 3);
+    plate(m, -3, -3, -1.4f, 3, 3.0f);    /* A: x in -3..-1.4, all in front of the light */
+    plate(m, -0.8f, -1, 0.4f, 1, 1.0f);  /* B: x in -0.8..0.4 */
+    *d = (struct gltf_scene_desc){
+        .description = "Two plates, one 3 and one 1 above the ground, overlapping as the 0.5 x 0.5 "
+                       "rect light sees them.",
+        .shows = "VSM light bleeding where occluders far apart in depth overlap; PCSS averaging "
+                 "two blocker depths",
+        .camera_pos = v3(0.6f, 2.5f, 2.5f), .camera_target = v3(0.5f, 0.0f, 0.0f),
+        .camera_yfov_rad = 0.6f, .camera_znear = 0.05f,
+        .light_pos = v3(-2, 4, 0), .light_target = v3(0.5f, 0, 0),
+        .light_width = 0.5f, .light_height = 0.5f,
+    };
+    return 0;
+}
+
+/* A long plane lit at about 8 degrees of elevation, with one low box on it.
+ * Seen from the light the plane is nearly edge-on: one shadow-map texel
+ * spans a long stretch of it, over which the plane's depth changes by much
+ * more than a texel's worth, so a comparison without enough bias shadows the
+ * plane itself (acne) and a bias large enough to prevent that detaches the
+ * box's shadow from its foot (peter-panning). */
+static int grazing_receiver(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    ground(m, -4, -3, 10, 3);
+    mesh_add_box(m, v3(0.0f, 0.0f, -0.5f), v3(0.6f, 0.5f, 0.5f));
+    *d = (struct gltf_scene_desc){
+        .description = "A 0.6 x 0.5 x 1 box on a long plane; a 0.5 x 0.5 rect light 1.4 above "
+                       "the plane and 10 away lights it at about 8 degrees.",
+        .shows = "shadow acne against bias (peter-panning) on a receiver at a grazing angle to "
+                 "the light",
+        .camera_pos = v3(1.5f, 4.0f, 4.0f), .camera_target = v3(1.5f, 0.0f, 0.0f),
+        .camera_yfov_rad = 0.8f, .camera_znear = 0.05f,
+        .light_pos = v3(-10.0f, 1.4f, 0.0f), .light_target = v3(4.0f, 0.0f, 0.0f),
+        .light_width = 0.5f, .light_height = 0.5f,
+    };
+    return 0;
+}
+
+/* A grid of thin bars (0.03 wide, 0.25 apart) 1.2 above the ground under a
+ * 0.8 x 0.8 light 5 up: each bar's penumbra (0.25 wide) is eight times the
+ * bar and as wide as a gap, so the truth under the grid is an even partial
+ * shadow with a faint ripple. A bar is a few texels of the 1024^2 map: hard
+ * shadows alias it, a blocker search finds bars in some taps and gaps in
+ * others, and the moments of bars and gaps give VSM a wide variance. */
+static int thin_features(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    ground(m, -3, -3, 3, 3);
+    const int bars = 9;
+    const float w = 0.03f, pitch = 0.25f, half = 0.5f * pitch * (float)(bars - 1) + w, y = 1.2f;
+    for (int i = 0; i < bars; i++) {
+        float c = -0.5f * pitch * (float)(bars - 1) + pitch * (float)i;
+        mesh_add_box(m, v3(c - 0.5f * w, y, -half), v3(c + 0.5f * w, y + w, half));  /* along z */
+        mesh_add_box(m, v3(-half, y + w, c - 0.5f * w), v3(half, y + 2 * w, c + 0.5f * w));  /* along x */
+    }
+    *d = (struct gltf_scene_desc){
+        .description = "A 9 x 9 grid of bars 0.03 thick at a 0.25 pitch, 1.2 above the ground, "
+                       "under a 0.8 x 0.8 rect light 5 up.",
+        .shows = "high-frequency occluders: aliasing, light leaking through small gaps, a "
+                 "blocker search that sees bars and gaps",
+        .camera_pos = v3(1.6f, 3.0f, 3.0f), .camera_target = v3(1.0f, 0.0f, 0.0f),
+        .camera_yfov_rad = 0.8f, .camera_znear = 0.05f,
+        .light_pos = v3(-2.5f, 5.0f, 0.0f), .light_target = v3(1.0f, 0.0f, 0.0f),
+        .light_width = 0.8f, .light_height = 0.8f,
+    };
+    return 0;
+}
+
+/* A 5 x 5 light only 4 above the ground over a unit box floating 1 to 2
+ * up: every penumbra is wider than the box, so there is no umbra at all.
+ * The PCSS blocker search spans a large part of the map (sparse taps), and
+ * the int32 SAT must give up fixed-point bits for such wide boxes. */
+static int large_light(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    ground(m, -6, -6, 6, 6);
+    mesh_add_box(m, v3(-0.5f, 1.0f, -0.5f), v3(0.5f, 2.0f, 0.5f));
+    *d = (struct gltf_scene_desc){
+        .description = "A unit box floating 1 above the ground under a 5 x 5 rect light 4 up.",
+        .shows = "very wide penumbrae with no umbra: blocker-search range and sampling limits, "
+                 "SAT precision for wide boxes",
+        .camera_pos = v3(0.0f, 6.0f, 6.5f), .camera_target = v3(0.0f, 0.3f, 0.0f),
+        .camera_yfov_rad = 0.8f, .camera_znear = 0.1f,
+        .light_pos = v3(0.0f, 4.0f, 0.0f), .light_target = v3(0.0f, 0.0f, 0.0f),
+        .light_width = 5.0f, .light_height = 5.0f,
+    };
+    return 0;
+}
+
+/* Two spheres and a torus resting on the ground, lit from above and to the
+ * side: each casts a shadow with contact on the ground and shadows itself
+ * (the terminator, where the light sets below the surface's own horizon;
+ * the torus also shadows its own inner ring). A receiver-plane bias assumes
+ * a flat receiver under each kernel, which these are not. */
+static int curved_receivers(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    ground(m, -4, -4, 4, 4);
+    mesh_add_sphere(m, v3(-1.3f, 0.7f, 0.0f), 0.7f, 64);
+    mesh_add_sphere(m, v3(0.2f, 0.35f, 1.0f), 0.35f, 48);
+    mesh_add_torus(m, v3(1.2f, 0.28f, -0.6f), 0.7f, 0.28f, 64, 24);
+    *d = (struct gltf_scene_desc){
+        .description = "Spheres of radius 0.7 and 0.35 and a torus (radii 0.7, 0.28) resting on "
+                       "the ground, under a 1 x 1 rect light up and to the side.",
+        .shows = "self-shadowing of curved surfaces and their terminators; receiver-plane bias "
+                 "on curved receivers",
+        .camera_pos = v3(0.0f, 3.4f, 5.2f), .camera_target = v3(0.0f, 0.3f, 0.0f),
+        .camera_yfov_rad = 0.8f, .camera_znear = 0.05f,
+        .light_pos = v3(-2.5f, 4.5f, 1.5f), .light_target = v3(0.5f, 0.0f, -0.3f),
+        .light_width = 1.0f, .light_height = 1.0f,
+    };
+    return 0;
+}
+
+/* A light 3 above a ground that reaches far beyond the widest frustum the
+ * shadow map takes (a 75-degree half-angle: 11.2 out at the ground), and a
+ * plate 1.5 up that crosses the frustum's edge (5.6 out at its height).
+ * Near the map's edge the blocker search and filter kernels read past it,
+ * where the border says "lit", and part of the plate is not in the map at
+ * all, though it shadows ground that is. */
+static int map_border(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    ground(m, -16, -16, 16, 16);
+    plate(m, 4.0f, -2.0f, 8.0f, 2.0f, 1.5f);
+    *d = (struct gltf_scene_desc){
+        .description = "A 1 x 1 rect light 3 above a ground plane 32 wide; a 4 x 4 plate 1.5 up, "
+                       "4 to 8 out, crossing the edge of the shadow map's frustum.",
+        .shows = "an occluder at the edge of the shadow map: kernels that read past the border, "
+                 "a caster partly outside the map",
+        .camera_pos = v3(7.8f, 7.0f, 8.0f), .camera_target = v3(7.8f, 0.0f, 0.0f),
+        .camera_yfov_rad = 0.9f, .camera_znear = 0.05f,
+        .light_pos = v3(0.0f, 3.0f, 0.0f), .light_target = v3(0.0f, 0.0f, 0.0f),
+        .light_width = 1.0f, .light_height = 1.0f,
+    };
+    return 0;
+}
+
+/* Reads the vertices and triangles of a Wavefront OBJ ("v x y z" and
+ * "f a b c" lines, 1-based, optional /texture/normal parts ignored). */
+static int read_obj(const char *path, float **pos, size_t *vertex_count, uint32_t **tri,
+                    size_t *tri_count)
+{
+    char *text = NULL;
+    size_t size;
+    int err = util_read_file(path, &text, &size);
+    if (err) {
+        log_error("%s: cannot read: %s (install Debian's glmark2-data)", path, strerror(-err));
+        return -1;
+    }
+    size_t nv = 0, nt = 0, cap_v = 0, cap_t = 0;
+    float *p = NULL;
+    uint32_t *t = NULL;
+    int rc = 0;
+    for (char *line = strtok(text, "\n"); line && !rc; line = strtok(NULL, "\n")) {
+        if (line[0] == 'v' && line[1] == ' ') {
+            if (nv == cap_v)
+                p = xrealloc(p, sizeof(float) * 3 * (cap_v = cap_v ? 2 * cap_v : 4096));
+            if (sscanf(line + 2, "%f %f %f", &p[3 * nv], &p[3 * nv + 1], &p[3 * nv + 2]) != 3)
+                rc = -1;
+            nv++;
+        } else if (line[0] == 'f' && line[1] == ' ') {
+            long a, b, c;
+            if (sscanf(line + 2, "%ld%*[^ ] %ld%*[^ ] %ld", &a, &b, &c) != 3 &&
+                sscanf(line + 2, "%ld %ld %ld", &a, &b, &c) != 3)
+                rc = -1;
+            if (nt == cap_t)
+                t = xrealloc(t, sizeof(uint32_t) * 3 * (cap_t = cap_t ? 2 * cap_t : 8192));
+            t[3 * nt] = (uint32_t)(a - 1), t[3 * nt + 1] = (uint32_t)(b - 1), t[3 * nt + 2] = (uint32_t)(c - 1);
+            nt++;
+        }
+    }
+    free(text);
+    for (size_t i = 0; i < 3 * nt && !rc; i++)
+        rc = t[i] >= nv ? -1 : 0;
+    if (rc || nt == 0) {
+        log_error("%s: not a triangle mesh this reader understands", path);
+        free(p), free(t);
+        return -1;
+    }
+    *pos = p, *vertex_count = nv, *tri = t, *tri_count = nt;
+    return 0;
+}
+
+/* The Stanford Bunny (Turk & Levoy, Stanford 3D Scanning Repository, 1994),
+ * as Debian's glmark2-data ships it, scaled to 1.5 tall and set on the
+ * ground, under a 1 x 1 light up and to the side: a scanned surface of some
+ * detail (ears, folds, an open base) casting on the ground and onto itself. */
+static int stanford_bunny(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    float *p;
+    uint32_t *t;
+    size_t nv, nt;
+    if (read_obj(SCENE_BUNNY_OBJ, &p, &nv, &t, &nt) != 0)
+        return -1;
+    struct vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
+    for (size_t i = 0; i < nv; i++) {
+        lo = v3_min(lo, v3(p[3 * i], p[3 * i + 1], p[3 * i + 2]));
+        hi = v3_max(hi, v3(p[3 * i], p[3 * i + 1], p[3 * i + 2]));
+    }
+    const float s = 1.5f / (hi.y - lo.y);
+    const struct vec3 c = v3(0.5f * (lo.x + hi.x), lo.y, 0.5f * (lo.z + hi.z));
+    ground(m, -4, -4, 4, 4);
+    size_t base = m->vertex_count;
+    for (size_t i = 0; i < nv; i++)
+        mesh_add_vertex(m, v3_scale(v3_sub(v3(p[3 * i], p[3 * i + 1], p[3 * i + 2]), c), s));
+    for (size_t i = 0; i < 3 * nt; i++)
+        mesh_add_index(m, (uint32_t)(base + t[i]));
+    free(p), free(t);
+    *d = (struct gltf_scene_desc){
+        .description = "The Stanford Bunny (Stanford 3D Scanning Repository; the 69 666-triangle "
+                       "mesh of Debian's glmark2-data), 1.5 tall, on the ground under a 1 x 1 "
+                       "rect light.",
+        .shows = "a real scanned mesh: ears and folds shadowing the ground and the bunny itself",
+        .camera_pos = v3(0.6f, 1.9f, 3.0f), .camera_target = v3(0.3f, 0.55f, 0.0f),
+        .camera_yfov_rad = 0.75f, .camera_znear = 0.05f,
+        .light_pos = v3(-2.0f, 4.5f, 1.5f), .light_target = v3(0.5f, 0.0f, -0.3f),
+        .light_width = 1.0f, .light_height = 1.0f,
+    };
+    return 0;
+}
+
+const struct scene_recipe scene_recipes[] = {
+    {"contact_hardening", contact_hardening},
+    {"curved_receivers", curved_receivers},
+    {"floating_box_sphere", floating_box_sphere},
+    {"grazing_receiver", grazing_receiver},
+    {"large_light", large_light},
+    {"map_border", map_border},
+    {"overlapping_occluders", overlapping_occluders},
+    {"parallel_planes", parallel_planes},
+    {"parallel_planes_disk", parallel_planes_disk},
+    {"stanford_bunny", stanford_bunny},
+    {"thin_features", thin_features},
+    {NULL, NULL},
+};
+
+int scene_recipe_write(const struct scene_recipe *r, const char *dir)
+{
+    struct mesh_builder m = {0};
+    struct gltf_scene_desc d;
+    int rc = r->build(&m, &d);
+    if (rc == 0) {
+        char *path = util_printf("%s/%s.gltf", dir, r->name);
+        rc = gltf_write(path, &m, &d);
+        free(path);
+    }
+    mesh_free(&m);
+    return rc;
+}
