@@ -7,6 +7,7 @@
 #include "params.h"
 #include "run.h"
 #include "scene.h"
+#include "sweep.h"
 #include "util.h"
 
 #include <errno.h>
@@ -48,6 +49,11 @@ static const char usage_run[] =
     "  --technique T[,T...]  techniques to run (repeatable; default: all)\n"
     "  --set T.P=V           set parameter P of technique T (repeatable), e.g.\n"
     "                        --set hard.slope_bias=2; ranges in 'shadowbench list'\n"
+    "  --sweep T.P=V1,V2,... one cell per value of parameter P of technique T, on\n"
+    "                        every scene, instead of T's single cell (repeatable;\n"
+    "                        sweeps of one technique give every combination; a swept\n"
+    "                        value overrides --set), e.g. --sweep pcss.blocker_samples=16,32,64.\n"
+    "                        Each cell is named T@P=V,... (its folder under each scene)\n"
     "  --width W, --height H image size in pixels, 16..8192 (default 512 x 512)\n"
     "  --gt-samples N        light samples per pixel for the ground truth, a square\n"
     "                        n*n, 1..65536 (default 1024 = 32x32)\n"
@@ -112,13 +118,14 @@ static const char usage_list[] =
 
 enum {
     OPT_SCENE = 256, OPT_TECHNIQUE, OPT_SET, OPT_WIDTH, OPT_HEIGHT, OPT_GT_SAMPLES,
-    OPT_SM_SIZE, OPT_FRAMES, OPT_WARMUP, OPT_OUT, OPT_CACHE, OPT_NO_CACHE, OPT_SHADERS,
+    OPT_SM_SIZE, OPT_FRAMES, OPT_WARMUP, OPT_OUT, OPT_CACHE, OPT_NO_CACHE, OPT_SHADERS, OPT_SWEEP,
 };
 
 static const struct option long_options[] = {
     {"scene", required_argument, NULL, OPT_SCENE},
     {"technique", required_argument, NULL, OPT_TECHNIQUE},
     {"set", required_argument, NULL, OPT_SET},
+    {"sweep", required_argument, NULL, OPT_SWEEP},
     {"width", required_argument, NULL, OPT_WIDTH},
     {"height", required_argument, NULL, OPT_HEIGHT},
     {"gt-samples", required_argument, NULL, OPT_GT_SAMPLES},
@@ -207,6 +214,8 @@ static bool takes(enum command cmd, int c)
     bool gl = c == OPT_TECHNIQUE || c == OPT_SET || c == OPT_SM_SIZE || c == OPT_FRAMES ||
               c == OPT_WARMUP || c == OPT_SHADERS;
     bool gt = c == OPT_GT_SAMPLES || c == OPT_OUT || c == OPT_CACHE || c == OPT_NO_CACHE;
+    if (c == OPT_SWEEP)
+        return cmd == CMD_RUN;
     switch (cmd) {
     case CMD_RUN: return true;
     case CMD_GT: return !gl;
@@ -283,6 +292,13 @@ static int parse_options(int argc, char **argv, const char *usage, enum command 
             break;
         case OPT_TECHNIQUE: rc = add_techniques(o, optarg); break;
         case OPT_SET: rc = apply_set(o, optarg); break;
+        case OPT_SWEEP:
+            if (o->sweep_count == RUN_MAX_SWEEPS) {
+                log_error("--sweep: at most %d sweeps", RUN_MAX_SWEEPS);
+                return -1;
+            }
+            o->sweeps[o->sweep_count++] = optarg;
+            break;
         case OPT_WIDTH: rc = parse_int("width", optarg, 16, 8192, &o->width); break;
         case OPT_HEIGHT: rc = parse_int("height", optarg, 16, 8192, &o->height); break;
         case OPT_GT_SAMPLES: rc = parse_gt_samples(optarg, &o->gt_samples); break;
@@ -308,7 +324,9 @@ static int parse_options(int argc, char **argv, const char *usage, enum command 
         log_error("gt: --scene is required (see --help)");
         return -1;
     }
-    return finish_techniques(o);
+    if (finish_techniques(o) != 0)
+        return -1;
+    return cmd == CMD_RUN ? sweep_configs(o) : 0;
 }
 
 static int cmd_list(int argc, char **argv)
@@ -375,5 +393,6 @@ int main(int argc, char **argv)
     int status = rc > 0 ? EXIT_OK : rc < 0 ? EXIT_USAGE : mains[k](&o);
     for (int i = 0; i < RUN_MAX_TECHNIQUES; i++)
         free(o.settings[i]);
+    sweep_free(&o);
     return status;
 }

@@ -208,6 +208,16 @@ cJSON *params_json(const struct technique *t, const void *settings)
     return o;
 }
 
+int params_value_text(const struct technique *t, const void *settings, const char *name, char *buf,
+                      size_t size)
+{
+    const struct technique_param *p = find(t, name);
+    if (!p)
+        return -1;
+    format_value(p, get(p, settings), buf, size);
+    return 0;
+}
+
 void params_summary(const struct technique *t, const void *settings, struct strbuf *out)
 {
     for (const struct technique_param *p = t->params; p->name; p++) {

@@ -32,6 +32,11 @@ void params_defines(const struct technique *t, const void *settings, struct strb
 /* {"name": value, ...} with the values in settings. */
 cJSON *params_json(const struct technique *t, const void *settings);
 
+/* The value of parameter `name` as `list` and the outputs spell it. Returns
+ * 0, or -1 when t has no such parameter (not logged). */
+int params_value_text(const struct technique *t, const void *settings, const char *name, char *buf,
+                      size_t size);
+
 /* "name=value name=value" (for the matrix row). */
 void params_summary(const struct technique *t, const void *settings, struct strbuf *out);
 

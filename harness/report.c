@@ -10,6 +10,7 @@ cJSON *report_cell_json(const struct cell *c)
     cJSON *o = cJSON_CreateObject();
     cJSON_AddStringToObject(o, "scene", c->scene);
     cJSON_AddStringToObject(o, "technique", c->technique->name);
+    cJSON_AddStringToObject(o, "cell", c->label);
     cJSON_AddItemToObject(o, "params", cJSON_Duplicate(c->params, 1));
     cJSON *m = metrics_json(&c->m);
     for (cJSON *it = m->child; it; it = it->next)
@@ -46,7 +47,7 @@ static int write_matrix(const struct report *r)
     cJSON *names = metrics_json(&(struct metrics){0});
     for (const cJSON *it = names->child; it; it = it->next)
         strbuf_printf(&csv, ",%s", it->string);
-    strbuf_printf(&csv, ",gl_renderer\n");
+    strbuf_printf(&csv, ",gl_renderer,cell\n");
     cJSON *matrix = cJSON_CreateObject();
     cJSON *cells = cJSON_AddArrayToObject(matrix, "cells");
     for (int i = 0; i < r->cell_count; i++) {
@@ -60,6 +61,8 @@ static int write_matrix(const struct report *r)
             strbuf_printf(&csv, ",%.9g", cJSON_GetObjectItem(row, it->string)->valuedouble);
         strbuf_printf(&csv, ",");
         csv_field(&csv, r->cells[i].gl_renderer);
+        strbuf_printf(&csv, ",");
+        csv_field(&csv, r->cells[i].label);
         strbuf_printf(&csv, "\n");
         cJSON_AddItemToArray(cells, row);
     }

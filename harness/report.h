@@ -13,6 +13,8 @@
 struct cell {
     const char *scene;                   /* scene name */
     const struct technique *technique;
+    const char *label;                   /* the configuration: technique name, or with its
+                                            swept values (run_config.label); its folder */
     cJSON *params;                       /* values used */
     char *params_text;                   /* "name=value name=value" */
     const char *gl_renderer;             /* the device the timings were taken on */

@@ -118,12 +118,15 @@ struct scene_run {
     struct stage_timer timer;
     float *v, *distance, *scored, *error;
     char *dir;
+    int *cells_done, cells_total, label_width;  /* progress */
 };
 
-static int run_cell(struct scene_run *sr, const struct technique *t, const void *settings,
-                    GLuint program, struct cell *c)
+static int run_cell(struct scene_run *sr, const struct run_config *config, GLuint program,
+                    struct cell *c)
 {
     const struct run_options *o = sr->o;
+    const struct technique *t = config->technique;
+    const void *settings = config->settings;
     const int w = o->width, h = o->height, count = w * h;
     struct shadowmap_request req;
     technique_request(t, settings, &sr->sm.frustum, sr->sm.desc.size_texels, &req);
@@ -142,6 +145,7 @@ static int run_cell(struct scene_run *sr, const struct technique *t, const void 
 
     c->scene = sr->scene->name;
     c->technique = t;
+    c->label = config->label;
     c->gl_renderer = gl_context_renderer();
     c->params = params_json(t, settings);
     struct strbuf text = {0};
@@ -150,7 +154,7 @@ static int run_cell(struct scene_run *sr, const struct technique *t, const void 
 
     for (int i = 0; i < count; i++)
         sr->error[i] = sr->scored[i] > 0.5f ? sr->v[i] - sr->gt.v[i] : 0.0f;
-    char *dir = util_printf("%s/%s", sr->dir, t->name);
+    char *dir = util_printf("%s/%s", sr->dir, config->label);
     char *vis_exr = util_printf("%s/visibility.exr", dir), *err_exr = util_printf("%s/error.exr", dir);
     char *heat = util_printf("%s/heatmap.png", dir), *json = util_printf("%s/metrics.json", dir);
     struct picture hm;
@@ -165,8 +169,9 @@ static int run_cell(struct scene_run *sr, const struct technique *t, const void 
     picture_free(&hm);
     free(vis_exr), free(err_exr), free(heat), free(json), free(dir);
 
-    log_info("  %-10s rmse %.4f  penumbra_rmse %.4f  leak %.4f  dark %.4f  %7.2f ms%s", t->name,
-             c->m.rmse, c->m.penumbra_rmse, c->m.leak_fraction, c->m.dark_fraction, c->m.ms_total,
+    log_info("  [%d/%d] %-*s rmse %.4f  penumbra_rmse %.4f  leak %.4f  dark %.4f  %7.2f ms%s",
+             ++*sr->cells_done, sr->cells_total, sr->label_width, config->label, c->m.rmse,
+             c->m.penumbra_rmse, c->m.leak_fraction, c->m.dark_fraction, c->m.ms_total,
              c->m.nonfinite ? "  NON-FINITE VALUES" : "");
     return rc ? -1 : 0;
 }
@@ -195,12 +200,10 @@ static int run_scene(struct scene_run *sr, GLuint (*programs)[2], struct cell *c
     sr->distance = xmalloc(sizeof(float) * (size_t)count);
     sr->scored = xmalloc(sizeof(float) * (size_t)count);
     sr->error = xmalloc(sizeof(float) * (size_t)count);
-    for (int i = 0; i < o->technique_count; i++) {
-        const struct technique *t = o->techniques[i];
-        if (run_cell(sr, t, run_settings(o, t), programs[i][sr->scene->light.shape],
+    for (int i = 0; i < o->config_count; i++)
+        if (run_cell(sr, &o->configs[i], programs[i][sr->scene->light.shape],
                      &cells[(*cell_count)++]) != 0)
             return -1;
-    }
 
     /* The scored mask is the same for every cell of the scene (same camera,
      * same geometry): groundtruth.exr carries the last cell's. */
@@ -296,7 +299,7 @@ int run_main(const struct run_options *given)
     int scene_count = 0, status = EXIT_CHECK_FAILED;
     struct cell *cells = NULL;
     int cell_count = 0;
-    GLuint programs[RUN_MAX_TECHNIQUES][2] = {{0}};  /* by technique, light shape */
+    GLuint (*programs)[2] = xcalloc((size_t)o.config_count, sizeof *programs);  /* by light shape */
     struct report_scene rs[RUN_MAX_SCENES] = {0};
 
     if (load_scenes(&o, scenes, &scene_count) != 0 || prepare_out_dir(o.out_dir) != 0) {
@@ -313,21 +316,26 @@ int run_main(const struct run_options *given)
     if (gl_context_create() != 0 || shader_init(o.shader_dir) != 0)
         goto out_free_scenes;
     for (int s = 0; s < scene_count; s++)
-        for (int i = 0; i < o.technique_count; i++) {
+        for (int i = 0; i < o.config_count; i++) {
             enum light_shape shape = scenes[s].light.shape;
             if (!programs[i][shape] &&
                 !(programs[i][shape] =
-                      receiver_program(o.techniques[i], run_settings(&o, o.techniques[i]), shape)))
+                      receiver_program(o.configs[i].technique, o.configs[i].settings, shape)))
                 goto out_free_gl;
         }
 
-    log_info("run: %d scene(s) x %d technique(s), %dx%d, %d GT samples, %d^2 shadow map, median of "
-             "%d frames on %s", scene_count, o.technique_count, o.width, o.height, o.gt_samples,
-             o.shadow_map_size, o.frames, gl_context_renderer());
-    cells = xcalloc((size_t)scene_count * (size_t)o.technique_count, sizeof *cells);
+    int cells_total = scene_count * o.config_count, cells_done = 0, label_width = 0;
+    for (int i = 0; i < o.config_count; i++)
+        if ((int)strlen(o.configs[i].label) > label_width)
+            label_width = (int)strlen(o.configs[i].label);
+    log_info("run: %d scene(s) x %d technique configuration(s), %dx%d, %d GT samples, %d^2 shadow "
+             "map, median of %d frames after %d warm-up on %s", scene_count, o.config_count, o.width,
+             o.height, o.gt_samples, o.shadow_map_size, o.frames, o.warmup, gl_context_renderer());
+    cells = xcalloc((size_t)cells_total, sizeof *cells);
     int failed = 0;
     for (int s = 0; s < scene_count; s++) {
-        struct scene_run sr = {.o = &o, .scene = &scenes[s]};
+        struct scene_run sr = {.o = &o, .scene = &scenes[s], .cells_done = &cells_done,
+                               .cells_total = cells_total, .label_width = label_width};
         failed |= run_scene(&sr, programs, cells, &cell_count);
         rs[s] = (struct report_scene){scenes[s].name, scenes[s].description, scenes[s].shows,
                                       sr.gt.seconds, sr.gt.mrays_per_second, sr.gt.cached};
@@ -359,12 +367,13 @@ int run_main(const struct run_options *given)
     }
     free(cells);
 out_free_gl:
-    for (int i = 0; i < RUN_MAX_TECHNIQUES; i++)
+    for (int i = 0; i < o.config_count; i++)
         for (int k = 0; k < 2; k++)
             if (programs[i][k])
                 glDeleteProgram(programs[i][k]);
     gl_context_destroy();
 out_free_scenes:
+    free(programs);
     for (int s = 0; s < scene_count; s++)
         scene_free(&scenes[s]);
     return status;

@@ -71,7 +71,28 @@ int main(int argc, char **argv)
     expect(2, "run --bogus", "--bogus: unknown option (see --help)");
     expect(2, "gt --technique hard", "--technique: unknown option for gt (see --help)");
     expect(2, "gt", "gt: --scene is required (see --help)");
-    expect(2, "run --scene nope", "unknown scene 'nope' (shipped: contact_hardening, curved_receivers, floating_box_sphere, grazing_receiver, large_light, map_border, overlapping_occluders, parallel_planes, parallel_planes_disk, stanford_bunny, thin_features)");
+    expect(2, "run --scene nope",
+           "unknown scene 'nope' (shipped: contact_hardening, curved_receivers, floating_box_sphere, "
+           "grazing_receiver, large_light, map_border, overlapping_occluders, parallel_planes, "
+           "parallel_planes_disk, stanford_bunny, thin_features)");
+
+    /* --sweep: each value as --set takes it, each parameter and value once,
+     * only selected techniques, every combination consistent. */
+    expect(2, "run --sweep pcss.blocker_samples=16,30",
+           "pcss.blocker_samples: 30 is not one of: 16, 25, 32, 64, 100, 128");
+    expect(2, "run --sweep pcss.blocker_samples=16,16",
+           "--sweep: pcss.blocker_samples: 16 is listed twice");
+    expect(2, "run --sweep foo.x=1", "--sweep: unknown technique 'foo'");
+    expect(2, "run --technique hard --sweep pcss.blocker_samples=16",
+           "--sweep: pcss is not among the techniques selected with --technique");
+    expect(2, "run --sweep pcss.blocker_samples=16 --sweep pcss.blocker_samples=32",
+           "--sweep: pcss.blocker_samples is swept twice");
+    expect(2, "run --sweep pcf.pattern=grid,poisson",
+           "pcf: pattern=grid needs a square sample count (16, 25, 64 or 100), not 32");
+    expect(2, "run --sweep pcss.blocker_samples=",
+           "--sweep: 'pcss.blocker_samples=' is not technique.parameter=value,value,...");
+    expect(2, "gt --scene parallel_planes --sweep pcss.blocker_samples=16",
+           "--sweep: unknown option for gt (see --help)");
 
     /* An output folder that cannot be created: a path through a file. */
     char *file = util_printf("%s/a_file", dir);

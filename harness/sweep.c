@@ -1,0 +1,145 @@
+#include "sweep.h"
+#include "log.h"
+#include "params.h"
+#include "util.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* One --sweep T.P=v1,...,vn, its values checked and spelled as the outputs
+ * spell them. */
+struct sweep {
+    const struct technique *t;
+    char param[64];
+    char **values;
+    int count;
+};
+
+static void sweep_clear(struct sweep *s)
+{
+    for (int i = 0; i < s->count; i++)
+        free(s->values[i]);
+    free(s->values);
+}
+
+static bool selected(const struct run_options *o, const struct technique *t)
+{
+    for (int i = 0; i < o->technique_count; i++)
+        if (o->techniques[i] == t)
+            return true;
+    return false;
+}
+
+static int parse_sweep(const struct run_options *o, const char *arg, const struct sweep *done,
+                       int done_count, struct sweep *s)
+{
+    const char *dot = strchr(arg, '.'), *eq = strchr(arg, '=');
+    memset(s, 0, sizeof *s);
+    if (!dot || !eq || eq < dot || !eq[1]) {
+        log_error("--sweep: '%s' is not technique.parameter=value,value,...", arg);
+        return -1;
+    }
+    char tech[64];
+    snprintf(tech, sizeof tech, "%.*s", (int)(dot - arg), arg);
+    snprintf(s->param, sizeof s->param, "%.*s", (int)(eq - dot - 1), dot + 1);
+    if (!(s->t = technique_find(tech))) {
+        log_error("--sweep: unknown technique '%s'", tech);
+        return -1;
+    }
+    if (!selected(o, s->t)) {
+        log_error("--sweep: %s is not among the techniques selected with --technique", tech);
+        return -1;
+    }
+    for (int i = 0; i < done_count; i++)
+        if (done[i].t == s->t && strcmp(done[i].param, s->param) == 0) {
+            log_error("--sweep: %s.%s is swept twice", tech, s->param);
+            return -1;
+        }
+
+    /* Each value must be one that --set takes; spelled as the outputs do. */
+    void *scratch = params_defaults(s->t);
+    char *list = xstrdup(eq + 1), *save = NULL;
+    int rc = 0;
+    for (char *v = strtok_r(list, ",", &save); v && !rc; v = strtok_r(NULL, ",", &save)) {
+        char text[64];
+        if ((rc = params_set(s->t, scratch, s->param, v)) != 0)
+            break;
+        params_value_text(s->t, scratch, s->param, text, sizeof text);
+        for (int i = 0; i < s->count && !rc; i++)
+            if (strcmp(s->values[i], text) == 0) {
+                log_error("--sweep: %s.%s: %s is listed twice", tech, s->param, v);
+                rc = -1;
+            }
+        s->values = xrealloc(s->values, sizeof *s->values * (size_t)(s->count + 1));
+        s->values[s->count++] = xstrdup(text);
+    }
+    free(list);
+    free(scratch);
+    return rc;
+}
+
+/* Appends the configurations of technique t (index ti in technique_list):
+ * the product of its sweeps over its base settings. */
+static int add_configs(struct run_options *o, int ti, const struct sweep *sweeps, int sweep_count)
+{
+    const struct technique *t = technique_list[ti];
+    const struct sweep *mine[RUN_MAX_SWEEPS];
+    int n = 0, total = 1;
+    for (int i = 0; i < sweep_count; i++)
+        if (sweeps[i].t == t) {
+            mine[n++] = &sweeps[i];
+            total *= sweeps[i].count;
+        }
+    if (o->config_count + total > RUN_MAX_CONFIGS) {
+        log_error("--sweep: more than %d technique configurations in one run", RUN_MAX_CONFIGS);
+        return -1;
+    }
+    for (int k = 0; k < total; k++) {
+        struct run_config *c = &o->configs[o->config_count++];
+        c->technique = t;
+        c->settings = memcpy(xmalloc(t->settings_size), o->settings[ti], t->settings_size);
+        struct strbuf label = {0};
+        strbuf_printf(&label, "%s", t->name);
+        for (int i = 0, rest = k; i < n; rest /= mine[i]->count, i++) {
+            const char *v = mine[i]->values[rest % mine[i]->count];
+            params_set(t, c->settings, mine[i]->param, v);  /* checked by parse_sweep */
+            strbuf_printf(&label, "%c%s=%s", i ? ',' : '@', mine[i]->param, v);
+        }
+        c->label = label.data;
+        if (params_check(t, c->settings) != 0)
+            return -1;
+    }
+    return 0;
+}
+
+int sweep_configs(struct run_options *o)
+{
+    struct sweep sweeps[RUN_MAX_SWEEPS];
+    int count = 0, rc = 0;
+    for (int i = 0; i < o->sweep_count && !rc; i++)
+        if ((rc = parse_sweep(o, o->sweeps[i], sweeps, count, &sweeps[count])) == 0)
+            count++;
+        else
+            sweep_clear(&sweeps[count]);
+    o->configs = xcalloc(RUN_MAX_CONFIGS, sizeof *o->configs);
+    for (int i = 0; i < o->technique_count && !rc; i++) {
+        int ti = 0;
+        while (technique_list[ti] != o->techniques[i])
+            ti++;
+        rc = add_configs(o, ti, sweeps, count);
+    }
+    for (int i = 0; i < count; i++)
+        sweep_clear(&sweeps[i]);
+    return rc;
+}
+
+void sweep_free(struct run_options *o)
+{
+    for (int i = 0; i < o->config_count; i++) {
+        free(o->configs[i].settings);
+        free(o->configs[i].label);
+    }
+    free(o->configs);
+    o->configs = NULL;
+    o->config_count = 0;
+}
