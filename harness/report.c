@@ -1,4 +1,7 @@
 #include "report.h"
+#include "chart.h"
+#include "picture.h"
+#include "run.h"
 #include "util.h"
 
 #include <stdio.h>
@@ -78,92 +81,306 @@ static int write_matrix(const struct report *r)
     return rc ? -1 : 0;
 }
 
-static void html_text(struct strbuf *sb, const char *s)
+/* ---- charts ------------------------------------------------------------- */
+
+/* The run's distinct configurations (by label, first-seen order). */
+static int configs_of(const struct report *r, const struct cell **first)
 {
-    for (; *s; s++) {
-        switch (*s) {
-        case '<': strbuf_printf(sb, "&lt;"); break;
-        case '>': strbuf_printf(sb, "&gt;"); break;
-        case '&': strbuf_printf(sb, "&amp;"); break;
-        case '"': strbuf_printf(sb, "&quot;"); break;
-        default: strbuf_append(sb, s, 1);
-        }
+    int n = 0;
+    for (int i = 0; i < r->cell_count; i++) {
+        int k = 0;
+        while (k < n && strcmp(first[k]->label, r->cells[i].label) != 0)
+            k++;
+        if (k == n)
+            first[n++] = &r->cells[i];
     }
+    return n;
+}
+
+static int technique_index(const struct technique *t)
+{
+    int i = 0;
+    while (technique_list[i] && technique_list[i] != t)
+        i++;
+    return i;
+}
+
+static struct chart_item item_of(const struct cell *c)
+{
+    return (struct chart_item){c->label, c->technique->name, technique_index(c->technique)};
+}
+
+/* Writes <out>/charts/<name>.svg and appends the SVG to html. */
+static int emit_chart(const struct report *r, const char *name, struct strbuf *svg, struct strbuf *html)
+{
+    char *path = util_printf("%s/charts/%s.svg", r->out_dir, name);
+    int rc = util_write_file_atomic(path, svg->data, svg->len);
+    strbuf_printf(html, "<figure class=\"chart\" id=\"chart-%s\">\n%s<figcaption><a href=\"charts/%s.svg\">"
+                        "charts/%s.svg</a></figcaption></figure>\n", name, svg->data, name, name);
+    free(path);
+    strbuf_free(svg);
+    return rc ? -1 : 0;
+}
+
+/* Per scene: error against time, and the four failure metrics as bars. */
+static int scene_charts(const struct report *r, const char *scene, const char *device,
+                        struct strbuf *html)
+{
+    const struct cell *c[RUN_MAX_CONFIGS];
+    int n = 0;
+    for (int i = 0; i < r->cell_count && n < RUN_MAX_CONFIGS; i++)
+        if (strcmp(r->cells[i].scene, scene) == 0)
+            c[n++] = &r->cells[i];
+    struct chart_item items[RUN_MAX_CONFIGS];
+    double ms[RUN_MAX_CONFIGS], rmse[RUN_MAX_CONFIGS], pen[RUN_MAX_CONFIGS],
+        leak[RUN_MAX_CONFIGS], dark[RUN_MAX_CONFIGS];
+    for (int i = 0; i < n; i++) {
+        items[i] = item_of(c[i]);
+        ms[i] = c[i]->m.ms_total, rmse[i] = c[i]->m.rmse, pen[i] = c[i]->m.penumbra_rmse;
+        leak[i] = c[i]->m.leak_fraction, dark[i] = c[i]->m.dark_fraction;
+    }
+    const struct chart_series time = {"ms_total", "ms", ms};
+    const struct chart_series errors[] = {{"rmse", "visibility", rmse},
+                                          {"penumbra_rmse", "visibility", pen}};
+    const struct chart_series bars[] = {{"rmse", "visibility", rmse},
+                                        {"penumbra_rmse", "visibility", pen},
+                                        {"leak_fraction", "share of scored pixels", leak},
+                                        {"dark_fraction", "share of scored pixels", dark}};
+    char *title = util_printf("%s: error against time per frame", scene), *sub = util_printf("timed on %s", device);
+    struct strbuf svg = {0};
+    chart_tradeoff_svg(&svg, title, sub, items, n, &time, errors, 2);
+    char *name = util_printf("%s_tradeoff", scene);
+    int rc = emit_chart(r, name, &svg, html);
+    free(title), free(name);
+    title = util_printf("%s: error and failure metrics per technique", scene);
+    chart_bars_svg(&svg, title, sub, items, n, bars, 4);
+    name = util_printf("%s_metrics", scene);
+    rc |= emit_chart(r, name, &svg, html);
+    free(title), free(name), free(sub);
+    return rc ? -1 : 0;
+}
+
+/* Over all scenes: each configuration's mean error and mean time. */
+static int overall_chart(const struct report *r, const char *device, struct strbuf *html)
+{
+    const struct cell *first[RUN_MAX_CONFIGS];
+    int n = configs_of(r, first);
+    struct chart_item items[RUN_MAX_CONFIGS];
+    double ms[RUN_MAX_CONFIGS] = {0}, rmse[RUN_MAX_CONFIGS] = {0}, pen[RUN_MAX_CONFIGS] = {0};
+    int count[RUN_MAX_CONFIGS] = {0};
+    for (int i = 0; i < r->cell_count; i++) {
+        int k = 0;
+        while (strcmp(first[k]->label, r->cells[i].label) != 0)
+            k++;
+        ms[k] += r->cells[i].m.ms_total, rmse[k] += r->cells[i].m.rmse;
+        pen[k] += r->cells[i].m.penumbra_rmse, count[k]++;
+    }
+    for (int k = 0; k < n; k++) {
+        items[k] = item_of(first[k]);
+        ms[k] /= count[k], rmse[k] /= count[k], pen[k] /= count[k];
+    }
+    const struct chart_series time = {"mean ms_total", "ms", ms};
+    const struct chart_series errors[] = {{"mean rmse", "visibility", rmse},
+                                          {"mean penumbra_rmse", "visibility", pen}};
+    char *title = util_printf("All %d scenes: mean error against mean time per frame", r->scene_count);
+    char *sub = util_printf("timed on %s; each point one technique configuration", device);
+    struct strbuf svg = {0};
+    chart_tradeoff_svg(&svg, title, sub, items, n, &time, errors, 2);
+    free(title), free(sub);
+    return emit_chart(r, "overall_tradeoff", &svg, html);
+}
+
+/* ---- report.html -------------------------------------------------------- */
+
+static const char style[] =
+    "body{font:14px/1.45 system-ui,sans-serif;margin:1.5em 2em;color:#222;max-width:1400px}\n"
+    "h2{margin-top:1.8em;border-bottom:1px solid #ccc}\n"
+    "table{border-collapse:collapse;font-size:12.5px}td,th{border:1px solid #ccc;padding:2px 6px;"
+    "text-align:right;white-space:nowrap}th{background:#eee;cursor:pointer;user-select:none}"
+    "th.asc::after{content:' \\25B2'}th.desc::after{content:' \\25BC'}td.l{text-align:left}"
+    "td.p{text-align:left;font-size:11px;color:#555}.scroll{overflow-x:auto}\n"
+    "tr.fail td{background:#fdd}tr.front td.c{font-weight:bold}\n"
+    ".grid{display:flex;flex-wrap:wrap;gap:10px}.grid figure{margin:0;width:220px}"
+    ".grid img{display:block;width:220px;image-rendering:pixelated}"
+    ".crop{overflow:hidden}figcaption{font-size:12px}\n"
+    "img.missing{outline:3px solid red;min-height:40px}\n"
+    ".chart svg{max-width:100%;height:auto}figure.chart{margin:8px 0}\n"
+    "pre{background:#f6f6f6;padding:8px;overflow:auto}\n";
+
+/* Sorts the matrix by a clicked column (again: descending); #sort=KEY or
+ * #sort=-KEY in the address sorts on opening. */
+static const char script[] =
+    "(function(){\n"
+    "const t=document.getElementById('matrix'),b=t.tBodies[0],hs=[...t.tHead.rows[0].cells];\n"
+    "function sort(k,desc){const i=hs.findIndex(h=>h.dataset.k===k);if(i<0)return;\n"
+    " const rows=[...b.rows],num=rows.every(r=>r.cells[i].dataset.v!==undefined);\n"
+    " rows.sort((x,y)=>{const a=x.cells[i],c=y.cells[i];\n"
+    "  const d=num?parseFloat(a.dataset.v)-parseFloat(c.dataset.v):a.textContent.localeCompare(c.textContent);\n"
+    "  return desc?-d:d;});\n"
+    " rows.forEach(r=>b.appendChild(r));hs.forEach(h=>h.classList.remove('asc','desc'));\n"
+    " hs[i].classList.add(desc?'desc':'asc');t.dataset.sortedBy=(desc?'-':'')+k;}\n"
+    "hs.forEach(h=>h.addEventListener('click',()=>sort(h.dataset.k,h.classList.contains('asc'))));\n"
+    "const m=location.hash.match(/^#sort=(-?)([a-z_]+)$/);if(m)sort(m[2],m[1]==='-');\n"
+    "})();\n";
+
+/* The columns of the matrix table: key, and how a cell's value is shown. */
+enum column_kind { COL_TEXT, COL_NUM, COL_SIGNED, COL_COUNT, COL_MS };
+static const struct column {
+    const char *key;
+    enum column_kind kind;
+} columns[] = {
+    {"scene", COL_TEXT}, {"cell", COL_TEXT}, {"rmse", COL_NUM}, {"penumbra_rmse", COL_NUM},
+    {"mae", COL_NUM}, {"bias", COL_SIGNED}, {"p99_abs", COL_NUM}, {"leak_fraction", COL_NUM},
+    {"dark_fraction", COL_NUM}, {"nonfinite", COL_COUNT}, {"ms_shadowmap", COL_MS},
+    {"ms_filter_prep", COL_MS}, {"ms_receiver", COL_MS}, {"ms_total", COL_MS},
+    {"gt_noise_penumbra_rmse", COL_NUM}, {"params", COL_TEXT},
+};
+
+/* front[i]: cell i is on its scene's Pareto front of rmse against ms_total. */
+static void pareto_flags(const struct report *r, bool *front)
+{
+    int *index = xmalloc(sizeof(int) * (size_t)r->cell_count), *on = xmalloc(sizeof(int) * (size_t)r->cell_count);
+    double *x = xmalloc(sizeof(double) * (size_t)r->cell_count), *y = xmalloc(sizeof(double) * (size_t)r->cell_count);
+    for (int s = 0; s < r->scene_count; s++) {
+        int n = 0;
+        for (int i = 0; i < r->cell_count; i++)
+            if (strcmp(r->cells[i].scene, r->scenes[s].name) == 0) {
+                index[n] = i, x[n] = r->cells[i].m.ms_total, y[n] = r->cells[i].m.rmse;
+                n++;
+            }
+        int m = chart_pareto(x, y, n, on);
+        for (int k = 0; k < m; k++)
+            front[index[on[k]]] = true;
+    }
+    free(index), free(on), free(x), free(y);
+}
+
+static void matrix_table(const struct report *r, struct strbuf *h)
+{
+    bool *front = xcalloc((size_t)r->cell_count, sizeof *front);
+    pareto_flags(r, front);
+    strbuf_printf(h, "<div class=\"scroll\"><table id=\"matrix\"><thead><tr>");
+    for (size_t k = 0; k < ARRAY_SIZE(columns); k++)
+        strbuf_printf(h, "<th data-k=\"%s\">%s</th>", columns[k].key, columns[k].key);
+    strbuf_printf(h, "</tr></thead>\n<tbody>\n");
+    for (int i = 0; i < r->cell_count; i++) {
+        const struct cell *c = &r->cells[i];
+        cJSON *row = report_cell_json(c);
+        strbuf_printf(h, "<tr class=\"%s%s\">", c->m.nonfinite ? "fail" : "",
+                      front[i] ? " front" : "");
+        for (size_t k = 0; k < ARRAY_SIZE(columns); k++) {
+            const char *key = columns[k].key;
+            if (columns[k].kind == COL_TEXT) {
+                strbuf_printf(h, "<td class=\"%s\">", !strcmp(key, "params") ? "p" : !strcmp(key, "cell") ? "l c" : "l");
+                if (!strcmp(key, "cell"))
+                    strbuf_printf(h, "<a href=\"#scene-%s\">", c->scene);
+                strbuf_xml(h, !strcmp(key, "scene") ? c->scene : !strcmp(key, "cell") ? c->label : c->params_text);
+                strbuf_printf(h, "%s</td>", !strcmp(key, "cell") ? "</a>" : "");
+                continue;
+            }
+            double v = cJSON_GetNumberValue(cJSON_GetObjectItem(row, key));
+            static const char *const fmt[] = {"", "%.4f", "%+.4f", "%.0f", "%.2f"};
+            strbuf_printf(h, "<td data-v=\"%.9g\">", v);
+            strbuf_printf(h, fmt[columns[k].kind], v);
+            strbuf_printf(h, "</td>");
+        }
+        strbuf_printf(h, "</tr>\n");
+        cJSON_Delete(row);
+    }
+    strbuf_printf(h, "</tbody></table></div>\n");
+    free(front);
+}
+
+/* One legend for every heatmap of the report (they share one scale). */
+static void heatmap_legend(struct strbuf *h)
+{
+    strbuf_printf(h, "<svg width=\"220\" height=\"58\" font-size=\"11\" font-family=\"sans-serif\">"
+                     "<defs><linearGradient id=\"diverging\">");
+    for (int k = 0; k <= 10; k++) {
+        uint8_t c[3];
+        picture_diverging(-1.0f + 0.2f * (float)k, c);
+        strbuf_printf(h, "<stop offset=\"%d%%\" stop-color=\"rgb(%d,%d,%d)\"/>", 10 * k, c[0], c[1], c[2]);
+    }
+    strbuf_printf(h, "</linearGradient></defs><rect x=\"10\" y=\"4\" width=\"200\" height=\"12\" "
+                     "fill=\"url(#diverging)\"/>"
+                     "<text x=\"10\" y=\"29\">-%.2g too dark</text><text x=\"110\" y=\"29\" "
+                     "text-anchor=\"middle\">0</text><text x=\"210\" y=\"29\" text-anchor=\"end\">"
+                     "+%.2g too bright</text><text x=\"10\" y=\"46\">e = V_tech &#8722; V_gt; grey: "
+                     "not scored</text></svg>", (double)PICTURE_ERROR_SCALE, (double)PICTURE_ERROR_SCALE);
+}
+
+static void scene_grid(const struct report *r, const struct report_scene *sc, struct strbuf *h)
+{
+    strbuf_printf(h, "<div class=\"grid\">\n<figure><img src=\"%s/groundtruth.png\" alt=\"ground truth\" "
+                     "onerror=\"this.classList.add('missing')\"><figcaption>ground truth V<sub>gt</sub> "
+                     "(%s; hatched: not scored)</figcaption>", sc->name,
+                  sc->gt_cached ? "from the cache" : "ray traced for this run");
+    heatmap_legend(h);
+    strbuf_printf(h, "</figure>\n");
+    for (int i = 0; i < r->cell_count; i++) {
+        const struct cell *c = &r->cells[i];
+        if (strcmp(c->scene, sc->name) != 0)
+            continue;
+        strbuf_printf(h, "<figure><img src=\"%s/", sc->name);
+        strbuf_xml(h, c->label);
+        strbuf_printf(h, "/visibility.png\" alt=\"visibility\" onerror=\"this.classList.add('missing')\">"
+                         "<div class=\"crop\" style=\"aspect-ratio:%d/%d\"><img src=\"%s/", r->width,
+                      r->height, sc->name);
+        strbuf_xml(h, c->label);
+        strbuf_printf(h, "/heatmap.png\" alt=\"error heatmap\" onerror=\"this.classList.add('missing')\">"
+                         "</div><figcaption><b>");
+        strbuf_xml(h, c->label);
+        strbuf_printf(h, "</b><br>rmse %.4f, penumbra %.4f<br>leak %.4f, dark %.4f, %.2f ms"
+                         "</figcaption></figure>\n", c->m.rmse, c->m.penumbra_rmse, c->m.leak_fraction,
+                      c->m.dark_fraction, c->m.ms_total);
+    }
+    strbuf_printf(h, "</div>\n");
 }
 
 static int write_html(const struct report *r)
 {
+    const char *device = cJSON_GetStringValue(cJSON_GetObjectItem(r->run, "gl_renderer"));
     struct strbuf h = {0};
-    strbuf_printf(&h,
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
-        "<title>shadowbench report</title>\n<style>\n"
-        "body{font:14px/1.4 system-ui,sans-serif;margin:2em;color:#222}\n"
-        "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:3px 8px;"
-        "text-align:right}th{background:#eee}td.l{text-align:left}\n"
-        "tr.fail td{background:#fdd}figure{display:inline-block;vertical-align:top;margin:0 12px 12px 0}"
-        "figure img{display:block;image-rendering:pixelated;width:256px}"
-        "figcaption{font-size:12px;max-width:256px}\n"
-        "pre{background:#f6f6f6;padding:8px;overflow:auto}\n</style></head><body>\n"
-        "<h1>shadowbench report</h1>\n"
-        "<p>Error is <i>e</i> = V<sub>tech</sub> &minus; V<sub>gt</sub> over the scored pixels; "
-        "V<sub>gt</sub> is the ray-traced fraction of the area light each point sees. "
-        "Times are medians per frame in milliseconds on the renderer named below.</p>\n"
-        "<h2>Matrix</h2>\n<table id=\"matrix\"><tr><th>scene</th><th>technique</th>"
-        "<th>params</th><th>rmse</th><th>penumbra_rmse</th><th>mae</th><th>bias</th>"
-        "<th>p99_abs</th><th>leak_fraction</th><th>dark_fraction</th><th>nonfinite</th>"
-        "<th>ms_total</th><th>gt noise rmse</th></tr>\n");
-    for (int i = 0; i < r->cell_count; i++) {
-        const struct cell *c = &r->cells[i];
-        strbuf_printf(&h, "<tr%s><td class=\"l\">", c->m.nonfinite ? " class=\"fail\"" : "");
-        html_text(&h, c->scene);
-        strbuf_printf(&h, "</td><td class=\"l\">%s</td><td class=\"l\">", c->technique->name);
-        html_text(&h, c->params_text);
-        strbuf_printf(&h,
-                      "</td><td>%.4f</td><td>%.4f</td><td>%.4f</td><td>%+.4f</td><td>%.4f</td>"
-                      "<td>%.4f</td><td>%.4f</td><td>%ld</td><td>%.2f</td><td>%.4f</td></tr>\n",
-                      c->m.rmse, c->m.penumbra_rmse, c->m.mae, c->m.bias, c->m.p99_abs,
-                      c->m.leak_fraction, c->m.dark_fraction, c->m.nonfinite, c->m.ms_total,
-                      c->m.gt_noise_rmse);
-    }
-    strbuf_printf(&h, "</table>\n");
+    strbuf_printf(&h, "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
+                      "<title>shadowbench report</title>\n<style>\n%s</style></head><body>\n"
+                      "<h1>shadowbench report</h1>\n<p>%d scene(s) &times; %d technique configuration(s) "
+                      "at %d&times;%d. The error is <i>e</i> = V<sub>tech</sub> &minus; V<sub>gt</sub> over "
+                      "the scored pixels, V<sub>gt</sub> the ray-traced fraction of the area light each "
+                      "point sees. Times are medians per frame in milliseconds on <b>",
+                  style, r->scene_count, r->scene_count ? r->cell_count / r->scene_count : 0,
+                  r->width, r->height);
+    strbuf_xml(&h, device ? device : "unknown");
+    strbuf_printf(&h, "</b>. Scenes:");
+    for (int s = 0; s < r->scene_count; s++)
+        strbuf_printf(&h, " <a href=\"#scene-%s\">%s</a>", r->scenes[s].name, r->scenes[s].name);
+    strbuf_printf(&h, ".</p>\n<h2 id=\"matrix-title\">Matrix</h2>\n<p>Click a column to sort it (again: "
+                      "descending). Bold cells are on their scene's Pareto front of rmse against "
+                      "ms_total.</p>\n");
+    matrix_table(r, &h);
 
+    int rc = 0;
+    strbuf_printf(&h, "<h2 id=\"overall\">Speed against accuracy, all scenes</h2>\n");
+    rc |= overall_chart(r, device, &h);
     for (int s = 0; s < r->scene_count; s++) {
         const struct report_scene *sc = &r->scenes[s];
-        strbuf_printf(&h, "<h2 id=\"scene-");
-        html_text(&h, sc->name);
-        strbuf_printf(&h, "\">Scene ");
-        html_text(&h, sc->name);
-        strbuf_printf(&h, "</h2>\n<p>");
-        html_text(&h, sc->description);
+        strbuf_printf(&h, "<h2 id=\"scene-%s\">Scene %s</h2>\n<p>", sc->name, sc->name);
+        strbuf_xml(&h, sc->description);
         if (*sc->shows) {
             strbuf_printf(&h, " <b>Shows:</b> ");
-            html_text(&h, sc->shows);
+            strbuf_xml(&h, sc->shows);
         }
-        strbuf_printf(&h, "</p>\n<figure><img src=\"%s/groundtruth.png\" alt=\"ground truth\">"
-                          "<figcaption>ground truth V<sub>gt</sub>%s</figcaption></figure>\n",
-                      sc->name, sc->gt_cached ? " (cached)" : "");
-        for (int i = 0; i < r->cell_count; i++) {
-            const struct cell *c = &r->cells[i];
-            if (strcmp(c->scene, sc->name) != 0)
-                continue;
-            const char *t = c->technique->name;
-            strbuf_printf(&h,
-                          "<figure><img src=\"%s/%s/visibility.png\" alt=\"%s visibility\">"
-                          "<figcaption>%s: V<sub>tech</sub></figcaption></figure>\n"
-                          "<figure><img src=\"%s/%s/heatmap.png\" alt=\"%s error heatmap\">"
-                          "<figcaption>%s: error, rmse %.4f, penumbra rmse %.4f</figcaption>"
-                          "</figure>\n",
-                          sc->name, t, t, t, sc->name, t, t, t, c->m.rmse, c->m.penumbra_rmse);
-        }
+        strbuf_printf(&h, "</p>\n");
+        scene_grid(r, sc, &h);
+        rc |= scene_charts(r, sc->name, device, &h);
     }
     char *env = cJSON_Print(r->run);
-    strbuf_printf(&h, "<h2>Environment (run.json)</h2>\n<pre>");
-    html_text(&h, env);
-    strbuf_printf(&h, "</pre>\n</body></html>\n");
+    strbuf_printf(&h, "<h2 id=\"environment\">Environment (run.json)</h2>\n<pre>");
+    strbuf_xml(&h, env);
+    strbuf_printf(&h, "</pre>\n<script>\n%s</script>\n</body></html>\n", script);
     cJSON_free(env);
 
     char *path = util_printf("%s/report.html", r->out_dir);
-    int rc = util_write_file_atomic(path, h.data, h.len);
+    rc |= util_write_file_atomic(path, h.data, h.len);
     free(path);
     strbuf_free(&h);
     return rc ? -1 : 0;
@@ -171,10 +388,9 @@ static int write_html(const struct report *r)
 
 int report_write(const struct report *r)
 {
-    char *run_path = util_printf("%s/run.json", r->out_dir);
-    int rc = report_write_json(run_path, r->run);
-    free(run_path);
-    if (rc || write_matrix(r) || write_html(r))
-        return -1;
-    return 0;
+    char *run_path = util_printf("%s/run.json", r->out_dir), *charts = util_printf("%s/charts", r->out_dir);
+    int rc = report_write_json(run_path, r->run) || util_mkdirs(charts) || write_matrix(r) ||
+             write_html(r);
+    free(run_path), free(charts);
+    return rc ? -1 : 0;
 }

@@ -29,7 +29,8 @@ struct report_scene {
 
 struct report {
     const char *out_dir;
-    cJSON *run;  /* run.json, built by the caller */
+    int width, height;  /* of every image */
+    cJSON *run;         /* run.json, built by the caller */
     const struct report_scene *scenes;
     int scene_count;
     const struct cell *cells;
@@ -43,7 +44,8 @@ cJSON *report_cell_json(const struct cell *c);
 /* Writes a JSON value atomically (pretty-printed). Returns 0 or -1. */
 int report_write_json(const char *path, const cJSON *value);
 
-/* matrix.csv, matrix.json, run.json, report.html. Returns 0 or -1. */
+/* matrix.csv, matrix.json, run.json, report.html and the charts in
+ * <out>/charts/. Returns 0 or -1. */
 int report_write(const struct report *r);
 
 #endif

@@ -345,7 +345,8 @@ int run_main(const struct run_options *given)
     }
     if (!failed) {
         double seconds = (util_now_ms() - start) * 1e-3;
-        struct report rep = {.out_dir = o.out_dir, .run = run_json(&o, seconds), .scenes = rs,
+        struct report rep = {.out_dir = o.out_dir, .width = o.width, .height = o.height,
+                             .run = run_json(&o, seconds), .scenes = rs,
                              .scene_count = scene_count, .cells = cells, .cell_count = cell_count};
         failed = report_write(&rep);
         cJSON_Delete(rep.run);

@@ -234,6 +234,19 @@ void strbuf_free(struct strbuf *sb)
     *sb = (struct strbuf){0};
 }
 
+void strbuf_xml(struct strbuf *sb, const char *s)
+{
+    for (; *s; s++) {
+        switch (*s) {
+        case '<': strbuf_printf(sb, "&lt;"); break;
+        case '>': strbuf_printf(sb, "&gt;"); break;
+        case '&': strbuf_printf(sb, "&amp;"); break;
+        case '"': strbuf_printf(sb, "&quot;"); break;
+        default: strbuf_append(sb, s, 1);
+        }
+    }
+}
+
 char *util_printf(const char *fmt, ...)
 {
     va_list ap;

@@ -46,6 +46,8 @@ void strbuf_printf(struct strbuf *sb, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
 void strbuf_append(struct strbuf *sb, const char *s, size_t n);
 void strbuf_free(struct strbuf *sb);
+/* Appends s with &, <, > and " escaped (for HTML and SVG). */
+void strbuf_xml(struct strbuf *sb, const char *s);
 
 /* Returns a malloc'ed formatted string (aborts on out of memory). */
 char *util_printf(const char *fmt, ...) __attribute__((format(printf, 1, 2)));

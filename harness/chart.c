@@ -1,0 +1,222 @@
+#include "chart.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Okabe & Ito's colour-blind-safe palette, by technique index. */
+static const char *const palette[] = {"#0072B2", "#E69F00", "#009E73", "#CC79A7",
+                                      "#56B4E9", "#D55E00", "#000000", "#F0E442"};
+#define PALETTE_SIZE (int)(sizeof palette / sizeof palette[0])
+static const char font[] = "font-family=\"sans-serif\"";
+
+static const char *colour(int group) { return palette[((group % PALETTE_SIZE) + PALETTE_SIZE) % PALETTE_SIZE]; }
+
+/* 0 for what cannot be drawn (NaN, Inf, negative). */
+static double drawable(double v) { return isfinite(v) && v > 0 ? v : 0; }
+
+/* A round tick step giving about five ticks up to max, and the axis end. */
+static double nice_axis(double max, double *step)
+{
+    if (!(max > 0))
+        max = 1;
+    double raw = max / 5, mag = pow(10, floor(log10(raw))), f = raw / mag;
+    *step = (f <= 1 ? 1 : f <= 2 ? 2 : f <= 5 ? 5 : 10) * mag;
+    return ceil(max / *step - 1e-9) * *step;
+}
+
+static void begin(struct strbuf *o, int w, int h, const char *title, const char *subtitle)
+{
+    strbuf_printf(o, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" "
+                     "viewBox=\"0 0 %d %d\" %s font-size=\"12\">\n"
+                     "<rect width=\"%d\" height=\"%d\" fill=\"white\"/>\n",
+                  w, h, w, h, font, w, h);
+    strbuf_printf(o, "<text x=\"%d\" y=\"20\" text-anchor=\"middle\" font-size=\"15\" "
+                     "font-weight=\"bold\">", w / 2);
+    strbuf_xml(o, title);
+    strbuf_printf(o, "</text>\n<text x=\"%d\" y=\"38\" text-anchor=\"middle\" fill=\"#555\">", w / 2);
+    strbuf_xml(o, subtitle);
+    strbuf_printf(o, "</text>\n");
+}
+
+/* A legend row of the techniques present, at y. */
+static void legend(struct strbuf *o, const struct chart_item *items, int n, int x, int y)
+{
+    bool seen[64] = {false};
+    for (int i = 0; i < n; i++) {
+        int g = items[i].group;
+        if (g < 0 || g >= 64 || seen[g])
+            continue;
+        seen[g] = true;
+        strbuf_printf(o, "<circle cx=\"%d\" cy=\"%d\" r=\"5\" fill=\"%s\"/><text x=\"%d\" y=\"%d\">",
+                      x, y - 4, colour(g), x + 9, y);
+        strbuf_xml(o, items[i].group_name);
+        strbuf_printf(o, "</text>\n");
+        x += 22 + 7 * (int)strlen(items[i].group_name);
+    }
+}
+
+/* A plot frame at (x0, y0) of size w x h with y ticks to y_max; the x axis
+ * is drawn by the caller (ticks or category labels). */
+static void y_axis(struct strbuf *o, int x0, int y0, int w, int h, double y_max, double y_step,
+                   const char *y_label)
+{
+    for (double v = 0; v <= y_max + 1e-12; v += y_step) {
+        double y = y0 + h - v / y_max * h;
+        strbuf_printf(o, "<line x1=\"%d\" x2=\"%d\" y1=\"%.1f\" y2=\"%.1f\" stroke=\"#e4e4e4\"/>"
+                         "<text x=\"%d\" y=\"%.1f\" text-anchor=\"end\">%g</text>\n",
+                      x0, x0 + w, y, y, x0 - 5, y + 4, v);
+    }
+    strbuf_printf(o, "<text transform=\"translate(%d %d) rotate(-90)\" text-anchor=\"middle\">",
+                  x0 - 48, y0 + h / 2);
+    strbuf_xml(o, y_label);
+    strbuf_printf(o, "</text>\n<path d=\"M%d %d V%d H%d\" fill=\"none\" stroke=\"#333\"/>\n", x0, y0,
+                  y0 + h, x0 + w);
+}
+
+static int cmp_by_x(const void *a, const void *b, void *ctx)
+{
+    const double *const *xy = ctx;
+    int i = *(const int *)a, j = *(const int *)b;
+    if (xy[0][i] != xy[0][j])
+        return xy[0][i] < xy[0][j] ? -1 : 1;
+    return (xy[1][i] > xy[1][j]) - (xy[1][i] < xy[1][j]);
+}
+
+int chart_pareto(const double *x, const double *y, int n, int *front)
+{
+    int *order = xmalloc(sizeof(int) * (size_t)(n ? n : 1));
+    for (int i = 0; i < n; i++)
+        order[i] = i;
+    const double *xy[2] = {x, y};
+    qsort_r(order, (size_t)n, sizeof *order, cmp_by_x, xy);
+    int count = 0;
+    double best = INFINITY;
+    for (int k = 0; k < n; k++)
+        if (y[order[k]] < best) {
+            best = y[order[k]];
+            front[count++] = order[k];
+        }
+    free(order);
+    return count;
+}
+
+enum { PANEL_W = 470, PANEL_H = 380, PAD_L = 70, PAD_R = 24, PAD_T = 30, PAD_B = 50, TOP = 50 };
+
+static void tradeoff_panel(struct strbuf *o, int left, const struct chart_item *items, int n,
+                           const struct chart_series *time, const struct chart_series *err)
+{
+    const int x0 = left + PAD_L, y0 = TOP + PAD_T, w = PANEL_W - PAD_L - PAD_R,
+              h = PANEL_H - PAD_T - PAD_B;
+    double *x = xmalloc(sizeof(double) * (size_t)n), *y = xmalloc(sizeof(double) * (size_t)n);
+    double x_max = 0, y_max = 0, x_step, y_step;
+    for (int i = 0; i < n; i++) {
+        x[i] = drawable(time->values[i]), y[i] = drawable(err->values[i]);
+        x_max = fmax(x_max, x[i]), y_max = fmax(y_max, y[i]);
+    }
+    x_max = nice_axis(x_max, &x_step);
+    y_max = nice_axis(y_max, &y_step);
+
+    strbuf_printf(o, "<text x=\"%d\" y=\"%d\" text-anchor=\"middle\" font-weight=\"bold\">", x0 + w / 2,
+                  TOP + 16);
+    strbuf_xml(o, err->name);
+    strbuf_printf(o, " against time</text>\n");
+    char y_label[128], x_label[128];
+    snprintf(y_label, sizeof y_label, "%s (%s, lower is better)", err->name, err->unit);
+    snprintf(x_label, sizeof x_label, "%s (%s per frame, median)", time->name, time->unit);
+    y_axis(o, x0, y0, w, h, y_max, y_step, y_label);
+    for (double v = 0; v <= x_max + 1e-12; v += x_step) {
+        double px = x0 + v / x_max * w;
+        strbuf_printf(o, "<line x1=\"%.1f\" x2=\"%.1f\" y1=\"%d\" y2=\"%d\" stroke=\"#333\"/>"
+                         "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%g</text>\n",
+                      px, px, y0 + h, y0 + h + 5, px, y0 + h + 18, v);
+    }
+    strbuf_printf(o, "<text x=\"%d\" y=\"%d\" text-anchor=\"middle\">", x0 + w / 2, y0 + h + 38);
+    strbuf_xml(o, x_label);
+    strbuf_printf(o, "</text>\n");
+
+#define PX(i) (x0 + x[i] / x_max * w)
+#define PY(i) (y0 + h - y[i] / y_max * h)
+    int *front = xmalloc(sizeof(int) * (size_t)n);
+    int m = chart_pareto(x, y, n, front);
+    strbuf_printf(o, "<path class=\"pareto\" d=\"");
+    for (int k = 0; k < m; k++)
+        strbuf_printf(o, k ? " H%.1f V%.1f" : "M%.1f %.1f", k ? PX(front[k]) : PX(front[k]),
+                      PY(front[k]));
+    strbuf_printf(o, "\" fill=\"none\" stroke=\"#888\" stroke-width=\"1.5\" stroke-dasharray=\"5 3\"/>\n");
+    for (int i = 0; i < n; i++) {
+        strbuf_printf(o, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\" fill-opacity=\"0.85\" "
+                         "stroke=\"white\"><title>", PX(i), PY(i), colour(items[i].group));
+        strbuf_xml(o, items[i].label);
+        strbuf_printf(o, ": %s %.4g, %.3g %s</title></circle>\n", err->name, err->values[i],
+                      time->values[i], time->unit);
+    }
+    for (int k = 0; k < m; k++) {  /* name the front, alternately above and below */
+        int i = front[k];
+        strbuf_printf(o, "<text class=\"front-label\" x=\"%.1f\" y=\"%.1f\" font-size=\"11\">",
+                      PX(i) + 7, PY(i) + (k % 2 ? 14 : -7));
+        strbuf_xml(o, items[i].label);
+        strbuf_printf(o, "</text>\n");
+    }
+#undef PX
+#undef PY
+    free(front), free(x), free(y);
+}
+
+void chart_tradeoff_svg(struct strbuf *out, const char *title, const char *subtitle,
+                        const struct chart_item *items, int n, const struct chart_series *time,
+                        const struct chart_series *errors, int error_count)
+{
+    const int width = PANEL_W * error_count, height = TOP + PANEL_H + 30;
+    begin(out, width, height, title, subtitle);
+    for (int k = 0; k < error_count; k++)
+        tradeoff_panel(out, k * PANEL_W, items, n, time, &errors[k]);
+    legend(out, items, n, 20, height - 12);
+    strbuf_printf(out, "<text x=\"%d\" y=\"%d\" text-anchor=\"end\" fill=\"#555\">dashed: Pareto "
+                       "front (named)</text>\n</svg>\n", width - 10, height - 12);
+}
+
+enum { BAR_W = 470, BAR_H = 300, BAR_PAD_B = 80 };
+
+void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
+                    const struct chart_item *items, int n, const struct chart_series *series,
+                    int series_count)
+{
+    const int rows = (series_count + 1) / 2, width = 2 * BAR_W, height = TOP + rows * BAR_H + 30;
+    begin(out, width, height, title, subtitle);
+    for (int k = 0; k < series_count; k++) {
+        const struct chart_series *s = &series[k];
+        const int x0 = (k % 2) * BAR_W + PAD_L, y0 = TOP + (k / 2) * BAR_H + PAD_T,
+                  w = BAR_W - PAD_L - PAD_R, h = BAR_H - PAD_T - BAR_PAD_B;
+        double max = 0, step;
+        for (int i = 0; i < n; i++)
+            max = fmax(max, drawable(s->values[i]));
+        max = nice_axis(max, &step);
+        strbuf_printf(out, "<text x=\"%d\" y=\"%d\" text-anchor=\"middle\" font-weight=\"bold\">",
+                      x0 + w / 2, y0 - 12);
+        strbuf_xml(out, s->name);
+        strbuf_printf(out, "</text>\n");
+        char label[128];
+        snprintf(label, sizeof label, "%s (%s)", s->name, s->unit);
+        y_axis(out, x0, y0, w, h, max, step, label);
+        const double slot = (double)w / n, bw = fmin(0.7 * slot, 40);
+        for (int i = 0; i < n; i++) {
+            double v = drawable(s->values[i]), bh = v / max * h, cx = x0 + (i + 0.5) * slot;
+            strbuf_printf(out, "<rect class=\"bar\" x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" "
+                               "fill=\"%s\"><title>", cx - bw / 2, y0 + h - bh, bw, bh,
+                          colour(items[i].group));
+            strbuf_xml(out, items[i].label);
+            strbuf_printf(out, ": %s %.4g</title></rect>\n", s->name, s->values[i]);
+            if (n <= 12)
+                strbuf_printf(out, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\" "
+                                   "font-size=\"10\">%.3g</text>\n", cx, y0 + h - bh - 3, s->values[i]);
+            strbuf_printf(out, "<text transform=\"translate(%.1f %d) rotate(-40)\" "
+                               "text-anchor=\"end\" font-size=\"11\">", cx + 3, y0 + h + 12);
+            strbuf_xml(out, items[i].label);
+            strbuf_printf(out, "</text>\n");
+        }
+    }
+    legend(out, items, n, 20, height - 12);
+    strbuf_printf(out, "</svg>\n");
+}

@@ -1,0 +1,43 @@
+/* SVG charts for the report: error against time with its Pareto front, and
+ * bars of several metrics per technique configuration. Every chart has a
+ * title, a subtitle (the device the timings come from), labelled axes with
+ * units and a legend; colours follow the technique, so a technique has one
+ * colour in every chart. */
+#ifndef SB_CHART_H
+#define SB_CHART_H
+
+#include "util.h"
+
+#include <stdbool.h>
+
+/* One point or bar: a technique configuration. */
+struct chart_item {
+    const char *label;       /* the configuration, e.g. "pcss@blocker_samples=16" */
+    const char *group_name;  /* its technique, named in the legend */
+    int group;               /* its technique's index in technique_list: its colour */
+};
+
+/* One axis quantity of a scatter panel, or one bar panel. */
+struct chart_series {
+    const char *name;      /* e.g. "rmse" */
+    const char *unit;      /* e.g. "V", "ms", "share of scored pixels" */
+    const double *values;  /* one per item */
+};
+
+/* Scatter panels side by side, one per error series, each against the same
+ * time series (x): a point per item, the Pareto front (no other item is both
+ * faster and more accurate) drawn as a staircase and its items named. */
+void chart_tradeoff_svg(struct strbuf *out, const char *title, const char *subtitle,
+                        const struct chart_item *items, int n, const struct chart_series *time,
+                        const struct chart_series *errors, int error_count);
+
+/* Bar panels in a grid of two columns, one per series, a bar per item. */
+void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
+                    const struct chart_item *items, int n, const struct chart_series *series,
+                    int series_count);
+
+/* Indices of the Pareto-optimal items for minimising both x and y, in
+ * increasing x; returns their count. Ties in x keep the lower y. */
+int chart_pareto(const double *x, const double *y, int n, int *front);
+
+#endif

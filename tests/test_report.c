@@ -1,0 +1,154 @@
+/* Protects the run's report (DESIGN.md §8) as a person opens it: a run with
+ * a sweep writes the charts, and report.html, opened from disk in headless
+ * Chromium (no server), holds the matrix (sorted by its script when the
+ * address asks), every picture (each loads: a broken one is marked
+ * "missing", which the test proves it would see), and the inline charts
+ * with their Pareto fronts and bars. Also the Pareto front itself. */
+#include "chart.h"
+#include "check.h"
+#include "run_cmd.h"
+
+#include <cjson/cJSON.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *sb;
+static char dir[] = "/tmp/sb_test_report_XXXXXX";
+
+#define SCENES 2
+#define CONFIGS 3  /* hard, pcss@blocker_samples=16, pcss@blocker_samples=64 */
+
+static int count(const char *text, const char *needle)
+{
+    int n = 0;
+    for (const char *p = text; p && (p = strstr(p, needle)); p += strlen(needle))
+        n++;
+    return n;
+}
+
+/* The DOM of file://<path><suffix> after its scripts ran and its pictures
+ * loaded (or failed to). */
+static char *dump_dom(const char *path, const char *suffix)
+{
+    const char *chromium = getenv("CHROMIUM") ? getenv("CHROMIUM") : "/usr/bin/chromium";
+    CHECK(util_file_exists(chromium), "%s not found: install Debian's chromium (tools/setup does)",
+          chromium);
+    char *cmd = util_printf("'%s' --headless --no-sandbox --disable-gpu --disable-quic --no-first-run "
+                            "--disable-background-networking --disable-component-update --disable-sync "
+                            "--user-data-dir=%s/chromium --dump-dom 'file://%s%s'",
+                            chromium, dir, path, suffix);
+    struct strbuf out = {0};
+    int status = run_cmd(cmd, NULL, &out);
+    CHECK(status == 0 && out.data, "chromium exit %d", status);
+    free(cmd);
+    return out.data ? out.data : xstrdup("");
+}
+
+/* The rmse column (the third) of the matrix rows, in DOM order. */
+static int rmse_column(const char *dom, double *v, int max)
+{
+    const char *body = strstr(dom, "<tbody>");
+    int n = 0;
+    for (const char *row = body; row && (row = strstr(row, "<tr")) && n < max; row++) {
+        const char *td = row;
+        for (int k = 0; k < 3 && td; k++)
+            td = strstr(td + 1, "<td");
+        const char *dv = td ? strstr(td, "data-v=\"") : NULL;
+        if (dv)
+            v[n++] = atof(dv + 8);
+    }
+    return n;
+}
+
+static void pareto_front(void)
+{
+    /* x: time, y: error. 0 and 3 are beaten by 1 (faster and better), 2 is
+     * the slowest but the best, 4 ties 1 in time with a worse error. */
+    const double x[] = {5, 1, 9, 6, 1}, y[] = {0.5, 0.3, 0.1, 0.35, 0.4};
+    int front[5];
+    int m = chart_pareto(x, y, 5, front);
+    CHECK(m == 2 && front[0] == 1 && front[1] == 2, "front: %d items, first %d", m, front[0]);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2 || !mkdtemp(dir))
+        return 1;
+    sb = argv[1];
+    pareto_front();
+
+    char *out = util_printf("%s/run", dir);
+    char *cmd = util_printf("%s run --scene parallel_planes --scene contact_hardening --technique hard,pcss "
+                            "--sweep pcss.blocker_samples=16,64 --width 96 --height 96 --gt-samples 16 "
+                            "--frames 1 --warmup 0 --no-cache -q --out %s", sb, out);
+    struct strbuf err = {0};
+    int status = run_cmd(cmd, &err, NULL);
+    CHECK(status == 0, "run exit %d: %s", status, err.data);
+    free(cmd);
+
+    /* Each swept value is a cell with its own folder and matrix row. */
+    char *swept = util_printf("%s/parallel_planes/pcss@blocker_samples=64/metrics.json", out);
+    CHECK(util_file_exists(swept), "%s missing", swept);
+    free(swept);
+
+    /* The charts, as files: labelled axes with units, the device, a legend. */
+    const char *charts[] = {"overall_tradeoff", "parallel_planes_tradeoff", "parallel_planes_metrics",
+                            "contact_hardening_tradeoff", "contact_hardening_metrics"};
+    for (size_t i = 0; i < ARRAY_SIZE(charts); i++) {
+        char *path = util_printf("%s/charts/%s.svg", out, charts[i]), *svg = NULL;
+        size_t size;
+        CHECK(util_read_file(path, &svg, &size) == 0, "%s missing", path);
+        if (svg) {
+            bool tradeoff = strstr(charts[i], "tradeoff") != NULL;
+            CHECK(strstr(svg, "<svg") && strstr(svg, "timed on llvmpipe") && strstr(svg, ">pcss</text>"),
+                  "%s: an SVG naming its device, with a legend", charts[i]);
+            if (tradeoff)
+                CHECK(strstr(svg, "ms_total (ms per frame, median)") &&
+                          strstr(svg, "rmse (visibility, lower is better)") &&
+                          count(svg, "class=\"pareto\"") == 2 && count(svg, "<circle") >= 2 * CONFIGS,
+                      "%s: axes with units, two panels with a front and a point per cell", charts[i]);
+            else
+                CHECK(count(svg, "class=\"bar\"") == 4 * CONFIGS &&
+                          strstr(svg, "leak_fraction (share of scored pixels)"),
+                      "%s: four metrics, a bar per cell", charts[i]);
+        }
+        free(svg), free(path);
+    }
+
+    /* The report in a browser, sorted by rmse from its address. */
+    char *report = util_printf("%s/report.html", out);
+    char *dom = dump_dom(report, "#sort=rmse");
+    CHECK(strstr(dom, "<table id=\"matrix\" data-sorted-by=\"rmse\">"), "the script sorted the matrix");
+    double v[64];
+    int rows = rmse_column(dom, v, 64);
+    CHECK(rows == SCENES * CONFIGS, "matrix rows: %d", rows);
+    for (int i = 1; i < rows; i++)
+        CHECK(v[i - 1] <= v[i], "row %d: rmse %g after %g", i, v[i], v[i - 1]);
+    /* In the file the rows are in run order (hard, with no penumbra, before
+     * pcss): the sort did reorder them. */
+    char *raw = NULL;
+    size_t size;
+    if (util_read_file(report, &raw, &size) == 0) {
+        double u[64];
+        CHECK(rmse_column(raw, u, 64) == rows && u[0] > u[1], "run order is not rmse order");
+    }
+    free(raw);
+    int images = SCENES * (1 + 2 * CONFIGS);  /* ground truth, and per cell visibility + heatmap */
+    CHECK(count(dom, "<img ") == images, "%d pictures, wanted %d", count(dom, "<img "), images);
+    CHECK(count(dom, "class=\"missing\"") == 0, "every picture loads");
+    CHECK(count(dom, "<figure class=\"chart\"") == (int)ARRAY_SIZE(charts), "inline charts");
+    CHECK(count(dom, "class=\"pareto\"") == 2 * (1 + SCENES), "a Pareto front in every panel");
+    CHECK(strstr(dom, "Environment (run.json)") && strstr(dom, "gl_renderer"), "the run's environment");
+    free(dom);
+
+    /* The same check sees a picture that does not load. */
+    char *gone = util_printf("%s/contact_hardening/hard/heatmap.png", out);
+    CHECK(remove(gone) == 0, "removing %s", gone);
+    dom = dump_dom(report, "");
+    CHECK(count(dom, "class=\"missing\"") == 1, "a missing picture is marked: %d",
+          count(dom, "class=\"missing\""));
+    free(dom), free(gone), free(report), free(out);
+    strbuf_free(&err);
+    remove_tree(dir);
+    return check_finish();
+}
