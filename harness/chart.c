@@ -211,9 +211,14 @@ void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
             if (n <= 12)
                 strbuf_printf(out, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\" "
                                    "font-size=\"10\">%.3g</text>\n", cx, y0 + h - bh - 3, s->values[i]);
+            /* A long (swept) label is cut to fit under its bar; the whole
+             * label is in the bar's tooltip. */
+            char shown[32];
+            size_t len = strlen(items[i].label);
+            snprintf(shown, sizeof shown, len > 22 ? "%.20s\u2026" : "%s", items[i].label);
             strbuf_printf(out, "<text transform=\"translate(%.1f %d) rotate(-40)\" "
                                "text-anchor=\"end\" font-size=\"11\">", cx + 3, y0 + h + 12);
-            strbuf_xml(out, items[i].label);
+            strbuf_xml(out, shown);
             strbuf_printf(out, "</text>\n");
         }
     }
