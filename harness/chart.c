@@ -177,18 +177,25 @@ void chart_tradeoff_svg(struct strbuf *out, const char *title, const char *subti
                        "front (named)</text>\n</svg>\n", width - 10, height - 12);
 }
 
-enum { BAR_W = 470, BAR_H = 300, BAR_PAD_B = 80 };
+enum { BAR_W = 470, BAR_PLOT_H = 190 };
 
 void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
                     const struct chart_item *items, int n, const struct chart_series *series,
                     int series_count)
 {
-    const int rows = (series_count + 1) / 2, width = 2 * BAR_W, height = TOP + rows * BAR_H + 30;
+    /* Room under each plot for the longest label, written at -40 degrees
+     * (about 6 px a character at 11 px). */
+    size_t longest = 0;
+    for (int i = 0; i < n; i++)
+        longest = strlen(items[i].label) > longest ? strlen(items[i].label) : longest;
+    const int pad_b = 24 + (int)(6.0 * sin(40 * M_PI / 180) * (double)longest);
+    const int panel_h = PAD_T + BAR_PLOT_H + pad_b, rows = (series_count + 1) / 2;
+    const int width = 2 * BAR_W, height = TOP + rows * panel_h + 30;
     begin(out, width, height, title, subtitle);
     for (int k = 0; k < series_count; k++) {
         const struct chart_series *s = &series[k];
-        const int x0 = (k % 2) * BAR_W + PAD_L, y0 = TOP + (k / 2) * BAR_H + PAD_T,
-                  w = BAR_W - PAD_L - PAD_R, h = BAR_H - PAD_T - BAR_PAD_B;
+        const int x0 = (k % 2) * BAR_W + PAD_L, y0 = TOP + (k / 2) * panel_h + PAD_T,
+                  w = BAR_W - PAD_L - PAD_R, h = BAR_PLOT_H;
         double max = 0, step;
         for (int i = 0; i < n; i++)
             max = fmax(max, drawable(s->values[i]));
@@ -208,17 +215,12 @@ void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
                           colour(items[i].group));
             strbuf_xml(out, items[i].label);
             strbuf_printf(out, ": %s %.4g</title></rect>\n", s->name, s->values[i]);
-            if (n <= 12)
+            if (slot >= 48)  /* values over the bars while they fit */
                 strbuf_printf(out, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\" "
                                    "font-size=\"10\">%.3g</text>\n", cx, y0 + h - bh - 3, s->values[i]);
-            /* A long (swept) label is cut to fit under its bar; the whole
-             * label is in the bar's tooltip. */
-            char shown[32];
-            size_t len = strlen(items[i].label);
-            snprintf(shown, sizeof shown, len > 22 ? "%.20s\u2026" : "%s", items[i].label);
             strbuf_printf(out, "<text transform=\"translate(%.1f %d) rotate(-40)\" "
                                "text-anchor=\"end\" font-size=\"11\">", cx + 3, y0 + h + 12);
-            strbuf_xml(out, shown);
+            strbuf_xml(out, items[i].label);
             strbuf_printf(out, "</text>\n");
         }
     }
