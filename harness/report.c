@@ -202,6 +202,7 @@ static const char style[] =
     "tr.fail td{background:#fdd}tr.front td.c{font-weight:bold}\n"
     ".grid{display:flex;flex-wrap:wrap;gap:10px}.grid figure{margin:0;width:220px}"
     ".grid img{display:block;width:220px;image-rendering:pixelated}"
+    ".grid figure>img,.crop{outline:1px solid #bbb;margin-bottom:4px}"
     ".crop{overflow:hidden}figcaption{font-size:12px}\n"
     "img.missing{outline:3px solid red;min-height:40px}\n"
     ".chart svg{max-width:100%;height:auto}figure.chart{margin:8px 0}\n"
@@ -223,17 +224,15 @@ static const char script[] =
     "const m=location.hash.match(/^#sort=(-?)([a-z_]+)$/);if(m)sort(m[2],m[1]==='-');\n"
     "})();\n";
 
-/* The columns of the matrix table: key, and how a cell's value is shown. */
-enum column_kind { COL_TEXT, COL_NUM, COL_SIGNED, COL_COUNT, COL_MS };
+/* The metric columns of the matrix table, between the scene and cell
+ * columns and the params column: key, and its printf format. */
 static const struct column {
-    const char *key;
-    enum column_kind kind;
+    const char *key, *format;
 } columns[] = {
-    {"scene", COL_TEXT}, {"cell", COL_TEXT}, {"rmse", COL_NUM}, {"penumbra_rmse", COL_NUM},
-    {"mae", COL_NUM}, {"bias", COL_SIGNED}, {"p99_abs", COL_NUM}, {"leak_fraction", COL_NUM},
-    {"dark_fraction", COL_NUM}, {"nonfinite", COL_COUNT}, {"ms_shadowmap", COL_MS},
-    {"ms_filter_prep", COL_MS}, {"ms_receiver", COL_MS}, {"ms_total", COL_MS},
-    {"gt_noise_penumbra_rmse", COL_NUM}, {"params", COL_TEXT},
+    {"rmse", "%.4f"}, {"penumbra_rmse", "%.4f"}, {"mae", "%.4f"}, {"bias", "%+.4f"},
+    {"p99_abs", "%.4f"}, {"leak_fraction", "%.4f"}, {"dark_fraction", "%.4f"},
+    {"nonfinite", "%.0f"}, {"ms_shadowmap", "%.2f"}, {"ms_filter_prep", "%.2f"},
+    {"ms_receiver", "%.2f"}, {"ms_total", "%.2f"}, {"gt_noise_penumbra_rmse", "%.4f"},
 };
 
 /* front[i]: cell i is on its scene's Pareto front of rmse against ms_total. */
@@ -259,33 +258,29 @@ static void matrix_table(const struct report *r, struct strbuf *h)
 {
     bool *front = xcalloc((size_t)r->cell_count, sizeof *front);
     pareto_flags(r, front);
-    strbuf_printf(h, "<div class=\"scroll\"><table id=\"matrix\"><thead><tr>");
+    strbuf_printf(h, "<div class=\"scroll\"><table id=\"matrix\"><thead><tr>"
+                     "<th data-k=\"scene\">scene</th><th data-k=\"cell\">cell</th>");
     for (size_t k = 0; k < ARRAY_SIZE(columns); k++)
         strbuf_printf(h, "<th data-k=\"%s\">%s</th>", columns[k].key, columns[k].key);
-    strbuf_printf(h, "</tr></thead>\n<tbody>\n");
+    strbuf_printf(h, "<th data-k=\"params\">params</th></tr></thead>\n<tbody>\n");
     for (int i = 0; i < r->cell_count; i++) {
         const struct cell *c = &r->cells[i];
+        strbuf_printf(h, "<tr class=\"%s%s\"><td class=\"l\">%s</td><td class=\"l c\">"
+                         "<a href=\"#scene-%s\">", c->m.nonfinite ? "fail" : "",
+                      front[i] ? " front" : "", c->scene, c->scene);
+        strbuf_xml(h, c->label);
+        strbuf_printf(h, "</a></td>");
         cJSON *row = report_cell_json(c);
-        strbuf_printf(h, "<tr class=\"%s%s\">", c->m.nonfinite ? "fail" : "",
-                      front[i] ? " front" : "");
         for (size_t k = 0; k < ARRAY_SIZE(columns); k++) {
-            const char *key = columns[k].key;
-            if (columns[k].kind == COL_TEXT) {
-                strbuf_printf(h, "<td class=\"%s\">", !strcmp(key, "params") ? "p" : !strcmp(key, "cell") ? "l c" : "l");
-                if (!strcmp(key, "cell"))
-                    strbuf_printf(h, "<a href=\"#scene-%s\">", c->scene);
-                strbuf_xml(h, !strcmp(key, "scene") ? c->scene : !strcmp(key, "cell") ? c->label : c->params_text);
-                strbuf_printf(h, "%s</td>", !strcmp(key, "cell") ? "</a>" : "");
-                continue;
-            }
-            double v = cJSON_GetNumberValue(cJSON_GetObjectItem(row, key));
-            static const char *const fmt[] = {"", "%.4f", "%+.4f", "%.0f", "%.2f"};
+            double v = cJSON_GetNumberValue(cJSON_GetObjectItem(row, columns[k].key));
             strbuf_printf(h, "<td data-v=\"%.9g\">", v);
-            strbuf_printf(h, fmt[columns[k].kind], v);
+            strbuf_printf(h, columns[k].format, v);
             strbuf_printf(h, "</td>");
         }
-        strbuf_printf(h, "</tr>\n");
         cJSON_Delete(row);
+        strbuf_printf(h, "<td class=\"p\">");
+        strbuf_xml(h, c->params_text);
+        strbuf_printf(h, "</td></tr>\n");
     }
     strbuf_printf(h, "</tbody></table></div>\n");
     free(front);

@@ -3,6 +3,7 @@
 #include "params.h"
 #include "util.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -85,12 +86,12 @@ static int add_configs(struct run_options *o, int ti, const struct sweep *sweeps
     const struct technique *t = technique_list[ti];
     const struct sweep *mine[RUN_MAX_SWEEPS];
     int n = 0, total = 1;
-    for (int i = 0; i < sweep_count; i++)
+    for (int i = 0; i < sweep_count && total <= RUN_MAX_CONFIGS; i++)
         if (sweeps[i].t == t) {
             mine[n++] = &sweeps[i];
-            total *= sweeps[i].count;
+            total *= sweeps[i].count;  /* count <= one value per character of argv */
         }
-    if (o->config_count + total > RUN_MAX_CONFIGS) {
+    if (total > RUN_MAX_CONFIGS - o->config_count) {
         log_error("--sweep: more than %d technique configurations in one run", RUN_MAX_CONFIGS);
         return -1;
     }
