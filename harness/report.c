@@ -235,6 +235,20 @@ static const struct column {
     {"ms_receiver", "%.2f"}, {"ms_total", "%.2f"}, {"gt_noise_penumbra_rmse", "%.4f"},
 };
 
+/* A path segment or fragment of a URL: anything but unreserved characters
+ * and @ = , + percent-encoded (a scene file may be named anything). */
+static void url(struct strbuf *h, const char *s)
+{
+    for (; *s; s++) {
+        unsigned char ch = (unsigned char)*s;
+        if ((ch >= 'a' && ch <= 'z') || (ch >= 'A' && ch <= 'Z') || (ch >= '0' && ch <= '9') ||
+            strchr("-._~@=,+", ch))
+            strbuf_append(h, s, 1);
+        else
+            strbuf_printf(h, "%%%02X", ch);
+    }
+}
+
 /* front[i]: cell i is on its scene's Pareto front of rmse against ms_total. */
 static void pareto_flags(const struct report *r, bool *front)
 {
@@ -265,9 +279,12 @@ static void matrix_table(const struct report *r, struct strbuf *h)
     strbuf_printf(h, "<th data-k=\"params\">params</th></tr></thead>\n<tbody>\n");
     for (int i = 0; i < r->cell_count; i++) {
         const struct cell *c = &r->cells[i];
-        strbuf_printf(h, "<tr class=\"%s%s\"><td class=\"l\">%s</td><td class=\"l c\">"
-                         "<a href=\"#scene-%s\">", c->m.nonfinite ? "fail" : "",
-                      front[i] ? " front" : "", c->scene, c->scene);
+        strbuf_printf(h, "<tr class=\"%s%s\"><td class=\"l\">", c->m.nonfinite ? "fail" : "",
+                      front[i] ? " front" : "");
+        strbuf_xml(h, c->scene);
+        strbuf_printf(h, "</td><td class=\"l c\"><a href=\"#scene-");
+        url(h, c->scene);
+        strbuf_printf(h, "\">");
         strbuf_xml(h, c->label);
         strbuf_printf(h, "</a></td>");
         cJSON *row = report_cell_json(c);
@@ -287,41 +304,46 @@ static void matrix_table(const struct report *r, struct strbuf *h)
 }
 
 /* One legend for every heatmap of the report (they share one scale). */
-static void heatmap_legend(struct strbuf *h)
+static void heatmap_legend(struct strbuf *h, int id)
 {
     strbuf_printf(h, "<svg width=\"220\" height=\"58\" font-size=\"11\" font-family=\"sans-serif\">"
-                     "<defs><linearGradient id=\"diverging\">");
+                     "<defs><linearGradient id=\"diverging%d\">", id);
     for (int k = 0; k <= 10; k++) {
         uint8_t c[3];
         picture_diverging(-1.0f + 0.2f * (float)k, c);
         strbuf_printf(h, "<stop offset=\"%d%%\" stop-color=\"rgb(%d,%d,%d)\"/>", 10 * k, c[0], c[1], c[2]);
     }
     strbuf_printf(h, "</linearGradient></defs><rect x=\"10\" y=\"4\" width=\"200\" height=\"12\" "
-                     "fill=\"url(#diverging)\"/>"
+                     "fill=\"url(#diverging%d)\"/>"
                      "<text x=\"10\" y=\"29\">-%.2g too dark</text><text x=\"110\" y=\"29\" "
                      "text-anchor=\"middle\">0</text><text x=\"210\" y=\"29\" text-anchor=\"end\">"
                      "+%.2g too bright</text><text x=\"10\" y=\"46\">e = V_tech &#8722; V_gt; grey: "
-                     "not scored</text></svg>", (double)PICTURE_ERROR_SCALE, (double)PICTURE_ERROR_SCALE);
+                     "not scored</text></svg>", id, (double)PICTURE_ERROR_SCALE, (double)PICTURE_ERROR_SCALE);
 }
 
 static void scene_grid(const struct report *r, const struct report_scene *sc, struct strbuf *h)
 {
-    strbuf_printf(h, "<div class=\"grid\">\n<figure><img src=\"%s/groundtruth.png\" alt=\"ground truth\" "
-                     "onerror=\"this.classList.add('missing')\"><figcaption>ground truth V<sub>gt</sub> "
-                     "(%s; hatched: not scored)</figcaption>", sc->name,
+    strbuf_printf(h, "<div class=\"grid\">\n<figure><img src=\"");
+    url(h, sc->name);
+    strbuf_printf(h, "/groundtruth.png\" alt=\"ground truth\" onerror=\"this.classList.add('missing')\">"
+                     "<figcaption>ground truth V<sub>gt</sub> (%s; hatched: not scored)</figcaption>",
                   sc->gt_cached ? "from the cache" : "ray traced for this run");
-    heatmap_legend(h);
+    heatmap_legend(h, (int)(sc - r->scenes));  /* each gradient needs an id of its own */
     strbuf_printf(h, "</figure>\n");
     for (int i = 0; i < r->cell_count; i++) {
         const struct cell *c = &r->cells[i];
         if (strcmp(c->scene, sc->name) != 0)
             continue;
-        strbuf_printf(h, "<figure><img src=\"%s/", sc->name);
-        strbuf_xml(h, c->label);
+        strbuf_printf(h, "<figure><img src=\"");
+        url(h, sc->name);
+        strbuf_printf(h, "/");
+        url(h, c->label);
         strbuf_printf(h, "/visibility.png\" alt=\"visibility\" onerror=\"this.classList.add('missing')\">"
-                         "<div class=\"crop\" style=\"aspect-ratio:%d/%d\"><img src=\"%s/", r->width,
-                      r->height, sc->name);
-        strbuf_xml(h, c->label);
+                         "<div class=\"crop\" style=\"aspect-ratio:%d/%d\"><img src=\"", r->width,
+                      r->height);
+        url(h, sc->name);
+        strbuf_printf(h, "/");
+        url(h, c->label);
         strbuf_printf(h, "/heatmap.png\" alt=\"error heatmap\" onerror=\"this.classList.add('missing')\">"
                          "</div><figcaption><b>");
         strbuf_xml(h, c->label);
@@ -346,8 +368,13 @@ static int write_html(const struct report *r)
                   r->width, r->height);
     strbuf_xml(&h, device ? device : "unknown");
     strbuf_printf(&h, "</b>. Scenes:");
-    for (int s = 0; s < r->scene_count; s++)
-        strbuf_printf(&h, " <a href=\"#scene-%s\">%s</a>", r->scenes[s].name, r->scenes[s].name);
+    for (int s = 0; s < r->scene_count; s++) {
+        strbuf_printf(&h, " <a href=\"#scene-");
+        url(&h, r->scenes[s].name);
+        strbuf_printf(&h, "\">");
+        strbuf_xml(&h, r->scenes[s].name);
+        strbuf_printf(&h, "</a>");
+    }
     strbuf_printf(&h, ".</p>\n<h2 id=\"matrix-title\">Matrix</h2>\n<p>Click a column to sort it (again: "
                       "descending). Bold cells are on their scene's Pareto front of rmse against "
                       "ms_total.</p>\n");
@@ -358,7 +385,11 @@ static int write_html(const struct report *r)
     rc |= overall_chart(r, device, &h);
     for (int s = 0; s < r->scene_count; s++) {
         const struct report_scene *sc = &r->scenes[s];
-        strbuf_printf(&h, "<h2 id=\"scene-%s\">Scene %s</h2>\n<p>", sc->name, sc->name);
+        strbuf_printf(&h, "<h2 id=\"scene-");
+        url(&h, sc->name);
+        strbuf_printf(&h, "\">Scene ");
+        strbuf_xml(&h, sc->name);
+        strbuf_printf(&h, "</h2>\n<p>");
         strbuf_xml(&h, sc->description);
         if (*sc->shows) {
             strbuf_printf(&h, " <b>Shows:</b> ");
