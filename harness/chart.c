@@ -57,6 +57,15 @@ static void legend(struct strbuf *o, const struct chart_item *items, int n, int 
     }
 }
 
+/* A panel's bold title, centred over the plot from x0 to x0 + w. */
+static void panel_title(struct strbuf *o, int x0, int w, int y, const char *name, const char *suffix)
+{
+    strbuf_printf(o, "<text x=\"%d\" y=\"%d\" text-anchor=\"middle\" font-weight=\"bold\">",
+                  x0 + w / 2, y);
+    strbuf_xml(o, name);
+    strbuf_printf(o, "%s</text>\n", suffix);
+}
+
 /* A plot frame at (x0, y0) of size w x h with y ticks to y_max; the x axis
  * is drawn by the caller (ticks or category labels). */
 static void y_axis(struct strbuf *o, int x0, int y0, int w, int h, double y_max, double y_step,
@@ -118,10 +127,7 @@ static void tradeoff_panel(struct strbuf *o, int left, const struct chart_item *
     x_max = nice_axis(x_max, &x_step);
     y_max = nice_axis(y_max, &y_step);
 
-    strbuf_printf(o, "<text x=\"%d\" y=\"%d\" text-anchor=\"middle\" font-weight=\"bold\">", x0 + w / 2,
-                  TOP + 16);
-    strbuf_xml(o, err->name);
-    strbuf_printf(o, " against time</text>\n");
+    panel_title(o, x0, w, TOP + 16, err->name, " against time");
     char y_label[128], x_label[128];
     snprintf(y_label, sizeof y_label, "%s (%s, lower is better)", err->name, err->unit);
     snprintf(x_label, sizeof x_label, "%s (%s per frame, median)", time->name, time->unit);
@@ -142,8 +148,7 @@ static void tradeoff_panel(struct strbuf *o, int left, const struct chart_item *
     int m = chart_pareto(x, y, n, front);
     strbuf_printf(o, "<path class=\"pareto\" d=\"");
     for (int k = 0; k < m; k++)
-        strbuf_printf(o, k ? " H%.1f V%.1f" : "M%.1f %.1f", k ? PX(front[k]) : PX(front[k]),
-                      PY(front[k]));
+        strbuf_printf(o, k ? " H%.1f V%.1f" : "M%.1f %.1f", PX(front[k]), PY(front[k]));
     strbuf_printf(o, "\" fill=\"none\" stroke=\"#888\" stroke-width=\"1.5\" stroke-dasharray=\"5 3\"/>\n");
     for (int i = 0; i < n; i++) {
         strbuf_printf(o, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\" fill-opacity=\"0.85\" "
@@ -200,10 +205,7 @@ void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
         for (int i = 0; i < n; i++)
             max = fmax(max, drawable(s->values[i]));
         max = nice_axis(max, &step);
-        strbuf_printf(out, "<text x=\"%d\" y=\"%d\" text-anchor=\"middle\" font-weight=\"bold\">",
-                      x0 + w / 2, y0 - 12);
-        strbuf_xml(out, s->name);
-        strbuf_printf(out, "</text>\n");
+        panel_title(out, x0, w, y0 - 12, s->name, "");
         char label[128];
         snprintf(label, sizeof label, "%s (%s)", s->name, s->unit);
         y_axis(out, x0, y0, w, h, max, step, label);

@@ -20,7 +20,7 @@ struct chart_item {
 /* One axis quantity of a scatter panel, or one bar panel. */
 struct chart_series {
     const char *name;      /* e.g. "rmse" */
-    const char *unit;      /* e.g. "V", "ms", "share of scored pixels" */
+    const char *unit;      /* e.g. "visibility", "ms", "share of scored pixels" */
     const double *values;  /* one per item */
 };
 

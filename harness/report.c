@@ -140,15 +140,13 @@ static int scene_charts(const struct report *r, const char *scene, const char *d
         leak[i] = c[i]->m.leak_fraction, dark[i] = c[i]->m.dark_fraction;
     }
     const struct chart_series time = {"ms_total", "ms", ms};
-    const struct chart_series errors[] = {{"rmse", "visibility", rmse},
-                                          {"penumbra_rmse", "visibility", pen}};
-    const struct chart_series bars[] = {{"rmse", "visibility", rmse},
+    const struct chart_series bars[] = {{"rmse", "visibility", rmse},  /* the first two: errors */
                                         {"penumbra_rmse", "visibility", pen},
                                         {"leak_fraction", "share of scored pixels", leak},
                                         {"dark_fraction", "share of scored pixels", dark}};
     char *title = util_printf("%s: error against time per frame", scene), *sub = util_printf("timed on %s", device);
     struct strbuf svg = {0};
-    chart_tradeoff_svg(&svg, title, sub, items, n, &time, errors, 2);
+    chart_tradeoff_svg(&svg, title, sub, items, n, &time, bars, 2);
     char *name = util_printf("%s_tradeoff", scene);
     int rc = emit_chart(r, name, &svg, html);
     free(title), free(name);
@@ -249,6 +247,26 @@ static void url(struct strbuf *h, const char *s)
     }
 }
 
+/* id="scene-NAME" of a scene's section, and its link */
+static void scene_anchor(struct strbuf *h, const char *scene)
+{
+    strbuf_printf(h, "scene-");
+    url(h, scene);
+}
+
+/* <img src="SCENE[/CELL]/FILE"> that marks itself when it does not load */
+static void picture(struct strbuf *h, const char *scene, const char *cell, const char *file,
+                    const char *alt)
+{
+    strbuf_printf(h, "<img src=\"");
+    url(h, scene);
+    if (cell) {
+        strbuf_printf(h, "/");
+        url(h, cell);
+    }
+    strbuf_printf(h, "/%s\" alt=\"%s\" onerror=\"this.classList.add('missing')\">", file, alt);
+}
+
 /* front[i]: cell i is on its scene's Pareto front of rmse against ms_total. */
 static void pareto_flags(const struct report *r, bool *front)
 {
@@ -282,8 +300,8 @@ static void matrix_table(const struct report *r, struct strbuf *h)
         strbuf_printf(h, "<tr class=\"%s%s\"><td class=\"l\">", c->m.nonfinite ? "fail" : "",
                       front[i] ? " front" : "");
         strbuf_xml(h, c->scene);
-        strbuf_printf(h, "</td><td class=\"l c\"><a href=\"#scene-");
-        url(h, c->scene);
+        strbuf_printf(h, "</td><td class=\"l c\"><a href=\"#");
+        scene_anchor(h, c->scene);
         strbuf_printf(h, "\">");
         strbuf_xml(h, c->label);
         strbuf_printf(h, "</a></td>");
@@ -323,10 +341,9 @@ static void heatmap_legend(struct strbuf *h, int id)
 
 static void scene_grid(const struct report *r, const struct report_scene *sc, struct strbuf *h)
 {
-    strbuf_printf(h, "<div class=\"grid\">\n<figure><img src=\"");
-    url(h, sc->name);
-    strbuf_printf(h, "/groundtruth.png\" alt=\"ground truth\" onerror=\"this.classList.add('missing')\">"
-                     "<figcaption>ground truth V<sub>gt</sub> (%s; hatched: not scored)</figcaption>",
+    strbuf_printf(h, "<div class=\"grid\">\n<figure>");
+    picture(h, sc->name, NULL, "groundtruth.png", "ground truth");
+    strbuf_printf(h, "<figcaption>ground truth V<sub>gt</sub> (%s; hatched: not scored)</figcaption>",
                   sc->gt_cached ? "from the cache" : "ray traced for this run");
     heatmap_legend(h, (int)(sc - r->scenes));  /* each gradient needs an id of its own */
     strbuf_printf(h, "</figure>\n");
@@ -334,18 +351,12 @@ static void scene_grid(const struct report *r, const struct report_scene *sc, st
         const struct cell *c = &r->cells[i];
         if (strcmp(c->scene, sc->name) != 0)
             continue;
-        strbuf_printf(h, "<figure><img src=\"");
-        url(h, sc->name);
-        strbuf_printf(h, "/");
-        url(h, c->label);
-        strbuf_printf(h, "/visibility.png\" alt=\"visibility\" onerror=\"this.classList.add('missing')\">"
-                         "<div class=\"crop\" style=\"aspect-ratio:%d/%d\"><img src=\"", r->width,
-                      r->height);
-        url(h, sc->name);
-        strbuf_printf(h, "/");
-        url(h, c->label);
-        strbuf_printf(h, "/heatmap.png\" alt=\"error heatmap\" onerror=\"this.classList.add('missing')\">"
-                         "</div><figcaption><b>");
+        strbuf_printf(h, "<figure>");
+        picture(h, sc->name, c->label, "visibility.png", "visibility");
+        /* The heatmap without its own legend strip: the grid shares one. */
+        strbuf_printf(h, "<div class=\"crop\" style=\"aspect-ratio:%d/%d\">", r->width, r->height);
+        picture(h, sc->name, c->label, "heatmap.png", "error heatmap");
+        strbuf_printf(h, "</div><figcaption><b>");
         strbuf_xml(h, c->label);
         strbuf_printf(h, "</b><br>rmse %.4f, penumbra %.4f<br>leak %.4f, dark %.4f, %.2f ms"
                          "</figcaption></figure>\n", c->m.rmse, c->m.penumbra_rmse, c->m.leak_fraction,
@@ -369,8 +380,8 @@ static int write_html(const struct report *r)
     strbuf_xml(&h, device ? device : "unknown");
     strbuf_printf(&h, "</b>. Scenes:");
     for (int s = 0; s < r->scene_count; s++) {
-        strbuf_printf(&h, " <a href=\"#scene-");
-        url(&h, r->scenes[s].name);
+        strbuf_printf(&h, " <a href=\"#");
+        scene_anchor(&h, r->scenes[s].name);
         strbuf_printf(&h, "\">");
         strbuf_xml(&h, r->scenes[s].name);
         strbuf_printf(&h, "</a>");
@@ -385,8 +396,8 @@ static int write_html(const struct report *r)
     rc |= overall_chart(r, device, &h);
     for (int s = 0; s < r->scene_count; s++) {
         const struct report_scene *sc = &r->scenes[s];
-        strbuf_printf(&h, "<h2 id=\"scene-");
-        url(&h, sc->name);
+        strbuf_printf(&h, "<h2 id=\"");
+        scene_anchor(&h, sc->name);
         strbuf_printf(&h, "\">Scene ");
         strbuf_xml(&h, sc->name);
         strbuf_printf(&h, "</h2>\n<p>");
