@@ -7,10 +7,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Capacity for n + 1 elements, doubling. */
+/* The new capacity when an array of n elements is full (n a power of two,
+ * or 0): doubling; else 0, it has room. */
 static size_t grow(size_t n)
 {
-    return (n & (n - 1)) == 0 ? (n ? 2 * n : 64) : 0;
+    return (n & (n - 1)) == 0 ? (n ? 2 * n : 1) : 0;
 }
 
 uint32_t mesh_add_vertex(struct mesh_builder *m, struct vec3 p)
