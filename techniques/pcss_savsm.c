@@ -53,7 +53,7 @@ static const struct technique_param pcss_savsm_params[] = {
     {NULL},
 };
 
-static void pcss_savsm_request(const void *settings, const struct shadowmap_frustum *f,
+static void pcss_savsm_request(const void *settings, const struct light_frustum *f,
                                int map_size_texels, struct shadowmap_request *r)
 {
     const struct pcss_savsm_settings *s = settings;

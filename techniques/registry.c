@@ -32,7 +32,7 @@ const struct technique *technique_find(const char *name)
 }
 
 void technique_request(const struct technique *t, const void *settings,
-                       const struct shadowmap_frustum *f, int map_size_texels,
+                       const struct light_frustum *f, int map_size_texels,
                        struct shadowmap_request *r)
 {
     memset(r, 0, sizeof *r);

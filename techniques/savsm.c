@@ -47,7 +47,7 @@ static const struct technique_param savsm_params[] = {
     {NULL},
 };
 
-static void savsm_request(const void *settings, const struct shadowmap_frustum *f,
+static void savsm_request(const void *settings, const struct light_frustum *f,
                           int map_size_texels, struct shadowmap_request *r)
 {
     const struct savsm_settings *s = settings;

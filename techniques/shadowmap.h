@@ -5,33 +5,13 @@
 #ifndef SB_SHADOWMAP_H
 #define SB_SHADOWMAP_H
 
-#include "../harness/gl.h"
-#include "../harness/scene.h"
-#include "../harness/scene_mesh.h"
+#include "gl/gl.h"
+#include "gl/scene_mesh.h"
+#include "scene/light_frustum.h"
+#include "scene/scene.h"
 #include "technique.h"
 
 #include <stdbool.h>
-
-/* Widest half-angle of the light frustum: geometry beyond it is outside the
- * map (and unscored), as an engine's fixed-FOV spot shadow would be. */
-#define SHADOWMAP_MAX_HALF_ANGLE_DEG 75.0
-
-/* Perspective frustum from the light centre along the light's -Z, fitted to
- * the scene geometry in front of the light. */
-struct shadowmap_frustum {
-    struct mat4 view;             /* world -> light space */
-    struct mat4 view_proj;        /* world -> clip, reversed Z in [0, 1] */
-    float near_world, far_world;  /* planar depth range of the geometry */
-    float l, r, b, t;             /* window at the near plane, light space */
-    float light_size_uv[2];       /* light size in shadow-map UV at the near plane */
-};
-
-/* Fits f to s. Returns 0, or -1 after logging when nothing is in front of
- * the light. Pure math: the ground truth uses it for its mask. */
-int shadowmap_fit(const struct scene *s, struct shadowmap_frustum *f);
-
-/* Is the world point inside the frustum (and so covered by the map)? */
-bool shadowmap_inside(const struct shadowmap_frustum *f, struct vec3 p);
 
 /* std140 mirror of `uniform ShadowMapBlock` in shaders/shadow_block.glsl.
  * Keep in sync with it. */
@@ -65,7 +45,7 @@ struct shadowmap_desc {
 
 struct shadowmap {
     struct shadowmap_desc desc;       /* filled */
-    struct shadowmap_frustum frustum;
+    struct light_frustum frustum;
     struct shadowmap_block block;     /* as last uploaded to ubo */
     unsigned current;                 /* SM_* products valid for this light pose ... */
     struct shadowmap_request made;    /* ... rendered with these options */

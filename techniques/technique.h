@@ -39,7 +39,7 @@ struct shadowmap_request {
                                       reads; sets the fixed-point scale so no box sum overflows */
 };
 
-struct shadowmap_frustum;
+struct light_frustum;  /* scene/light_frustum.h */
 
 enum param_type {
     PARAM_FLOAT,  /* member is a float */
@@ -68,7 +68,7 @@ struct technique {
 
     /* Optional. The request for these settings; without it, .needs with
      * default options. f is the scene's light frustum. */
-    void (*request)(const void *settings, const struct shadowmap_frustum *f, int map_size_texels,
+    void (*request)(const void *settings, const struct light_frustum *f, int map_size_texels,
                     struct shadowmap_request *r);
     /* Optional. Rules across parameters that a range cannot state: returns
      * 0, or -1 with a one-line reason in why. */
@@ -77,7 +77,7 @@ struct technique {
 
 /* t's request for these settings (calls t->request, or uses t->needs). */
 void technique_request(const struct technique *t, const void *settings,
-                       const struct shadowmap_frustum *f, int map_size_texels,
+                       const struct light_frustum *f, int map_size_texels,
                        struct shadowmap_request *r);
 
 /* NULL-terminated, in registry order. */

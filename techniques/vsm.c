@@ -39,7 +39,7 @@ static const struct technique_param vsm_params[] = {
     {NULL},
 };
 
-static void vsm_request(const void *settings, const struct shadowmap_frustum *f,
+static void vsm_request(const void *settings, const struct light_frustum *f,
                         int map_size_texels, struct shadowmap_request *r)
 {
     (void)f, (void)map_size_texels;

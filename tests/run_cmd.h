@@ -3,7 +3,7 @@
 #ifndef SB_RUN_CMD_H
 #define SB_RUN_CMD_H
 
-#include "util.h"
+#include "base/util.h"
 
 #include <stdio.h>
 #include <stdlib.h>

@@ -10,11 +10,11 @@
  * Also: same seed -> same image; the error falls from N to 4N; the two-seed
  * noise-floor estimate matches the true error. */
 #include "check.h"
-#include "catalog.h"
-#include "groundtruth.h"
+#include "cli/catalog.h"
+#include "truth/groundtruth.h"
 #include "parallel_planes.h"
-#include "shadowmap.h"
-#include "util.h"
+#include "scene/light_frustum.h"
+#include "base/util.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -84,8 +84,8 @@ static void check_closed_form(bool disk)
     const char *shape = disk ? "disk" : "rect";
     char *path = catalog_resolve(disk ? "parallel_planes_disk" : "parallel_planes");
     struct scene s;
-    struct shadowmap_frustum f;
-    CHECK(scene_load(path, &s) == 0 && shadowmap_fit(&s, &f) == 0, "loading %s", path);
+    struct light_frustum f;
+    CHECK(scene_load(path, &s) == 0 && light_frustum_fit(&s, &f) == 0, "loading %s", path);
 
     struct gt_image lo, hi, lo2;
     gt_render(&s, &f, &(struct gt_desc){IMG, IMG, 256, 1}, &lo);
@@ -125,8 +125,8 @@ static void check_determinism(void)
     char *path = util_printf("%s/det.gltf", tmpdir);
     write_parallel_planes(path, LIGHT_W, false);
     struct scene s;
-    struct shadowmap_frustum f;
-    CHECK(scene_load(path, &s) == 0 && shadowmap_fit(&s, &f) == 0, "loading %s", path);
+    struct light_frustum f;
+    CHECK(scene_load(path, &s) == 0 && light_frustum_fit(&s, &f) == 0, "loading %s", path);
     struct gt_image a, b, c;
     gt_render(&s, &f, &(struct gt_desc){64, 48, 64, 7}, &a);
     gt_render(&s, &f, &(struct gt_desc){64, 48, 64, 7}, &b);

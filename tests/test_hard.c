@@ -5,7 +5,7 @@
  * ground truth's edge: a shadow-map texel here is about one screen pixel, so
  * the comparison can flip at most the pixels the edge's texels cover. */
 #include "check.h"
-#include "image.h"
+#include "base/image.h"
 #include "parallel_planes.h"
 #include "run_cmd.h"
 

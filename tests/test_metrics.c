@@ -2,7 +2,7 @@
  * answers are known by hand. Tolerances are float rounding (1e-6): every
  * expected value below is exact arithmetic on a few pixels. */
 #include "check.h"
-#include "metrics.h"
+#include "score/metrics.h"
 
 #include <string.h>
 

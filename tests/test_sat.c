@@ -9,14 +9,14 @@
  *     from the table (as sat.glsl reads them) orders fp32 > fp32_centered >=
  *     int32. */
 #include "check.h"
-#include "gl_context.h"
+#include "gl/gl_context.h"
 #include "check.h"
 #include "gltf_writer.h"
 #include "run_cmd.h"
-#include "scene.h"
-#include "scene_mesh.h"
-#include "shader.h"
-#include "shadowmap.h"
+#include "scene/scene.h"
+#include "gl/scene_mesh.h"
+#include "gl/shader.h"
+#include "techniques/shadowmap.h"
 
 #include <math.h>
 #include <stdint.h>

@@ -11,7 +11,7 @@
  *   - every technique on every shipped scene: no NaN or Inf. */
 #include "check.h"
 #include "run_cmd.h"
-#include "technique.h"
+#include "techniques/technique.h"
 
 #include <cjson/cJSON.h>
 #include <string.h>

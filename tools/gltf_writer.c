@@ -1,6 +1,6 @@
 #include "gltf_writer.h"
-#include "log.h"
-#include "util.h"
+#include "base/log.h"
+#include "base/util.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>

@@ -5,7 +5,7 @@
 #ifndef SB_GLTF_WRITER_H
 #define SB_GLTF_WRITER_H
 
-#include "vecmath.h"
+#include "scene/vecmath.h"
 
 #include <stddef.h>
 #include <stdint.h>

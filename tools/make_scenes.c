@@ -1,7 +1,7 @@
 /* Writes every shipped scene (tools/scene_library.c) into a folder.
  * Usage: make_scenes <scenes folder>. The stanford_bunny scene reads its mesh
  * from Debian's glmark2-data package (tools/setup installs it). */
-#include "log.h"
+#include "base/log.h"
 #include "scene_library.h"
 
 #include <stdio.h>

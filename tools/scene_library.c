@@ -3,8 +3,8 @@
  * the comment above each builder says what it shows and why the geometry is
  * what it is. */
 #include "scene_library.h"
-#include "log.h"
-#include "util.h"
+#include "base/log.h"
+#include "base/util.h"
 
 #include <errno.h>
 #include <math.h>

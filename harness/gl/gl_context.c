@@ -1,6 +1,6 @@
 #include "gl_context.h"
 #include "gl.h"
-#include "log.h"
+#include "base/log.h"
 
 /* osmesa.h includes GL/gl.h, whose prototypes would clash with gl.h's
  * renaming macros; glcorearb.h (through gl.h) already has every type it

@@ -1,14 +1,14 @@
 /* shadowbench: measures real-time shadow techniques against a ray-traced
  * area-light ground truth. This file is the command line only. */
-#include "../techniques/technique.h"
+#include "techniques/technique.h"
 #include "bench.h"
 #include "catalog.h"
-#include "log.h"
-#include "params.h"
+#include "base/log.h"
+#include "techniques/params.h"
 #include "run.h"
-#include "scene.h"
+#include "scene/scene.h"
 #include "sweep.h"
-#include "util.h"
+#include "base/util.h"
 
 #include <errno.h>
 #include <getopt.h>

@@ -1,8 +1,8 @@
 #include "receiver.h"
-#include "log.h"
-#include "params.h"
-#include "shader.h"
-#include "util.h"
+#include "base/log.h"
+#include "techniques/params.h"
+#include "gl/shader.h"
+#include "base/util.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -2,7 +2,7 @@
 #ifndef SB_RUN_H
 #define SB_RUN_H
 
-#include "../techniques/technique.h"
+#include "techniques/technique.h"
 
 /* Exit statuses (DESIGN.md §10). */
 enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_USAGE = 2 };

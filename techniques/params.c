@@ -1,5 +1,5 @@
 #include "params.h"
-#include "log.h"
+#include "base/log.h"
 
 #include <ctype.h>
 #include <errno.h>

@@ -1,5 +1,5 @@
 #include "gl.h"
-#include "log.h"
+#include "base/log.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -6,7 +6,7 @@
 #ifndef SB_CHART_H
 #define SB_CHART_H
 
-#include "util.h"
+#include "base/util.h"
 
 #include <stdbool.h>
 

@@ -16,9 +16,9 @@
 #include <vector>
 
 extern "C" {
-#include "log.h"
+#include "base/log.h"
 #include "scene.h"
-#include "util.h"
+#include "base/util.h"
 }
 
 namespace {

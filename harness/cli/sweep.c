@@ -1,7 +1,7 @@
 #include "sweep.h"
-#include "log.h"
-#include "params.h"
-#include "util.h"
+#include "base/log.h"
+#include "techniques/params.h"
+#include "base/util.h"
 
 #include <stdio.h>
 #include <stdlib.h>

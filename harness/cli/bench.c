@@ -1,12 +1,12 @@
 #include "bench.h"
 #include "catalog.h"
-#include "gl_context.h"
-#include "log.h"
-#include "params.h"
-#include "receiver.h"
-#include "shader.h"
-#include "stage_timer.h"
-#include "util.h"
+#include "gl/gl_context.h"
+#include "base/log.h"
+#include "techniques/params.h"
+#include "render/receiver.h"
+#include "gl/shader.h"
+#include "render/stage_timer.h"
+#include "base/util.h"
 
 #include <stdbool.h>
 #include <stdio.h>

@@ -3,19 +3,19 @@
  * receiver pass per technique, scored and written out (DESIGN.md §2, §8). */
 #include "run.h"
 #include "catalog.h"
-#include "gl_context.h"
-#include "groundtruth.h"
-#include "image.h"
-#include "log.h"
-#include "metrics.h"
-#include "params.h"
-#include "picture.h"
-#include "receiver.h"
-#include "report.h"
-#include "scene_mesh.h"
-#include "shader.h"
-#include "stage_timer.h"
-#include "util.h"
+#include "gl/gl_context.h"
+#include "truth/groundtruth.h"
+#include "base/image.h"
+#include "base/log.h"
+#include "score/metrics.h"
+#include "techniques/params.h"
+#include "output/picture.h"
+#include "render/receiver.h"
+#include "output/report.h"
+#include "gl/scene_mesh.h"
+#include "gl/shader.h"
+#include "render/stage_timer.h"
+#include "base/util.h"
 
 #include <OpenEXR/openexr.h>
 #include <embree3/rtcore.h>
@@ -307,8 +307,8 @@ int run_main(const struct run_options *given)
         goto out_free_scenes;
     }
     for (int s = 0; s < scene_count; s++) {
-        struct shadowmap_frustum f;
-        if (shadowmap_fit(&scenes[s], &f) != 0) {
+        struct light_frustum f;
+        if (light_frustum_fit(&scenes[s], &f) != 0) {
             status = EXIT_USAGE;
             goto out_free_scenes;
         }
@@ -390,8 +390,8 @@ int run_gt(const struct run_options *given)
         return EXIT_USAGE;
     int rc = scene_load(path, &s);
     free(path);
-    struct shadowmap_frustum f;
-    if (rc != 0 || shadowmap_fit(&s, &f) != 0) {
+    struct light_frustum f;
+    if (rc != 0 || light_frustum_fit(&s, &f) != 0) {
         scene_free(&s);
         return EXIT_USAGE;
     }

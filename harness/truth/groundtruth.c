@@ -11,9 +11,9 @@
  * tiles; the 16 pixels of a tile visit the same stratum together, so their
  * rays are coherent. */
 #include "groundtruth.h"
-#include "image.h"
-#include "log.h"
-#include "util.h"
+#include "base/image.h"
+#include "base/log.h"
+#include "base/util.h"
 
 #include <embree3/rtcore.h>
 
@@ -97,7 +97,7 @@ static void on_embree_error(void *user, enum RTCError code, const char *what)
 
 struct tracer {
     const struct scene *scene;
-    const struct shadowmap_frustum *frustum;
+    const struct light_frustum *frustum;
     struct gt_desc desc;
     RTCScene rtc;
     float eps;
@@ -168,7 +168,7 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
             ox[i] = o.x, oy[i] = o.y, oz[i] = o.z;
             nx[i] = n.x, ny[i] = n.y, nz[i] = n.z;
             lane_seed[i] = hash32((uint32_t)pixel[i] ^ hash32(tr->desc.seed));
-            live[i] = shadowmap_inside(tr->frustum, p);
+            live[i] = light_frustum_inside(tr->frustum, p);
         }
         /* Fields that stay the same for every stratum. */
         ray.org_x[i] = ox[i], ray.org_y[i] = oy[i], ray.org_z[i] = oz[i];
@@ -270,7 +270,7 @@ static void progress(double start_ms, long long done, long long total, long long
             final ? "\n" : "");
 }
 
-int gt_render(const struct scene *s, const struct shadowmap_frustum *f, const struct gt_desc *d,
+int gt_render(const struct scene *s, const struct light_frustum *f, const struct gt_desc *d,
               struct gt_image *out)
 {
     struct tracer tr = {.scene = s, .frustum = f, .desc = *d};
@@ -359,7 +359,7 @@ double gt_rms_difference(const float *a, const float *b, const float *mask, int 
     return n ? sqrt(sum / (double)n) : 0.0;
 }
 
-static char *cache_path(const char *dir, const struct scene *s, const struct shadowmap_frustum *f,
+static char *cache_path(const char *dir, const struct scene *s, const struct light_frustum *f,
                         const struct gt_desc *d)
 {
     const int version = GT_VERSION;
@@ -370,7 +370,7 @@ static char *cache_path(const char *dir, const struct scene *s, const struct sha
     return util_printf("%s/%s-%016llx.exr", dir, s->name, (unsigned long long)h);
 }
 
-int gt_obtain(const struct scene *s, const struct shadowmap_frustum *f, const struct gt_desc *desc,
+int gt_obtain(const struct scene *s, const struct light_frustum *f, const struct gt_desc *desc,
               const char *cache_dir, struct gt_image *out)
 {
     struct gt_desc d = *desc;

@@ -1,5 +1,5 @@
 #include "stage_timer.h"
-#include "util.h"
+#include "base/util.h"
 
 struct job {
     struct stage_timer *t;

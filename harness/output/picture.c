@@ -1,6 +1,6 @@
 #include "picture.h"
-#include "image.h"
-#include "util.h"
+#include "base/image.h"
+#include "base/util.h"
 
 #include <math.h>
 #include <stdio.h>

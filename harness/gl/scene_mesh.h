@@ -4,7 +4,7 @@
 #define SB_SCENE_MESH_H
 
 #include "gl.h"
-#include "scene.h"
+#include "scene/scene.h"
 
 struct scene_mesh {
     GLuint vao, positions, normals, indices;

@@ -6,7 +6,7 @@
 #ifndef SB_STAGE_TIMER_H
 #define SB_STAGE_TIMER_H
 
-#include "../techniques/shadowmap.h"
+#include "techniques/shadowmap.h"
 #include "receiver.h"
 
 #define STAGE_TIMER_MAX_PRODUCTS 96

@@ -1,8 +1,7 @@
 #include "report.h"
 #include "chart.h"
 #include "picture.h"
-#include "run.h"
-#include "util.h"
+#include "base/util.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -83,20 +82,6 @@ static int write_matrix(const struct report *r)
 
 /* ---- charts ------------------------------------------------------------- */
 
-/* The run's distinct configurations (by label, first-seen order). */
-static int configs_of(const struct report *r, const struct cell **first)
-{
-    int n = 0;
-    for (int i = 0; i < r->cell_count; i++) {
-        int k = 0;
-        while (k < n && strcmp(first[k]->label, r->cells[i].label) != 0)
-            k++;
-        if (k == n)
-            first[n++] = &r->cells[i];
-    }
-    return n;
-}
-
 static int technique_index(const struct technique *t)
 {
     int i = 0;
@@ -122,69 +107,92 @@ static int emit_chart(const struct report *r, const char *name, struct strbuf *s
     return rc ? -1 : 0;
 }
 
+/* What the charts plot: a point or bar per item (a cell, or a configuration's
+ * mean over the scenes). Arrays of r->cell_count, the most there can be. */
+struct chart_points {
+    int n;
+    struct chart_item *items;
+    double *ms, *rmse, *pen, *leak, *dark;
+    int *count;
+};
+
+static void points_alloc(struct chart_points *p, int capacity)
+{
+    size_t n = (size_t)capacity;
+    *p = (struct chart_points){.items = xcalloc(n, sizeof *p->items), .ms = xcalloc(n, sizeof(double)),
+                               .rmse = xcalloc(n, sizeof(double)), .pen = xcalloc(n, sizeof(double)),
+                               .leak = xcalloc(n, sizeof(double)), .dark = xcalloc(n, sizeof(double)),
+                               .count = xcalloc(n, sizeof(int))};
+}
+
+static void points_free(struct chart_points *p)
+{
+    free(p->items), free(p->ms), free(p->rmse), free(p->pen), free(p->leak), free(p->dark);
+    free(p->count);
+}
+
 /* Per scene: error against time, and the four failure metrics as bars. */
 static int scene_charts(const struct report *r, const char *scene, const char *device,
                         struct strbuf *html)
 {
-    const struct cell *c[RUN_MAX_CONFIGS];
-    int n = 0;
-    for (int i = 0; i < r->cell_count && n < RUN_MAX_CONFIGS; i++)
-        if (strcmp(r->cells[i].scene, scene) == 0)
-            c[n++] = &r->cells[i];
-    struct chart_item items[RUN_MAX_CONFIGS];
-    double ms[RUN_MAX_CONFIGS], rmse[RUN_MAX_CONFIGS], pen[RUN_MAX_CONFIGS],
-        leak[RUN_MAX_CONFIGS], dark[RUN_MAX_CONFIGS];
-    for (int i = 0; i < n; i++) {
-        items[i] = item_of(c[i]);
-        ms[i] = c[i]->m.ms_total, rmse[i] = c[i]->m.rmse, pen[i] = c[i]->m.penumbra_rmse;
-        leak[i] = c[i]->m.leak_fraction, dark[i] = c[i]->m.dark_fraction;
+    struct chart_points p;
+    points_alloc(&p, r->cell_count);
+    for (int i = 0; i < r->cell_count; i++) {
+        const struct cell *c = &r->cells[i];
+        if (strcmp(c->scene, scene) != 0)
+            continue;
+        p.items[p.n] = item_of(c);
+        p.ms[p.n] = c->m.ms_total, p.rmse[p.n] = c->m.rmse, p.pen[p.n] = c->m.penumbra_rmse;
+        p.leak[p.n] = c->m.leak_fraction, p.dark[p.n] = c->m.dark_fraction;
+        p.n++;
     }
-    const struct chart_series time = {"ms_total", "ms", ms};
-    const struct chart_series bars[] = {{"rmse", "visibility", rmse},  /* the first two: errors */
-                                        {"penumbra_rmse", "visibility", pen},
-                                        {"leak_fraction", "share of scored pixels", leak},
-                                        {"dark_fraction", "share of scored pixels", dark}};
+    const struct chart_series time = {"ms_total", "ms", p.ms};
+    const struct chart_series bars[] = {{"rmse", "visibility", p.rmse},  /* the first two: errors */
+                                        {"penumbra_rmse", "visibility", p.pen},
+                                        {"leak_fraction", "share of scored pixels", p.leak},
+                                        {"dark_fraction", "share of scored pixels", p.dark}};
     char *title = util_printf("%s: error against time per frame", scene), *sub = util_printf("timed on %s", device);
     struct strbuf svg = {0};
-    chart_tradeoff_svg(&svg, title, sub, items, n, &time, bars, 2);
+    chart_tradeoff_svg(&svg, title, sub, p.items, p.n, &time, bars, 2);
     char *name = util_printf("%s_tradeoff", scene);
     int rc = emit_chart(r, name, &svg, html);
     free(title), free(name);
     title = util_printf("%s: error and failure metrics per technique", scene);
-    chart_bars_svg(&svg, title, sub, items, n, bars, 4);
+    chart_bars_svg(&svg, title, sub, p.items, p.n, bars, 4);
     name = util_printf("%s_metrics", scene);
     rc |= emit_chart(r, name, &svg, html);
     free(title), free(name), free(sub);
+    points_free(&p);
     return rc ? -1 : 0;
 }
 
-/* Over all scenes: each configuration's mean error and mean time. */
+/* Over all scenes: each configuration's (by label, first-seen order) mean
+ * error and mean time. */
 static int overall_chart(const struct report *r, const char *device, struct strbuf *html)
 {
-    const struct cell *first[RUN_MAX_CONFIGS];
-    int n = configs_of(r, first);
-    struct chart_item items[RUN_MAX_CONFIGS];
-    double ms[RUN_MAX_CONFIGS] = {0}, rmse[RUN_MAX_CONFIGS] = {0}, pen[RUN_MAX_CONFIGS] = {0};
-    int count[RUN_MAX_CONFIGS] = {0};
+    struct chart_points p;
+    points_alloc(&p, r->cell_count);
     for (int i = 0; i < r->cell_count; i++) {
+        const struct cell *c = &r->cells[i];
         int k = 0;
-        while (strcmp(first[k]->label, r->cells[i].label) != 0)
+        while (k < p.n && strcmp(p.items[k].label, c->label) != 0)
             k++;
-        ms[k] += r->cells[i].m.ms_total, rmse[k] += r->cells[i].m.rmse;
-        pen[k] += r->cells[i].m.penumbra_rmse, count[k]++;
+        if (k == p.n)
+            p.items[p.n++] = item_of(c);
+        p.ms[k] += c->m.ms_total, p.rmse[k] += c->m.rmse, p.pen[k] += c->m.penumbra_rmse;
+        p.count[k]++;
     }
-    for (int k = 0; k < n; k++) {
-        items[k] = item_of(first[k]);
-        ms[k] /= count[k], rmse[k] /= count[k], pen[k] /= count[k];
-    }
-    const struct chart_series time = {"mean ms_total", "ms", ms};
-    const struct chart_series errors[] = {{"mean rmse", "visibility", rmse},
-                                          {"mean penumbra_rmse", "visibility", pen}};
+    for (int k = 0; k < p.n; k++)
+        p.ms[k] /= p.count[k], p.rmse[k] /= p.count[k], p.pen[k] /= p.count[k];
+    const struct chart_series time = {"mean ms_total", "ms", p.ms};
+    const struct chart_series errors[] = {{"mean rmse", "visibility", p.rmse},
+                                          {"mean penumbra_rmse", "visibility", p.pen}};
     char *title = util_printf("All %d scenes: mean error against mean time per frame", r->scene_count);
     char *sub = util_printf("timed on %s; each point one technique configuration", device);
     struct strbuf svg = {0};
-    chart_tradeoff_svg(&svg, title, sub, items, n, &time, errors, 2);
+    chart_tradeoff_svg(&svg, title, sub, p.items, p.n, &time, errors, 2);
     free(title), free(sub);
+    points_free(&p);
     return emit_chart(r, "overall_tradeoff", &svg, html);
 }
 

@@ -4,8 +4,8 @@
 #ifndef SB_PARAMS_H
 #define SB_PARAMS_H
 
-#include "../techniques/technique.h"
-#include "util.h"
+#include "technique.h"
+#include "base/util.h"
 
 #include <cjson/cJSON.h>
 #include <stdio.h>

@@ -1,6 +1,6 @@
 #include "catalog.h"
-#include "log.h"
-#include "util.h"
+#include "base/log.h"
+#include "base/util.h"
 
 #include <dirent.h>
 #include <stdlib.h>

@@ -3,8 +3,8 @@
 #ifndef SB_GROUNDTRUTH_H
 #define SB_GROUNDTRUTH_H
 
-#include "../techniques/shadowmap.h"
-#include "scene.h"
+#include "scene/light_frustum.h"
+#include "scene/scene.h"
 
 #include <stdbool.h>
 #include <stdint.h>
@@ -40,14 +40,14 @@ void gt_desc_defaults(struct gt_desc *d);
 
 /* Renders on all cores, with progress on stderr when it is a terminal.
  * Returns 0 or -1 (logged). */
-int gt_render(const struct scene *s, const struct shadowmap_frustum *f, const struct gt_desc *d,
+int gt_render(const struct scene *s, const struct light_frustum *f, const struct gt_desc *d,
               struct gt_image *out);
 
 /* The ground truth of a run: read from cache_dir when an entry with the same
  * key exists (scene hash, size, N, seed, frustum, GT_VERSION), else rendered
  * twice (seed and seed + 1, the second for the noise floor) and stored there.
  * cache_dir NULL: no cache. Returns 0 or -1 (logged). */
-int gt_obtain(const struct scene *s, const struct shadowmap_frustum *f, const struct gt_desc *d,
+int gt_obtain(const struct scene *s, const struct light_frustum *f, const struct gt_desc *d,
               const char *cache_dir, struct gt_image *out);
 
 void gt_image_free(struct gt_image *g);

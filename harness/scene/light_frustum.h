@@ -1,0 +1,33 @@
+/* The light's frustum (DESIGN.md §5): the perspective projection of the
+ * shadow map, fitted to the scene. Pure math, no GL: the ground truth uses it
+ * for its mask, the shadow-map layer for its projection, techniques for the
+ * sizes they derive from the light. */
+#ifndef SB_LIGHT_FRUSTUM_H
+#define SB_LIGHT_FRUSTUM_H
+
+#include "scene.h"
+
+#include <stdbool.h>
+
+/* Widest half-angle of the light frustum: geometry beyond it is outside the
+ * map (and unscored), as an engine's fixed-FOV spot shadow would be. */
+#define LIGHT_FRUSTUM_MAX_HALF_ANGLE_DEG 75.0
+
+/* Perspective frustum from the light centre along the light's -Z, fitted to
+ * the scene geometry in front of the light. */
+struct light_frustum {
+    struct mat4 view;             /* world -> light space */
+    struct mat4 view_proj;        /* world -> clip, reversed Z in [0, 1] */
+    float near_world, far_world;  /* planar depth range of the geometry */
+    float l, r, b, t;             /* window at the near plane, light space */
+    float light_size_uv[2];       /* light size in shadow-map UV at the near plane */
+};
+
+/* Fits f to s. Returns 0, or -1 after logging when nothing is in front of
+ * the light. */
+int light_frustum_fit(const struct scene *s, struct light_frustum *f);
+
+/* Is the world point inside the frustum (and so covered by the map)? */
+bool light_frustum_inside(const struct light_frustum *f, struct vec3 p);
+
+#endif
