@@ -11,7 +11,6 @@ layout(std140, binding = 0) uniform ShadowMapBlock {
     float near_world;         // planar depth range of the geometry (world units)
     float far_world;
     float map_size_texels;
-    int pad0;
     int sat_format;           // SM_SAT_* of the current summed-area table
     float sat_scale;          // SM_SAT_INT32: fixed-point units per 1.0 of depth
     float sat_max_box_texels; // SM_SAT_INT32: boxes are clipped to this side (no overflow)

@@ -25,13 +25,12 @@ struct shadowmap_block {
     float near_window_world[2];   /* r - l, t - b */
     float near_world, far_world;  /* planar depth range */
     float map_size_texels;
-    int pad0;
     int sat_format;               /* enum sat_format of the current SAT */
     float sat_scale;              /* SAT_INT32: fixed-point units per 1.0 of depth */
     float sat_max_box_texels;     /* SAT_INT32: widest box whose sums fit in 32 bits */
-    float pad[3];
 };
-_Static_assert(sizeof(struct shadowmap_block) == 224, "std140 layout of ShadowMapBlock");
+/* std140: scalars pack at 4 bytes, the block ends on a 16-byte boundary. */
+_Static_assert(sizeof(struct shadowmap_block) == 208, "std140 layout of ShadowMapBlock");
 _Static_assert(offsetof(struct shadowmap_block, light_size_uv) == 160, "std140 layout");
 _Static_assert(offsetof(struct shadowmap_block, near_world) == 184, "std140 layout");
 

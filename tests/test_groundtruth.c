@@ -149,6 +149,7 @@ int main(void)
     check_closed_form(false);
     check_closed_form(true);
     check_determinism();
+    gt_shutdown();
     rmdir(tmpdir);
     return check_finish();
 }

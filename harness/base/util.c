@@ -155,7 +155,8 @@ bool util_file_exists(const char *path)
     return stat(path, &st) == 0 && S_ISREG(st.st_mode);
 }
 
-const char *util_exe_dir(void)
+/* Directory part of the running executable's path (from /proc/self/exe). */
+static const char *exe_dir(void)
 {
     static char dir[4096];
     if (dir[0])
@@ -270,8 +271,8 @@ const char *util_find_dir(const char *override, const char *env, const char *sub
     if (given && *given)
         candidates[n++] = xstrdup(given);
     else {
-        candidates[n++] = util_printf("%s/%s", util_exe_dir(), sub);
-        candidates[n++] = util_printf("%s/../share/shadowbench/%s", util_exe_dir(), sub);
+        candidates[n++] = util_printf("%s/%s", exe_dir(), sub);
+        candidates[n++] = util_printf("%s/../share/shadowbench/%s", exe_dir(), sub);
         candidates[n++] = util_printf("%s/%s", SB_SOURCE_DIR, sub);
     }
     const char *result = NULL;

@@ -25,9 +25,6 @@ bool util_dir_writable(const char *dir);
 
 bool util_file_exists(const char *path);
 
-/* Directory part of the running executable's path (from /proc/self/exe). */
-const char *util_exe_dir(void);
-
 /* FNV-1a, 64 bit: a cache key, not a cryptographic hash. */
 #define UTIL_HASH_INIT 0xcbf29ce484222325ull
 uint64_t util_hash(uint64_t h, const void *data, size_t size);

@@ -6,6 +6,7 @@
 #include "base/log.h"
 #include "techniques/params.h"
 #include "run.h"
+#include "truth/groundtruth.h"
 #include "scene/scene.h"
 #include "sweep.h"
 #include "base/util.h"
@@ -398,5 +399,6 @@ int main(int argc, char **argv)
     for (int i = 0; i < RUN_MAX_TECHNIQUES; i++)
         free(o.settings[i]);
     sweep_free(&o);
+    gt_shutdown();
     return status;
 }

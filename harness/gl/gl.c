@@ -4,7 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define X(type, name) type sb_##name;
+#define X(type, name) GL_ENTRY_POINT type name;
 GL_FUNCS(X)
 #undef X
 
@@ -12,8 +12,8 @@ bool gl_load(gl_proc (*getproc)(const char *name))
 {
     bool ok = true;
 #define X(type, name)                                              \
-    sb_##name = (type)getproc(#name);                              \
-    if (!sb_##name) {                                              \
+    name = (type)getproc(#name);                                   \
+    if (!name) {                                                   \
         log_error("OpenGL: %s is not available from this driver", #name); \
         ok = false;                                                \
     }

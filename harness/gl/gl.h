@@ -1,7 +1,8 @@
 /* The GL 4.5 core entry points shadowbench uses, loaded at run time through
  * a getproc function (OSMesaGetProcAddress headless, glfwGetProcAddress in
  * the viewer): libOSMesa does not export every 4.5 function, so nothing is
- * linked directly. Add a function here, once, to use it anywhere. */
+ * linked directly. Adding a function is one line in GL_FUNCS; gl_load()
+ * refuses to start when one is missing, so list only what is called. */
 #ifndef SB_GL_H
 #define SB_GL_H
 
@@ -11,21 +12,14 @@
 
 #define GL_FUNCS(X) \
     X(PFNGLGETSTRINGPROC, glGetString) \
-    X(PFNGLGETSTRINGIPROC, glGetStringi) \
-    X(PFNGLGETINTEGERVPROC, glGetIntegerv) \
-    X(PFNGLGETERRORPROC, glGetError) \
     X(PFNGLENABLEPROC, glEnable) \
-    X(PFNGLDISABLEPROC, glDisable) \
     X(PFNGLVIEWPORTPROC, glViewport) \
-    X(PFNGLCLEARPROC, glClear) \
     X(PFNGLCLEARBUFFERFVPROC, glClearBufferfv) \
     X(PFNGLDEPTHFUNCPROC, glDepthFunc) \
     X(PFNGLCLIPCONTROLPROC, glClipControl) \
     X(PFNGLFINISHPROC, glFinish) \
-    X(PFNGLFLUSHPROC, glFlush) \
     X(PFNGLREADPIXELSPROC, glReadPixels) \
     X(PFNGLPIXELSTOREIPROC, glPixelStorei) \
-    X(PFNGLPOLYGONOFFSETPROC, glPolygonOffset) \
     X(PFNGLGENTEXTURESPROC, glGenTextures) \
     X(PFNGLDELETETEXTURESPROC, glDeleteTextures) \
     X(PFNGLBINDTEXTUREPROC, glBindTexture) \
@@ -33,7 +27,6 @@
     X(PFNGLTEXPARAMETERIPROC, glTexParameteri) \
     X(PFNGLTEXPARAMETERFVPROC, glTexParameterfv) \
     X(PFNGLBINDTEXTUREUNITPROC, glBindTextureUnit) \
-    X(PFNGLACTIVETEXTUREPROC, glActiveTexture) \
     X(PFNGLGETTEXIMAGEPROC, glGetTexImage) \
     X(PFNGLGENERATEMIPMAPPROC, glGenerateMipmap) \
     X(PFNGLGENFRAMEBUFFERSPROC, glGenFramebuffers) \
@@ -72,20 +65,13 @@
     X(PFNGLUSEPROGRAMPROC, glUseProgram) \
     X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation) \
     X(PFNGLUNIFORM1IPROC, glUniform1i) \
-    X(PFNGLUNIFORM1FPROC, glUniform1f) \
-    X(PFNGLUNIFORM2FPROC, glUniform2f) \
     X(PFNGLUNIFORM3FPROC, glUniform3f) \
-    X(PFNGLUNIFORM4FPROC, glUniform4f) \
     X(PFNGLUNIFORMMATRIX4FVPROC, glUniformMatrix4fv) \
-    X(PFNGLGETUNIFORMBLOCKINDEXPROC, glGetUniformBlockIndex) \
-    X(PFNGLUNIFORMBLOCKBINDINGPROC, glUniformBlockBinding) \
     X(PFNGLDEBUGMESSAGECALLBACKPROC, glDebugMessageCallback) \
     X(PFNGLDEBUGMESSAGECONTROLPROC, glDebugMessageControl) \
     X(PFNGLOBJECTLABELPROC, glObjectLabel) \
     X(PFNGLDISPATCHCOMPUTEPROC, glDispatchCompute) \
     X(PFNGLMEMORYBARRIERPROC, glMemoryBarrier) \
-    X(PFNGLBINDIMAGETEXTUREPROC, glBindImageTexture) \
-    X(PFNGLCOPYIMAGESUBDATAPROC, glCopyImageSubData) \
     X(PFNGLGENSAMPLERSPROC, glGenSamplers) \
     X(PFNGLDELETESAMPLERSPROC, glDeleteSamplers) \
     X(PFNGLBINDSAMPLERPROC, glBindSampler) \
@@ -94,94 +80,15 @@
     X(PFNGLUNIFORM2IPROC, glUniform2i) \
     X(PFNGLUNIFORM1FVPROC, glUniform1fv)
 
-#define X(type, name) extern type sb_##name;
+/* Each entry point is a pointer with the function's own name, so code calls
+ * glFoo(...) as written. glcorearb.h declares no prototypes (that takes
+ * GL_GLEXT_PROTOTYPES), so these are the only declarations; hidden
+ * visibility keeps the pointers out of the dynamic symbol table, where they
+ * would interpose the functions the driver itself exports under those names. */
+#define GL_ENTRY_POINT __attribute__((visibility("hidden")))
+#define X(type, name) extern GL_ENTRY_POINT type name;
 GL_FUNCS(X)
 #undef X
-
-/* Code calls glFoo(...) as usual; it resolves to the loaded pointer. */
-#define glGetString sb_glGetString
-#define glGetStringi sb_glGetStringi
-#define glGetIntegerv sb_glGetIntegerv
-#define glGetError sb_glGetError
-#define glEnable sb_glEnable
-#define glDisable sb_glDisable
-#define glViewport sb_glViewport
-#define glClear sb_glClear
-#define glClearBufferfv sb_glClearBufferfv
-#define glDepthFunc sb_glDepthFunc
-#define glClipControl sb_glClipControl
-#define glFinish sb_glFinish
-#define glFlush sb_glFlush
-#define glReadPixels sb_glReadPixels
-#define glPixelStorei sb_glPixelStorei
-#define glPolygonOffset sb_glPolygonOffset
-#define glGenTextures sb_glGenTextures
-#define glDeleteTextures sb_glDeleteTextures
-#define glBindTexture sb_glBindTexture
-#define glTexStorage2D sb_glTexStorage2D
-#define glTexParameteri sb_glTexParameteri
-#define glTexParameterfv sb_glTexParameterfv
-#define glBindTextureUnit sb_glBindTextureUnit
-#define glActiveTexture sb_glActiveTexture
-#define glGetTexImage sb_glGetTexImage
-#define glGenerateMipmap sb_glGenerateMipmap
-#define glGenFramebuffers sb_glGenFramebuffers
-#define glDeleteFramebuffers sb_glDeleteFramebuffers
-#define glBindFramebuffer sb_glBindFramebuffer
-#define glFramebufferTexture2D sb_glFramebufferTexture2D
-#define glCheckFramebufferStatus sb_glCheckFramebufferStatus
-#define glDrawBuffers sb_glDrawBuffers
-#define glReadBuffer sb_glReadBuffer
-#define glGenBuffers sb_glGenBuffers
-#define glDeleteBuffers sb_glDeleteBuffers
-#define glBindBuffer sb_glBindBuffer
-#define glBufferData sb_glBufferData
-#define glBufferSubData sb_glBufferSubData
-#define glBindBufferBase sb_glBindBufferBase
-#define glGetBufferSubData sb_glGetBufferSubData
-#define glGenVertexArrays sb_glGenVertexArrays
-#define glDeleteVertexArrays sb_glDeleteVertexArrays
-#define glBindVertexArray sb_glBindVertexArray
-#define glVertexAttribPointer sb_glVertexAttribPointer
-#define glEnableVertexAttribArray sb_glEnableVertexAttribArray
-#define glDrawElements sb_glDrawElements
-#define glDrawArrays sb_glDrawArrays
-#define glCreateShader sb_glCreateShader
-#define glShaderSource sb_glShaderSource
-#define glCompileShader sb_glCompileShader
-#define glGetShaderiv sb_glGetShaderiv
-#define glGetShaderInfoLog sb_glGetShaderInfoLog
-#define glDeleteShader sb_glDeleteShader
-#define glCreateProgram sb_glCreateProgram
-#define glAttachShader sb_glAttachShader
-#define glLinkProgram sb_glLinkProgram
-#define glGetProgramiv sb_glGetProgramiv
-#define glGetProgramInfoLog sb_glGetProgramInfoLog
-#define glDeleteProgram sb_glDeleteProgram
-#define glUseProgram sb_glUseProgram
-#define glGetUniformLocation sb_glGetUniformLocation
-#define glUniform1i sb_glUniform1i
-#define glUniform1f sb_glUniform1f
-#define glUniform2f sb_glUniform2f
-#define glUniform3f sb_glUniform3f
-#define glUniform4f sb_glUniform4f
-#define glUniformMatrix4fv sb_glUniformMatrix4fv
-#define glGetUniformBlockIndex sb_glGetUniformBlockIndex
-#define glUniformBlockBinding sb_glUniformBlockBinding
-#define glDebugMessageCallback sb_glDebugMessageCallback
-#define glDebugMessageControl sb_glDebugMessageControl
-#define glObjectLabel sb_glObjectLabel
-#define glDispatchCompute sb_glDispatchCompute
-#define glMemoryBarrier sb_glMemoryBarrier
-#define glBindImageTexture sb_glBindImageTexture
-#define glCopyImageSubData sb_glCopyImageSubData
-#define glGenSamplers sb_glGenSamplers
-#define glDeleteSamplers sb_glDeleteSamplers
-#define glBindSampler sb_glBindSampler
-#define glSamplerParameteri sb_glSamplerParameteri
-#define glSamplerParameterfv sb_glSamplerParameterfv
-#define glUniform2i sb_glUniform2i
-#define glUniform1fv sb_glUniform1fv
 
 typedef void (*gl_proc)(void);
 

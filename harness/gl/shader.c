@@ -14,8 +14,6 @@ int shader_init(const char *override)
     return dir ? 0 : -1;
 }
 
-const char *shader_dir(void) { return dir; }
-
 /* Files of one composed source: GLSL `#line L N` can only carry a number N,
  * so N indexes this table and errors are mapped back through it. */
 #define MAX_FILES 16

@@ -9,7 +9,6 @@
 /* Where shaders are read from: `dir` if non-NULL, else $SHADOWBENCH_SHADERS,
  * next to the executable, the source tree. Returns 0 or -1 (logged). */
 int shader_init(const char *dir);
-const char *shader_dir(void);
 
 /* One stage is composed from up to three files, in order (the first has
  * the #version line): e.g. the receiver pass is receiver.frag followed by the

@@ -20,8 +20,9 @@ long metrics_score_mask(const float *gt_mask, const float *gt_distance, const fl
     return mismatch;
 }
 
-void metrics_penumbra_mask(const float *v_gt, const float *scored, int width, int height,
-                           unsigned char *band)
+/* Penumbra band of V_gt dilated by METRICS_PENUMBRA_DILATE, within scored. */
+static void penumbra_mask(const float *v_gt, const float *scored, int width, int height,
+                          unsigned char *band)
 {
     const int r = METRICS_PENUMBRA_DILATE;
     size_t count = (size_t)width * (size_t)height;
@@ -61,7 +62,7 @@ void metrics_compute(const float *v_tech, const float *v_gt, const float *v_gt_a
 {
     size_t count = (size_t)width * (size_t)height;
     unsigned char *band = xmalloc(count);
-    metrics_penumbra_mask(v_gt, scored, width, height, band);
+    penumbra_mask(v_gt, scored, width, height, band);
     float *abs_err = xmalloc(count * sizeof(float));
 
     double sum2 = 0, sum_abs = 0, sum = 0, max_abs = 0, pen2 = 0, noise2 = 0, pen_noise2 = 0;

@@ -44,10 +44,6 @@ void metrics_compute(const float *v_tech, const float *v_gt, const float *v_gt_a
                      const float *scored, const float *gl_distance, int width, int height,
                      struct metrics *m);
 
-/* Penumbra band of V_gt dilated by METRICS_PENUMBRA_DILATE, within scored. */
-void metrics_penumbra_mask(const float *v_gt, const float *scored, int width, int height,
-                           unsigned char *band);
-
 cJSON *metrics_json(const struct metrics *m);
 
 #endif

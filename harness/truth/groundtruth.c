@@ -28,7 +28,7 @@
 
 #define TILE 4
 
-void gt_desc_defaults(struct gt_desc *d)
+static void desc_defaults(struct gt_desc *d)
 {
     if (!d->width)
         d->width = 512;
@@ -93,6 +93,29 @@ static void on_embree_error(void *user, enum RTCError code, const char *what)
 {
     (void)user;
     log_error("Embree error %d: %s", (int)code, what ? what : "");
+}
+
+/* One Embree device per process, its error callback installed once
+ * (STYLE.md item 10): made on first use, released by gt_shutdown(). */
+static RTCDevice device;
+
+static RTCDevice embree_device(void)
+{
+    if (device)
+        return device;
+    device = rtcNewDevice(NULL);
+    if (!device)
+        log_error("Embree: cannot create a device (error %d)", (int)rtcGetDeviceError(NULL));
+    else
+        rtcSetDeviceErrorFunction(device, on_embree_error, NULL);
+    return device;
+}
+
+void gt_shutdown(void)
+{
+    if (device)
+        rtcReleaseDevice(device);
+    device = NULL;
 }
 
 struct tracer {
@@ -274,7 +297,7 @@ int gt_render(const struct scene *s, const struct light_frustum *f, const struct
               struct gt_image *out)
 {
     struct tracer tr = {.scene = s, .frustum = f, .desc = *d};
-    gt_desc_defaults(&tr.desc);
+    desc_defaults(&tr.desc);
     tr.strata = (int)lround(sqrt((double)tr.desc.samples));
     if (tr.strata * tr.strata != tr.desc.samples) {
         log_error("ground truth: %d samples is not a square n*n", tr.desc.samples);
@@ -282,17 +305,9 @@ int gt_render(const struct scene *s, const struct light_frustum *f, const struct
     }
     tr.eps = GT_OFFSET_SCALE * scene_extent(s);
 
-    RTCDevice dev = rtcNewDevice(NULL);
-    if (!dev) {
-        log_error("Embree: cannot create a device (error %d)", (int)rtcGetDeviceError(NULL));
+    RTCDevice dev = embree_device();
+    if (!dev || !(tr.rtc = build_scene(dev, s)))
         return -1;
-    }
-    rtcSetDeviceErrorFunction(dev, on_embree_error, NULL);
-    tr.rtc = build_scene(dev, s);
-    if (!tr.rtc) {
-        rtcReleaseDevice(dev);
-        return -1;
-    }
 
     const int w = tr.desc.width, h = tr.desc.height;
     memset(out, 0, sizeof *out);
@@ -332,7 +347,6 @@ int gt_render(const struct scene *s, const struct light_frustum *f, const struct
     out->shadow_rays = atomic_load(&rays);
     out->mrays_per_second = out->seconds > 0 ? (double)out->shadow_rays / out->seconds * 1e-6 : 0;
     rtcReleaseScene(tr.rtc);
-    rtcReleaseDevice(dev);
     return 0;
 }
 
@@ -374,7 +388,7 @@ int gt_obtain(const struct scene *s, const struct light_frustum *f, const struct
               const char *cache_dir, struct gt_image *out)
 {
     struct gt_desc d = *desc;
-    gt_desc_defaults(&d);
+    desc_defaults(&d);
     char *path = cache_dir ? cache_path(cache_dir, s, f, &d) : NULL;
     memset(out, 0, sizeof *out);
     if (path) {

@@ -36,8 +36,6 @@ struct gt_image {
     long long shadow_rays;
 };
 
-void gt_desc_defaults(struct gt_desc *d);
-
 /* Renders on all cores, with progress on stderr when it is a terminal.
  * Returns 0 or -1 (logged). */
 int gt_render(const struct scene *s, const struct light_frustum *f, const struct gt_desc *d,
@@ -51,6 +49,9 @@ int gt_obtain(const struct scene *s, const struct light_frustum *f, const struct
               const char *cache_dir, struct gt_image *out);
 
 void gt_image_free(struct gt_image *g);
+
+/* Releases the process's Embree device (made by the first gt_render). */
+void gt_shutdown(void);
 
 /* Mean of (a - b)^2 over mask, as an RMS: for two independent seeds,
  * rms/sqrt(2) estimates one image's own error (the noise floor). */
