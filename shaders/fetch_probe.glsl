@@ -1,9 +1,9 @@
 // Not a technique: the texture-fetch probe of `shadowbench bench`. It does
-// FETCH_PROBE_FIRST + FETCH_PROBE_SECOND nearest fetches of the depth map per
+// FETCH_PROBE_FIRST_TAPS + FETCH_PROBE_SECOND_TAPS nearest fetches of the depth map per
 // pixel (two groups, as PCSS's blocker search and filter), spread like
 // their taps, with the least arithmetic that keeps them alive: the receiver
 // pass's time with it is the fetch limit a PCF-family technique is held to.
-#include "shadow_common.glsl"
+#include "shadow_taps.glsl"
 
 float shadow_visibility(ShadowInput s)
 {
@@ -11,7 +11,7 @@ float shadow_visibility(ShadowInput s)
     float sum = 0.0;
 #define PROBE_TAP(i) sum += textureLod(sm_depth, s.uv + sample_disk[i] * radius_uv, 0.0).r;
 #define PROBE_TAP_2(i) sum += textureLod(sm_depth, s.uv - sample_disk[i] * radius_uv, 0.0).r;
-    SM_UNROLL(FETCH_PROBE_FIRST, PROBE_TAP)
-    SM_UNROLL(FETCH_PROBE_SECOND, PROBE_TAP_2)
-    return sum / float(FETCH_PROBE_FIRST + FETCH_PROBE_SECOND);
+    SM_UNROLL(FETCH_PROBE_FIRST_TAPS, PROBE_TAP)
+    SM_UNROLL(FETCH_PROBE_SECOND_TAPS, PROBE_TAP_2)
+    return sum / float(FETCH_PROBE_FIRST_TAPS + FETCH_PROBE_SECOND_TAPS);
 }

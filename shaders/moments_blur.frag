@@ -7,13 +7,12 @@
 // VSM filterable (Donnelly and Lauritzen 2006).
 #include "depth.glsl"
 
-layout(binding = 0) uniform sampler2D source;  // depth map, or moments
+layout(binding = 0) uniform sampler2D source;  // this pass's input: depth map, or moments
 layout(location = 0) out vec2 out_moments;
 
-#define BLUR_MAX_RADIUS 32
-uniform ivec2 u_direction;                     // (1, 0) or (0, 1)
-uniform int u_radius;                          // 0..BLUR_MAX_RADIUS
-uniform float u_weights[BLUR_MAX_RADIUS + 1];  // by |offset|
+uniform ivec2 u_direction;                        // (1, 0) or (0, 1)
+uniform int u_radius;                             // 0..SM_MAX_BLUR_RADIUS
+uniform float u_weights[SM_MAX_BLUR_RADIUS + 1];  // by |offset|
 
 vec2 moments_at(ivec2 p)
 {

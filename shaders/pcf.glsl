@@ -1,5 +1,5 @@
 // pcf: fixed-kernel percentage-closer filtering (see techniques/pcf.c).
-#include "shadow_common.glsl"
+#include "shadow_taps.glsl"
 
 float shadow_visibility(ShadowInput s)
 {

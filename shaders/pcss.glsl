@@ -1,5 +1,6 @@
 // pcss: blocker search -> penumbra -> PCF (see techniques/pcss.c).
-#include "shadow_common.glsl"
+#include "shadow_taps.glsl"
+#include "pcss_geometry.glsl"
 
 float shadow_visibility(ShadowInput s)
 {

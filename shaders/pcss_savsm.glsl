@@ -1,5 +1,6 @@
 // pcss_savsm: PCSS with the SAT's moments (see techniques/pcss_savsm.c).
 #include "shadow_common.glsl"
+#include "pcss_geometry.glsl"
 #include "chebyshev.glsl"
 #include "sat.glsl"
 

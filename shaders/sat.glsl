@@ -3,7 +3,7 @@
 // values, whatever the box's size.
 #include "shadow_common.glsl"
 
-layout(std430, binding = 0) readonly buffer SatBuffer { uvec2 sat[]; };
+layout(std430, binding = SM_BINDING_MOMENTS_SAT) readonly buffer SatBuffer { uvec2 sat[]; };
 
 uvec2 sat_at(int x, int y)
 {

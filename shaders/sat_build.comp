@@ -19,8 +19,8 @@
 #include "depth.glsl"
 
 layout(local_size_x = 64) in;
-layout(binding = 0) uniform sampler2D depth_map;
-layout(std430, binding = 0) buffer SatBuffer { uvec2 sat[]; };
+layout(binding = SM_BINDING_DEPTH) uniform sampler2D depth_map;
+layout(std430, binding = SM_BINDING_MOMENTS_SAT) buffer SatBuffer { uvec2 sat[]; };
 
 void main()
 {

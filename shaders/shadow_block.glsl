@@ -1,6 +1,8 @@
 // The shadow-map layer's uniform block. Mirrored by struct shadowmap_block
-// in techniques/shadowmap.h: keep in sync (std140, binding 0).
-layout(std140, binding = 0) uniform ShadowMapBlock {
+// in techniques/shadowmap.h: keep in sync (std140). SM_BINDING_* and the
+// enums' values (SM_LIGHT_*, SM_SAT_*) are #defines the layer prepends from
+// C (shadowmap_shader_defines).
+layout(std140, binding = SM_BINDING_BLOCK) uniform ShadowMapBlock {
     mat4 light_view_proj;     // world -> light clip, reversed Z in [0, 1]
     mat4 light_view;          // world -> light space (light looks along -Z)
     vec4 light_pos_world;     // xyz: light centre
@@ -15,9 +17,3 @@ layout(std140, binding = 0) uniform ShadowMapBlock {
     float sat_scale;          // SM_SAT_INT32: fixed-point units per 1.0 of depth
     float sat_max_box_texels; // SM_SAT_INT32: boxes are clipped to this side (no overflow)
 } sm;
-
-#define SM_LIGHT_RECT 0  // values of SM_LIGHT_SHAPE (see shadow_common.glsl)
-#define SM_LIGHT_DISK 1
-#define SM_SAT_FP32 0
-#define SM_SAT_FP32_CENTERED 1
-#define SM_SAT_INT32 2

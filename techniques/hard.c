@@ -16,7 +16,7 @@
  * shadowing stripes) when the bias is too small, peter-panning (shadows
  * detached from their casters) when it is too large, and a hard edge where
  * the truth has a penumbra. */
-#include "technique.h"
+#include "param_rows.h"
 
 struct hard_settings {
     float constant_bias;  /* linear depth units, [0, 0.1] */
@@ -24,10 +24,8 @@ struct hard_settings {
 };
 
 static const struct technique_param hard_params[] = {
-    {"constant_bias", "constant depth offset, linear shadow-map depth units (1 = near..far)",
-     offsetof(struct hard_settings, constant_bias), PARAM_FLOAT, 0.0005, 0.0, 0.1, NULL},
-    {"slope_bias", "slope-scaled offset, in texels of the receiver's depth slope",
-     offsetof(struct hard_settings, slope_bias), PARAM_FLOAT, 1.0, 0.0, 16.0, NULL},
+    PARAM_ROW_CONSTANT_BIAS(struct hard_settings),
+    PARAM_ROW_SLOPE_BIAS(struct hard_settings),
     {NULL},
 };
 

@@ -11,11 +11,36 @@
 #define MEMBER(settings, p, type) ((type *)((char *)(settings) + (p)->offset))
 #define CMEMBER(settings, p, type) ((const type *)((const char *)(settings) + (p)->offset))
 
-/* "a, b, c" (or "a|b|c") from a NULL-terminated list. */
-static void join(const char *const *items, const char *sep, struct strbuf *out)
+/* The choices of a PARAM_TAPS parameter, from TAP_COUNTS. */
+static const char *const tap_count_names[] = {
+#define X(n) #n,
+    TAP_COUNTS(X)
+#undef X
+    NULL,
+};
+
+static bool is_tap_count(int n)
 {
-    for (int k = 0; items[k]; k++)
-        strbuf_printf(out, "%s%s", k ? sep : "", items[k]);
+#define X(count) if (n == count) return true;
+    TAP_COUNTS(X)
+#undef X
+    return false;
+}
+
+/* The values a parameter must be one of (its choices), or NULL for a range. */
+static const char *const *choices(const struct technique_param *p)
+{
+    return p->type == PARAM_TAPS ? tap_count_names : p->type == PARAM_ENUM ? p->choices : NULL;
+}
+
+/* Logs "<technique>.<name>: <shown> is not one of: a, b, c"; returns -1. */
+static int not_one_of(const struct technique *t, const struct technique_param *p, const char *shown)
+{
+    struct strbuf known = {0};
+    strbuf_join(&known, choices(p), ", ");
+    log_error("%s.%s: %s is not one of: %s", t->name, p->name, shown, known.data);
+    strbuf_free(&known);
+    return -1;
 }
 
 static const struct technique_param *find(const struct technique *t, const char *name)
@@ -58,7 +83,8 @@ static void format_value(const struct technique_param *p, double v, char *buf, s
         break;
     case PARAM_BOOL: snprintf(buf, n, "%s", v != 0 ? "true" : "false"); break;
     case PARAM_ENUM: snprintf(buf, n, "%s", p->choices[(int)v]); break;
-    case PARAM_INT: snprintf(buf, n, "%d", (int)v); break;
+    case PARAM_INT:
+    case PARAM_TAPS: snprintf(buf, n, "%d", (int)v); break;
     }
 }
 
@@ -68,7 +94,7 @@ int params_set(const struct technique *t, void *settings, const char *name, cons
     if (!p) {
         struct strbuf known = {0};
         for (const struct technique_param *q = t->params; q->name; q++)
-            strbuf_printf(&known, "%s%s", q == t->params ? "" : ", ", q->name);
+            strbuf_list_printf(&known, ", ", "%s", q->name);
         log_error("%s.%s: unknown parameter (%s has: %s)", t->name, name, t->name,
                   known.data ? known.data : "none");
         strbuf_free(&known);
@@ -86,24 +112,15 @@ int params_set(const struct technique *t, void *settings, const char *name, cons
         }
         break;
     case PARAM_INT:
+    case PARAM_TAPS:
         errno = 0;
         v = (double)strtol(value, &end, 10);
         if (!*value || *end || errno) {
             log_error("%s.%s: '%s' is not a whole number", t->name, name, value);
             return -1;
         }
-        if (p->choices) {
-            int i = 0;
-            while (p->choices[i] && atoi(p->choices[i]) != (int)v)
-                i++;
-            if (!p->choices[i]) {
-                struct strbuf known = {0};
-                join(p->choices, ", ", &known);
-                log_error("%s.%s: %s is not one of: %s", t->name, name, value, known.data);
-                strbuf_free(&known);
-                return -1;
-            }
-        }
+        if (p->type == PARAM_TAPS && !is_tap_count((int)v))
+            return not_one_of(t, p, value);
         break;
     case PARAM_BOOL:
         if (!strcasecmp(value, "true") || !strcmp(value, "1") || !strcasecmp(value, "on"))
@@ -120,17 +137,16 @@ int params_set(const struct technique *t, void *settings, const char *name, cons
         while (p->choices[i] && strcmp(p->choices[i], value) != 0)
             i++;
         if (!p->choices[i]) {
-            struct strbuf known = {0};
-            join(p->choices, ", ", &known);
-            log_error("%s.%s: '%s' is not one of: %s", t->name, name, value, known.data);
-            strbuf_free(&known);
+            char *quoted = util_printf("'%s'", value);
+            not_one_of(t, p, quoted);
+            free(quoted);
             return -1;
         }
         v = i;
         break;
     }
     }
-    if (v < p->min || v > p->max) {
+    if ((p->type == PARAM_FLOAT || p->type == PARAM_INT) && (v < p->min || v > p->max)) {
         char lo[64], hi[64];
         format_value(p, p->min, lo, sizeof lo);
         format_value(p, p->max, hi, sizeof hi);
@@ -141,13 +157,16 @@ int params_set(const struct technique *t, void *settings, const char *name, cons
     return 0;
 }
 
-int params_get(const struct technique *t, const void *settings, const char *name, double *value)
+int params_taps(const struct technique *t, const void *settings, int *taps, int max)
 {
-    const struct technique_param *p = find(t, name);
-    if (!p)
-        return -1;
-    *value = get(p, settings);
-    return 0;
+    int n = 0;
+    for (const struct technique_param *p = t->params; p->name; p++)
+        if (p->type == PARAM_TAPS) {
+            if (n < max)
+                taps[n] = (int)get(p, settings);
+            n++;
+        }
+    return n;
 }
 
 int params_check(const struct technique *t, const void *settings)
@@ -200,7 +219,8 @@ cJSON *params_json(const struct technique *t, const void *settings)
             cJSON_AddNumberToObject(o, p->name, strtod(buf, NULL));
             break;
         }
-        case PARAM_INT: cJSON_AddNumberToObject(o, p->name, v); break;
+        case PARAM_INT:
+        case PARAM_TAPS: cJSON_AddNumberToObject(o, p->name, v); break;
         case PARAM_BOOL: cJSON_AddBoolToObject(o, p->name, v != 0); break;
         case PARAM_ENUM: cJSON_AddStringToObject(o, p->name, p->choices[(int)v]); break;
         }
@@ -223,19 +243,22 @@ void params_summary(const struct technique *t, const void *settings, struct strb
     for (const struct technique_param *p = t->params; p->name; p++) {
         char buf[64];
         format_value(p, get(p, settings), buf, sizeof buf);
-        strbuf_printf(out, "%s%s=%s", p == t->params ? "" : " ", p->name, buf);
+        strbuf_list_printf(out, " ", "%s=%s", p->name, buf);
     }
 }
 
 void params_print(const struct technique *t, FILE *f)
 {
-    static const char *const type_name[] = {"float", "int", "bool", "enum"};
+    static const char *const type_name[] = {
+        [PARAM_FLOAT] = "float", [PARAM_INT] = "int", [PARAM_BOOL] = "bool",
+        [PARAM_ENUM] = "enum", [PARAM_TAPS] = "int",
+    };
     for (const struct technique_param *p = t->params; p->name; p++) {
         char def[64], lo[64], hi[64];
         format_value(p, p->def, def, sizeof def);
-        if (p->choices) {
+        if (choices(p)) {
             struct strbuf c = {0};
-            join(p->choices, "|", &c);
+            strbuf_join(&c, choices(p), "|");
             fprintf(f, "    %-16s %-5s default %-10s one of %s\n", p->name, type_name[p->type], def,
                     c.data);
             strbuf_free(&c);

@@ -17,9 +17,9 @@ void *params_defaults(const struct technique *t);
  * "<technique>.<name>: <problem>" (unknown name, bad value, out of range). */
 int params_set(const struct technique *t, void *settings, const char *name, const char *value);
 
-/* The value of parameter `name` (enums: the choice's index). Returns 0, or
- * -1 when t has no such parameter (not logged). */
-int params_get(const struct technique *t, const void *settings, const char *name, double *value);
+/* The values of t's PARAM_TAPS parameters (its loops of depth-map fetches),
+ * in table order, into taps[0..max-1]; returns how many t has (0: none). */
+int params_taps(const struct technique *t, const void *settings, int *taps, int max);
 
 /* Applies the technique's rules across parameters (technique.check).
  * Returns 0, or -1 after logging "<technique>: <reason>". */

@@ -28,14 +28,17 @@
  * (grid) or are noisy (poisson); without the receiver plane, a kernel wider
  * than the bias covers self-shadows sloped receivers (acne); the plane is
  * wrong across curved receivers and at their silhouettes. */
-#include "technique.h"
+#include "param_rows.h"
 
+#include "base/util.h"
+
+#include <stdbool.h>
 #include <stdio.h>
 
 struct pcf_settings {
     float radius_texels;      /* [0, 64] */
     int pattern;              /* PCF_GRID, PCF_POISSON */
-    int samples;              /* 16, 25, 32, 64, 100, 128 */
+    int samples;              /* TAP_COUNTS */
     int hardware_2x2;         /* bool */
     int receiver_plane_bias;  /* bool */
     float constant_bias;      /* linear depth units, [0, 0.1] */
@@ -44,38 +47,48 @@ struct pcf_settings {
 
 enum { PCF_GRID, PCF_POISSON };
 static const char *const pcf_patterns[] = {"grid", "poisson", NULL};
-static const char *const pcf_sample_counts[] = {"16", "25", "32", "64", "100", "128", NULL};
 
 static const struct technique_param pcf_params[] = {
     {"radius_texels", "kernel radius, shadow-map texels",
      offsetof(struct pcf_settings, radius_texels), PARAM_FLOAT, 2.0, 0.0, 64.0, NULL},
     {"pattern", "tap layout: grid (n x n) or poisson (disk, rotated per pixel)",
-     offsetof(struct pcf_settings, pattern), PARAM_ENUM, PCF_POISSON, 0, 1, pcf_patterns},
-    {"samples", "taps per pixel (grid: 16, 25, 64 or 100)",
-     offsetof(struct pcf_settings, samples), PARAM_INT, 32, 16, 128, pcf_sample_counts},
+     offsetof(struct pcf_settings, pattern), PARAM_ENUM, PCF_POISSON, 0, 0, pcf_patterns},
+    {"samples", "taps per pixel (grid: a square count)",
+     offsetof(struct pcf_settings, samples), PARAM_TAPS, 32, 0, 0, NULL},
     {"hardware_2x2", "each tap a bilinear 2x2 hardware comparison (sampler2DShadow)",
      offsetof(struct pcf_settings, hardware_2x2), PARAM_BOOL, 0, 0, 1, NULL},
-    {"receiver_plane_bias", "compare against the receiver's plane at each tap",
-     offsetof(struct pcf_settings, receiver_plane_bias), PARAM_BOOL, 1, 0, 1, NULL},
-    {"constant_bias", "constant depth offset, linear shadow-map depth units (1 = near..far)",
-     offsetof(struct pcf_settings, constant_bias), PARAM_FLOAT, 0.0005, 0.0, 0.1, NULL},
-    {"slope_bias", "without receiver_plane_bias: offset in texels of the receiver's depth slope",
-     offsetof(struct pcf_settings, slope_bias), PARAM_FLOAT, 1.0, 0.0, 16.0, NULL},
+    PARAM_ROW_RECEIVER_PLANE_BIAS(struct pcf_settings),
+    PARAM_ROW_CONSTANT_BIAS(struct pcf_settings),
+    PARAM_ROW_SLOPE_BIAS(struct pcf_settings),
     {NULL},
 };
+
+static bool is_square(int n)
+{
+    int side = 1;
+    while (side * side < n)
+        side++;
+    return side * side == n;
+}
 
 static int pcf_check(const void *settings, char *why, size_t why_size)
 {
     const struct pcf_settings *s = settings;
-    int side = 1;
-    while (side * side < s->samples)
-        side++;
-    if (s->pattern == PCF_GRID && side * side != s->samples) {
-        snprintf(why, why_size, "pattern=grid needs a square sample count (16, 25, 64 or 100), "
-                 "not %d", s->samples);
-        return -1;
-    }
-    return 0;
+    if (s->pattern != PCF_GRID || is_square(s->samples))
+        return 0;
+    static const int counts[] = {
+#define X(n) n,
+        TAP_COUNTS(X)
+#undef X
+    };
+    struct strbuf squares = {0};
+    for (size_t i = 0; i < ARRAY_SIZE(counts); i++)
+        if (is_square(counts[i]))
+            strbuf_list_printf(&squares, ", ", "%d", counts[i]);
+    snprintf(why, why_size, "pattern=grid needs a square sample count (%s), not %d", squares.data,
+             s->samples);
+    strbuf_free(&squares);
+    return -1;
 }
 
 const struct technique technique_pcf = {

@@ -27,32 +27,26 @@
  * when a small blocker falls between search taps); the search region grows
  * with the light and the receiver's distance, so a fixed tap count
  * undersamples large lights; cost grows with both tap counts. */
-#include "technique.h"
+#include "param_rows.h"
 
 struct pcss_settings {
-    int blocker_samples;      /* 16, 25, 32, 64, 100, 128 */
-    int filter_samples;       /* 16, 25, 32, 64, 100, 128 */
+    int blocker_samples;      /* TAP_COUNTS */
+    int filter_samples;       /* TAP_COUNTS */
     float light_size_scale;   /* [0.01, 10] */
     int receiver_plane_bias;  /* bool */
     float constant_bias;      /* linear depth units, [0, 0.1] */
     float slope_bias;         /* texels of depth slope, [0, 16] */
 };
 
-static const char *const pcss_sample_counts[] = {"16", "25", "32", "64", "100", "128", NULL};
-
 static const struct technique_param pcss_params[] = {
     {"blocker_samples", "taps of the blocker search",
-     offsetof(struct pcss_settings, blocker_samples), PARAM_INT, 32, 16, 128, pcss_sample_counts},
+     offsetof(struct pcss_settings, blocker_samples), PARAM_TAPS, 32, 0, 0, NULL},
     {"filter_samples", "taps of the PCF over the estimated penumbra",
-     offsetof(struct pcss_settings, filter_samples), PARAM_INT, 32, 16, 128, pcss_sample_counts},
-    {"light_size_scale", "multiplies the scene's light size (1 = the true light)",
-     offsetof(struct pcss_settings, light_size_scale), PARAM_FLOAT, 1.0, 0.01, 10.0, NULL},
-    {"receiver_plane_bias", "compare against the receiver's plane at each tap",
-     offsetof(struct pcss_settings, receiver_plane_bias), PARAM_BOOL, 1, 0, 1, NULL},
-    {"constant_bias", "constant depth offset, linear shadow-map depth units (1 = near..far)",
-     offsetof(struct pcss_settings, constant_bias), PARAM_FLOAT, 0.0005, 0.0, 0.1, NULL},
-    {"slope_bias", "without receiver_plane_bias: offset in texels of the receiver's depth slope",
-     offsetof(struct pcss_settings, slope_bias), PARAM_FLOAT, 1.0, 0.0, 16.0, NULL},
+     offsetof(struct pcss_settings, filter_samples), PARAM_TAPS, 32, 0, 0, NULL},
+    PARAM_ROW_LIGHT_SIZE_SCALE(struct pcss_settings),
+    PARAM_ROW_RECEIVER_PLANE_BIAS(struct pcss_settings),
+    PARAM_ROW_CONSTANT_BIAS(struct pcss_settings),
+    PARAM_ROW_SLOPE_BIAS(struct pcss_settings),
     {NULL},
 };
 

@@ -25,8 +25,8 @@
  * wrong z_occ where the search box holds more than two depths (a sloped or
  * curved receiver, overlapping blockers), which sets a wrong penumbra width;
  * box-shaped kernels; SAT precision as savsm. */
-#include "technique.h"
-#include "shadowmap.h"
+#include "param_rows.h"
+#include "scene/light_frustum.h"
 
 #include <math.h>
 
@@ -39,17 +39,12 @@ struct pcss_savsm_settings {
 };
 
 static const struct technique_param pcss_savsm_params[] = {
-    {"sat_format", "summed-area table precision: fp32, fp32_centered (sums of d - 0.5), int32 (exact)",
-     offsetof(struct pcss_savsm_settings, sat_format), PARAM_ENUM, SAT_INT32, 0, 2,
-     sat_format_names},
-    {"light_size_scale", "multiplies the scene's light size (1 = the true light)",
-     offsetof(struct pcss_savsm_settings, light_size_scale), PARAM_FLOAT, 1.0, 0.01, 10.0, NULL},
-    {"min_variance", "floor on the variance, linear depth units squared",
-     offsetof(struct pcss_savsm_settings, min_variance), PARAM_FLOAT, 1e-5, 0.0, 0.01, NULL},
+    PARAM_ROW_SAT_FORMAT(struct pcss_savsm_settings),
+    PARAM_ROW_LIGHT_SIZE_SCALE(struct pcss_savsm_settings),
+    PARAM_ROW_MIN_VARIANCE(struct pcss_savsm_settings),
     {"min_blocker_fraction", "estimated blocked share of the search box below which it is lit",
      offsetof(struct pcss_savsm_settings, min_blocker_fraction), PARAM_FLOAT, 0.001, 0.0, 0.5, NULL},
-    {"bleed_reduction", "light-bleeding reduction on the final bound (0 = off)",
-     offsetof(struct pcss_savsm_settings, bleed_reduction), PARAM_FLOAT, 0.0, 0.0, 0.99, NULL},
+    PARAM_ROW_BLEED_REDUCTION(struct pcss_savsm_settings),
     {NULL},
 };
 
@@ -57,10 +52,10 @@ static void pcss_savsm_request(const void *settings, const struct light_frustum 
                                int map_size_texels, struct shadowmap_request *r)
 {
     const struct pcss_savsm_settings *s = settings;
-    r->sat_format = (enum sat_format)s->sat_format;
+    r->moments_sat.format = (enum sat_format)s->sat_format;
     /* The widest box is the search box of a receiver on the far plane. */
     float size_uv = fmaxf(f->light_size_uv[0], f->light_size_uv[1]) * s->light_size_scale;
-    r->sat_max_box_texels = size_uv * (1.0f - f->near_world / f->far_world) * (float)map_size_texels;
+    r->moments_sat.max_box_texels = size_uv * (1.0f - f->near_world / f->far_world) * (float)map_size_texels;
 }
 
 const struct technique technique_pcss_savsm = {

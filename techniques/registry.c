@@ -21,7 +21,12 @@ const struct technique *const technique_list[] = {
     NULL,
 };
 
-const char *const sat_format_names[] = {"fp32", "fp32_centered", "int32", NULL};
+const char *const sat_format_names[] = {
+#define X(id, name) name,
+    SAT_FORMATS(X)
+#undef X
+    NULL,
+};
 
 const struct technique *technique_find(const char *name)
 {

@@ -24,7 +24,7 @@
  * of large, rounded numbers — worst far from the map's origin and for depths
  * far from 0 (centring helps, int32 is exact); the variance, a difference of
  * two rounded moments, suffers most. Box kernels look boxy. */
-#include "technique.h"
+#include "param_rows.h"
 
 struct savsm_settings {
     float box_width_texels;  /* [1, 1024] */
@@ -38,12 +38,9 @@ struct savsm_settings {
 static const struct technique_param savsm_params[] = {
     {"box_width_texels", "side of the filter box, shadow-map texels",
      offsetof(struct savsm_settings, box_width_texels), PARAM_FLOAT, 5.0, 1.0, 1024.0, NULL},
-    {"sat_format", "summed-area table precision: fp32, fp32_centered (sums of d - 0.5), int32 (exact)",
-     offsetof(struct savsm_settings, sat_format), PARAM_ENUM, SAT_INT32, 0, 2, sat_format_names},
-    {"min_variance", "floor on the variance, linear depth units squared",
-     offsetof(struct savsm_settings, min_variance), PARAM_FLOAT, 1e-5, 0.0, 0.01, NULL},
-    {"bleed_reduction", "light-bleeding reduction: p_max below this becomes 0 (0 = off)",
-     offsetof(struct savsm_settings, bleed_reduction), PARAM_FLOAT, 0.0, 0.0, 0.99, NULL},
+    PARAM_ROW_SAT_FORMAT(struct savsm_settings),
+    PARAM_ROW_MIN_VARIANCE(struct savsm_settings),
+    PARAM_ROW_BLEED_REDUCTION(struct savsm_settings),
     {NULL},
 };
 
@@ -51,14 +48,13 @@ static void savsm_request(const void *settings, const struct light_frustum *f,
                           int map_size_texels, struct shadowmap_request *r)
 {
     const struct savsm_settings *s = settings;
-    (void)f;
-    r->sat_format = (enum sat_format)s->sat_format;
-    (void)map_size_texels;
+    (void)f, (void)map_size_texels;
+    r->moments_sat.format = (enum sat_format)s->sat_format;
     /* The footprint can exceed the box at a distance or a grazing angle;
      * int32 clips boxes to this side, and a wider bound would cost
      * fixed-point bits everywhere (64 texels leave 18 of them). */
-    r->sat_max_box_texels = s->box_width_texels > SAVSM_MAX_FOOTPRINT_TEXELS
-                                ? s->box_width_texels : SAVSM_MAX_FOOTPRINT_TEXELS;
+    r->moments_sat.max_box_texels = s->box_width_texels > SAVSM_MAX_FOOTPRINT_TEXELS
+                                        ? s->box_width_texels : SAVSM_MAX_FOOTPRINT_TEXELS;
 }
 
 const struct technique technique_savsm = {

@@ -1,13 +1,43 @@
 #include "shadowmap.h"
 #include "base/log.h"
-#include "base/util.h"
 #include "gl/shader.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* ---- GL products ------------------------------------------------------- */
+/* The uniform block's binding (GLSL: SM_BINDING_BLOCK). */
+enum { BLOCK_BINDING = 0 };
+
+/* One product: how it is stored, where shaders find it, how it is made. */
+struct product_kind {
+    const char *label;     /* names its GL objects: "shadow map: <label>" */
+    GLenum format;         /* a texture product's internal format; 0: a storage buffer */
+    bool mipmapped;        /* texture: a full mip chain, sampled trilinearly */
+    float border[4];       /* texture: what is read outside the map */
+    int binding;           /* texture unit or storage-buffer binding (GLSL: SM_BINDING_<ID>) */
+    int compare_binding;   /* texture: also bound at this unit through the comparison sampler
+                              (GLSL: SM_BINDING_<ID>_COMPARE); 0: not */
+    /* What the passes need beyond the product texture (framebuffers,
+     * programs, a storage buffer): called once. Returns 0 or -1 (logged). */
+    int (*create)(struct shadowmap *sm, struct shadowmap_product *p);
+    void (*render)(struct shadowmap *sm, struct shadowmap_product *p, const struct scene_mesh *mesh,
+                   const struct shadowmap_request *r);
+    /* Optional, for a product with options: do a and b ask for the same? */
+    bool (*same)(const struct shadowmap_request *a, const struct shadowmap_request *b);
+    /* Optional: 0, or -1 (logged) when r's options are beyond the product. */
+    int (*check)(const struct shadowmap_request *r);
+};
+
+static const struct product_kind kinds[SM_PRODUCT_COUNT];
+
+static const char *const product_ids[] = {
+#define X(id, name) #id,
+    SM_PRODUCTS(X)
+#undef X
+};
+
+/* ---- helpers ------------------------------------------------------------ */
 
 static void fill_block(struct shadowmap *sm, const struct scene *s)
 {
@@ -28,6 +58,12 @@ static void fill_block(struct shadowmap *sm, const struct scene *s)
     b->map_size_texels = (float)sm->desc.size_texels;
 }
 
+static void upload_block(const struct shadowmap *sm)
+{
+    glBindBuffer(GL_UNIFORM_BUFFER, sm->ubo);
+    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof sm->block, &sm->block);
+}
+
 static GLuint map_texture(GLenum format, int levels, int n, const float border[4], const char *label)
 {
     GLuint t;
@@ -43,9 +79,291 @@ static GLuint map_texture(GLenum format, int levels, int n, const float border[4
     return t;
 }
 
+static int mip_levels(int n)
+{
+    int levels = 1;
+    while ((n >> levels) > 0)
+        levels++;
+    return levels;
+}
+
+/* A framebuffer rendering into level 0 of texture at attachment (a colour
+ * attachment, or GL_DEPTH_ATTACHMENT for a depth-only pass); 0 if
+ * incomplete (logged). */
+static GLuint framebuffer(GLuint texture, GLenum attachment, const char *label)
+{
+    GLuint fbo;
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, attachment, GL_TEXTURE_2D, texture, 0);
+    glDrawBuffers(1, (const GLenum[]){attachment == GL_DEPTH_ATTACHMENT ? GL_NONE : attachment});
+    if (attachment == GL_DEPTH_ATTACHMENT)
+        glReadBuffer(GL_NONE);
+    if (!gl_framebuffer_complete(fbo, label)) {
+        glDeleteFramebuffers(1, &fbo);
+        return 0;
+    }
+    return fbo;
+}
+
+static GLuint compute_program(const char *label, const char *file, const char *defines)
+{
+    struct strbuf d = {0};
+    shadowmap_shader_defines(&d);
+    strbuf_printf(&d, "%s", defines);
+    GLuint p = shader_program(label, d.data, &(struct shader_stage){GL_COMPUTE_SHADER, {file}}, 1);
+    strbuf_free(&d);
+    return p;
+}
+
+static GLuint raster_program(const char *label, const char *vertex, const char *fragment,
+                             const char *defines)
+{
+    struct strbuf d = {0};
+    shadowmap_shader_defines(&d);
+    strbuf_printf(&d, "%s", defines);
+    GLuint p = shader_program(label, d.data,
+                              (const struct shader_stage[]){{GL_VERTEX_SHADER, {vertex}},
+                                                            {GL_FRAGMENT_SHADER, {fragment}}},
+                              2);
+    strbuf_free(&d);
+    return p;
+}
+
+/* One full-screen pass of `program` into fbo, reading `source` on unit 0. */
+static void image_pass(struct shadowmap *sm, GLuint fbo, GLuint program, GLuint source)
+{
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glViewport(0, 0, sm->desc.size_texels, sm->desc.size_texels);
+    glUseProgram(program);
+    glBindBufferBase(GL_UNIFORM_BUFFER, BLOCK_BINDING, sm->ubo);
+    glBindTextureUnit(0, source);
+    glBindSampler(0, 0);
+    glBindVertexArray(sm->fullscreen_vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+/* ---- depth: the scene from the light ------------------------------------ */
+
+static int depth_create(struct shadowmap *sm, struct shadowmap_product *p)
+{
+    (void)sm;
+    p->framebuffers[0] = framebuffer(p->texture, GL_DEPTH_ATTACHMENT, "shadow map: depth pass");
+    p->programs[0] = raster_program("shadow map depth pass", "shadowmap_depth.vert",
+                                    "shadowmap_depth.frag", "");
+    return p->framebuffers[0] && p->programs[0] ? 0 : -1;
+}
+
+static void depth_render(struct shadowmap *sm, struct shadowmap_product *p,
+                         const struct scene_mesh *mesh, const struct shadowmap_request *r)
+{
+    (void)r;
+    glBindFramebuffer(GL_FRAMEBUFFER, p->framebuffers[0]);
+    glViewport(0, 0, sm->desc.size_texels, sm->desc.size_texels);
+    glClearBufferfv(GL_DEPTH, 0, (const float[]){0.0f}); /* reversed Z: far */
+    glUseProgram(p->programs[0]);
+    glBindBufferBase(GL_UNIFORM_BUFFER, BLOCK_BINDING, sm->ubo);
+    scene_mesh_draw(mesh);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+/* ---- moments: (d, d²), separable Gaussian, mipmaps ---------------------- */
+
+static int moments_create(struct shadowmap *sm, struct shadowmap_product *p)
+{
+    p->temp_texture = map_texture(kinds[SM_PRODUCT_MOMENTS].format, 1, sm->desc.size_texels,
+                                  kinds[SM_PRODUCT_MOMENTS].border, "shadow map: blur temporary");
+    p->framebuffers[0] = framebuffer(p->texture, GL_COLOR_ATTACHMENT0, "moments pass");
+    p->framebuffers[1] = framebuffer(p->temp_texture, GL_COLOR_ATTACHMENT0, "moments blur, rows");
+    p->programs[0] = raster_program("moments blur, rows", "fullscreen.vert", "moments_blur.frag",
+                                    "#define BLUR_FROM_DEPTH 1\n");
+    p->programs[1] = raster_program("moments blur, columns", "fullscreen.vert", "moments_blur.frag",
+                                    "#define BLUR_FROM_DEPTH 0\n");
+    return p->framebuffers[0] && p->framebuffers[1] && p->programs[0] && p->programs[1] ? 0 : -1;
+}
+
+static int moments_check(const struct shadowmap_request *r)
+{
+    int radius = r->moments.blur_radius_texels;
+    if (radius >= 0 && radius <= SM_MAX_BLUR_RADIUS_TEXELS)
+        return 0;
+    log_error("moments product: blur radius %d is beyond [0, %d]", radius, SM_MAX_BLUR_RADIUS_TEXELS);
+    return -1;
+}
+
+static bool moments_same(const struct shadowmap_request *a, const struct shadowmap_request *b)
+{
+    return a->moments.blur_radius_texels == b->moments.blur_radius_texels;
+}
+
+static void blur_pass(struct shadowmap *sm, GLuint fbo, GLuint program, GLuint source,
+                      int dx, int dy, int radius, const float *weights)
+{
+    glUseProgram(program);
+    glUniform1i(glGetUniformLocation(program, "u_radius"), radius);
+    glUniform1fv(glGetUniformLocation(program, "u_weights"), radius + 1, weights);
+    glUniform2i(glGetUniformLocation(program, "u_direction"), dx, dy);
+    image_pass(sm, fbo, program, source);
+}
+
+static void moments_render(struct shadowmap *sm, struct shadowmap_product *p,
+                           const struct scene_mesh *mesh, const struct shadowmap_request *r)
+{
+    (void)mesh;
+    /* Normalised Gaussian weights, sigma = radius / 2, by |offset|. Radius
+     * 0 is the rows pass alone with weight 1: depth converted to moments. */
+    int radius = r->moments.blur_radius_texels;
+    float w[SM_MAX_BLUR_RADIUS_TEXELS + 1], sum = 0;
+    for (int k = 0; k <= radius; k++) {
+        w[k] = expf(-2.0f * (float)(k * k) / (float)(radius * radius > 0 ? radius * radius : 1));
+        sum += k ? 2 * w[k] : w[k];
+    }
+    for (int k = 0; k <= radius; k++)
+        w[k] /= sum;
+    GLuint depth = sm->products[SM_PRODUCT_DEPTH].texture;
+    if (radius > 0) {
+        blur_pass(sm, p->framebuffers[1], p->programs[0], depth, 1, 0, radius, w);
+        blur_pass(sm, p->framebuffers[0], p->programs[1], p->temp_texture, 0, 1, radius, w);
+    } else {
+        blur_pass(sm, p->framebuffers[0], p->programs[0], depth, 1, 0, 0, w);
+    }
+    glBindTexture(GL_TEXTURE_2D, p->texture);
+    glGenerateMipmap(GL_TEXTURE_2D);
+}
+
+/* ---- moments_sat: summed-area table of (d, d²) --------------------------- */
+
+static int sat_create(struct shadowmap *sm, struct shadowmap_product *p)
+{
+    /* Zeroed once: the first row stays zero (the passes never write it). */
+    size_t n = (size_t)sm->desc.size_texels, bytes = sizeof(uint32_t) * 2 * (n + 1) * (n + 1);
+    void *zero = xcalloc(1, bytes);
+    glGenBuffers(1, &p->buffer);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, p->buffer);
+    glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)bytes, zero, GL_DYNAMIC_COPY);
+    free(zero);
+    gl_label(GL_BUFFER, p->buffer, "shadow map: moments SAT");
+    p->programs[0] = compute_program("SAT rows", "sat_build.comp", "#define SAT_PASS_ROWS 1\n");
+    p->programs[1] = compute_program("SAT columns", "sat_build.comp", "#define SAT_PASS_ROWS 0\n");
+    return p->programs[0] && p->programs[1] ? 0 : -1;
+}
+
+static bool sat_same(const struct shadowmap_request *a, const struct shadowmap_request *b)
+{
+    return a->moments_sat.format == b->moments_sat.format &&
+           (a->moments_sat.format != SAT_INT32 ||
+            a->moments_sat.max_box_texels == b->moments_sat.max_box_texels);
+}
+
+/* The SAT_INT32 fixed-point scale (units per 1.0 of depth) and the widest
+ * box side in texels it allows, for a request on an n x n map. The scale is
+ * 2^k with k = 30 - floor(log2(largest box area the reader forms)), so
+ * every box sum stays below 2^31. */
+static void sat_int32_scale(const struct shadowmap_request *r, int n, float *scale,
+                            float *max_box_texels)
+{
+    /* A box of side s has edges in at most ceil(s) + 1 texels per axis, and
+     * the 16-value read forms boxes one texel wider: (ceil(s) + 2)^2 texels,
+     * each at most 1.0 = 2^k units. */
+    double side = r->moments_sat.max_box_texels > 0 ? fmin(r->moments_sat.max_box_texels, (double)n)
+                                                     : (double)n;
+    double area = (ceil(side) + 2.0) * (ceil(side) + 2.0);
+    int k = 30 - (int)floor(log2(area));
+    k = k > 24 ? 24 : k;  /* float d has 24 significant bits */
+    *scale = ldexpf(1.0f, k);
+    *max_box_texels = (float)side;
+}
+
+static void sat_render(struct shadowmap *sm, struct shadowmap_product *p,
+                       const struct scene_mesh *mesh, const struct shadowmap_request *r)
+{
+    (void)mesh;
+    int n = sm->desc.size_texels;
+    struct shadowmap_block *b = &sm->block;
+    b->sat_format = (int)r->moments_sat.format;
+    if (r->moments_sat.format == SAT_INT32) {
+        sat_int32_scale(r, n, &b->sat_scale, &b->sat_max_box_texels);
+    } else {
+        b->sat_scale = 1.0f;
+        b->sat_max_box_texels = (float)n;
+    }
+    upload_block(sm);
+
+    glBindBufferBase(GL_UNIFORM_BUFFER, BLOCK_BINDING, sm->ubo);
+    glBindTextureUnit(kinds[SM_PRODUCT_DEPTH].binding, sm->products[SM_PRODUCT_DEPTH].texture);
+    glBindSampler(kinds[SM_PRODUCT_DEPTH].binding, 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kinds[SM_PRODUCT_MOMENTS_SAT].binding, p->buffer);
+    glUseProgram(p->programs[0]);
+    glDispatchCompute((GLuint)(n + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+    glUseProgram(p->programs[1]);
+    glDispatchCompute((GLuint)(n + 63) / 64, 1, 1);
+    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+}
+
+/* ---- the table ------------------------------------------------------------ */
+
 /* Outside the map is the far plane, so nothing there occludes (lit), as
  * engines do: hardware depth 0 (reversed Z), moments (1, 1). */
-static const float border_depth[4] = {0, 0, 0, 0}, border_moments[4] = {1, 1, 0, 0};
+static const struct product_kind kinds[SM_PRODUCT_COUNT] = {
+    [SM_PRODUCT_DEPTH] = {
+        .label = "depth", .format = GL_DEPTH_COMPONENT32F, .border = {0, 0, 0, 0},
+        .binding = 0, .compare_binding = 1,
+        .create = depth_create, .render = depth_render,
+    },
+    [SM_PRODUCT_MOMENTS] = {
+        .label = "moments", .format = GL_RG32F, .mipmapped = true, .border = {1, 1, 0, 0},
+        .binding = 2,
+        .create = moments_create, .render = moments_render, .same = moments_same,
+        .check = moments_check,
+    },
+    [SM_PRODUCT_MOMENTS_SAT] = {
+        .label = "moments SAT", .binding = 0,
+        .create = sat_create, .render = sat_render, .same = sat_same,
+    },
+};
+
+/* ---- the layer ------------------------------------------------------------ */
+
+void shadowmap_shader_defines(struct strbuf *out)
+{
+    strbuf_printf(out, "#define SM_BINDING_BLOCK %d\n", BLOCK_BINDING);
+    for (int p = 0; p < SM_PRODUCT_COUNT; p++) {
+        strbuf_printf(out, "#define SM_BINDING_%s %d\n", product_ids[p], kinds[p].binding);
+        if (kinds[p].compare_binding)
+            strbuf_printf(out, "#define SM_BINDING_%s_COMPARE %d\n", product_ids[p],
+                          kinds[p].compare_binding);
+    }
+#define X(id, name) strbuf_printf(out, "#define SM_LIGHT_" #id " %d\n", LIGHT_##id);
+    LIGHT_SHAPES(X)
+#undef X
+#define X(id, name) strbuf_printf(out, "#define SM_SAT_" #id " %d\n", SAT_##id);
+    SAT_FORMATS(X)
+#undef X
+    strbuf_printf(out, "#define SM_MAX_BLUR_RADIUS %d\n", SM_MAX_BLUR_RADIUS_TEXELS);
+    /* SM_UNROLL_n(F): F(0) ... F(n-1) in blocks of 32, 16, 4 and 1 (the
+     * SM_T* macros of shadow_taps.glsl). */
+    static const int counts[] = {
+        0,
+#define X(n) n,
+        TAP_COUNTS(X)
+#undef X
+    };
+    for (size_t i = 0; i < ARRAY_SIZE(counts); i++) {
+        int n = counts[i], at = 0;
+        strbuf_printf(out, "#define SM_UNROLL_%d(F)", n);
+        for (; n - at >= 32; at += 32)
+            strbuf_printf(out, " SM_T32(F, %d)", at);
+        for (; n - at >= 16; at += 16)
+            strbuf_printf(out, " SM_T16(F, %d)", at);
+        for (; n - at >= 4; at += 4)
+            strbuf_printf(out, " SM_T4(F, %d)", at);
+        for (; at < n; at++)
+            strbuf_printf(out, " F(%d)", at);
+        strbuf_printf(out, "\n");
+    }
+}
 
 int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct shadowmap_desc *desc)
 {
@@ -62,273 +380,105 @@ int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct s
     glBufferData(GL_UNIFORM_BUFFER, sizeof sm->block, &sm->block, GL_DYNAMIC_DRAW);
     gl_label(GL_BUFFER, sm->ubo, "ShadowMapBlock");
 
-    int n = sm->desc.size_texels;
-    sm->depth_texture = map_texture(GL_DEPTH_COMPONENT32F, 1, n, border_depth, "shadow map: depth");
-    /* The same texture through a comparison sampler: hardware 2x2 PCF. */
+    /* Depth products through a comparison sampler: hardware 2x2 PCF. */
+    const float *border = kinds[SM_PRODUCT_DEPTH].border;
     glGenSamplers(1, &sm->compare_sampler);
     glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
     glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
-    glSamplerParameterfv(sm->compare_sampler, GL_TEXTURE_BORDER_COLOR, border_depth);
+    glSamplerParameterfv(sm->compare_sampler, GL_TEXTURE_BORDER_COLOR, border);
     glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
     glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_COMPARE_FUNC, GL_GEQUAL); /* reversed Z: lit */
     gl_label(GL_SAMPLER, sm->compare_sampler, "shadow map: depth comparison sampler");
-
-    glGenFramebuffers(1, &sm->depth_fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, sm->depth_fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, sm->depth_texture, 0);
-    glDrawBuffers(1, (const GLenum[]){GL_NONE});
-    glReadBuffer(GL_NONE);
-    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    gl_label(GL_FRAMEBUFFER, sm->depth_fbo, "shadow map: depth pass");
-    if (status != GL_FRAMEBUFFER_COMPLETE) {
-        log_error("shadow map: depth framebuffer incomplete (0x%x)", status);
-        shadowmap_destroy(sm);
-        return -1;
-    }
-
-    sm->depth_program = shader_program(
-        "shadow map depth pass", NULL,
-        (const struct shader_stage[]){{GL_VERTEX_SHADER, {"shadowmap_depth.vert"}},
-                                      {GL_FRAGMENT_SHADER, {"shadowmap_depth.frag"}}},
-        2);
-    if (!sm->depth_program) {
-        shadowmap_destroy(sm);
-        return -1;
-    }
+    glGenVertexArrays(1, &sm->fullscreen_vao);
     return 0;
-}
-
-static GLuint compute_program(const char *label, const char *file, const char *defines)
-{
-    return shader_program(label, defines, &(struct shader_stage){GL_COMPUTE_SHADER, {file}}, 1);
-}
-
-static GLuint image_program(const char *label, const char *fragment, const char *defines)
-{
-    return shader_program(label, defines,
-                          (const struct shader_stage[]){{GL_VERTEX_SHADER, {"fullscreen.vert"}},
-                                                        {GL_FRAGMENT_SHADER, {fragment}}},
-                          2);
-}
-
-/* A framebuffer rendering into level 0 of an RG32F map texture. */
-static GLuint image_target(GLuint texture, const char *label)
-{
-    GLuint fbo;
-    glGenFramebuffers(1, &fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, texture, 0);
-    glDrawBuffers(1, (const GLenum[]){GL_COLOR_ATTACHMENT0});
-    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    gl_label(GL_FRAMEBUFFER, fbo, label);
-    if (status != GL_FRAMEBUFFER_COMPLETE) {
-        log_error("%s: framebuffer incomplete (0x%x)", label, status);
-        glDeleteFramebuffers(1, &fbo);
-        return 0;
-    }
-    return fbo;
 }
 
 int shadowmap_prepare(struct shadowmap *sm, const struct shadowmap_request *r)
 {
-    int n = sm->desc.size_texels;
-    if ((r->products & SM_MOMENTS) && !sm->moments) {
-        int levels = 1;
-        while ((n >> levels) > 0)
-            levels++;
-        sm->moments = map_texture(GL_RG32F, levels, n, border_moments, "shadow map: moments");
-        sm->moments_temp = map_texture(GL_RG32F, 1, n, border_moments, "shadow map: blur temporary");
-        glGenVertexArrays(1, &sm->fullscreen_vao);
-        if (!(sm->moments_fbo = image_target(sm->moments, "moments pass")) ||
-            !(sm->temp_fbo = image_target(sm->moments_temp, "moments blur, rows")) ||
-            !(sm->blur_rows_program = image_program("moments blur, rows", "moments_blur.frag",
-                                                    "#define BLUR_FROM_DEPTH 1\n")) ||
-            !(sm->blur_columns_program = image_program("moments blur, columns", "moments_blur.frag",
-                                                       "#define BLUR_FROM_DEPTH 0\n")))
+    for (int i = 0; i < SM_PRODUCT_COUNT; i++) {
+        const struct product_kind *k = &kinds[i];
+        struct shadowmap_product *p = &sm->products[i];
+        if (!(r->products & (1u << i)))
+            continue;
+        if (k->check && k->check(r) != 0)
             return -1;
-    }
-    if ((r->products & SM_MOMENTS_SAT) && !sm->sat_buffer) {
-        /* Zeroed once: the first row stays zero (the passes never write it). */
-        size_t bytes = sizeof(uint32_t) * 2 * (size_t)(n + 1) * (size_t)(n + 1);
-        void *zero = xcalloc(1, bytes);
-        glGenBuffers(1, &sm->sat_buffer);
-        glBindBuffer(GL_SHADER_STORAGE_BUFFER, sm->sat_buffer);
-        glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)bytes, zero, GL_DYNAMIC_COPY);
-        free(zero);
-        gl_label(GL_BUFFER, sm->sat_buffer, "shadow map: moments SAT");
-        sm->sat_rows_program = compute_program("SAT rows", "sat_build.comp", "#define SAT_PASS_ROWS 1\n");
-        sm->sat_columns_program = compute_program("SAT columns", "sat_build.comp", "#define SAT_PASS_ROWS 0\n");
-        if (!sm->sat_rows_program || !sm->sat_columns_program)
+        if (p->created)
+            continue;
+        p->created = true;  /* even if create fails: shadowmap_destroy deletes what it made */
+        if (k->format) {
+            int n = sm->desc.size_texels;
+            char *label = util_printf("shadow map: %s", k->label);
+            p->texture = map_texture(k->format, k->mipmapped ? mip_levels(n) : 1, n, k->border, label);
+            free(label);
+        }
+        if (k->create(sm, p) != 0)
             return -1;
     }
     return 0;
 }
 
-void shadowmap_sat_int32_scale(const struct shadowmap_request *r, int n, float *scale,
-                               float *max_box_texels)
+void shadowmap_render_product(struct shadowmap *sm, const struct scene_mesh *mesh, int p,
+                              const struct shadowmap_request *r)
 {
-    /* A box of side s has edges in at most ceil(s) + 1 texels per axis, and
-     * the 16-value read forms boxes one texel wider: (ceil(s) + 2)^2 texels,
-     * each at most 1.0 = 2^k units. */
-    double side = r->sat_max_box_texels > 0 ? fmin(r->sat_max_box_texels, (double)n) : (double)n;
-    double area = (ceil(side) + 2.0) * (ceil(side) + 2.0);
-    int k = 30 - (int)floor(log2(area));
-    k = k > 24 ? 24 : k;  /* float d has 24 significant bits */
-    *scale = ldexpf(1.0f, k);
-    *max_box_texels = (float)side;
+    kinds[p].render(sm, &sm->products[p], mesh, r);
+    sm->products[p].current = true;
+    sm->products[p].made = *r;
 }
 
-/* One full-screen pass of `program` into fbo, reading `source` on unit 0. */
-static void image_pass(struct shadowmap *sm, GLuint fbo, GLuint program, GLuint source)
-{
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glViewport(0, 0, sm->desc.size_texels, sm->desc.size_texels);
-    glUseProgram(program);
-    glBindBufferBase(GL_UNIFORM_BUFFER, 0, sm->ubo);
-    glBindTextureUnit(0, source);
-    glBindSampler(0, 0);
-    glBindVertexArray(sm->fullscreen_vao);
-    glDrawArrays(GL_TRIANGLES, 0, 3);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-}
-
-static void blur_pass(struct shadowmap *sm, GLuint fbo, GLuint program, GLuint source,
-                      int dx, int dy, int radius, const float *weights)
-{
-    glUseProgram(program);
-    glUniform1i(glGetUniformLocation(program, "u_radius"), radius);
-    glUniform1fv(glGetUniformLocation(program, "u_weights"), radius + 1, weights);
-    glUniform2i(glGetUniformLocation(program, "u_direction"), dx, dy);
-    image_pass(sm, fbo, program, source);
-}
-
-static void render_moments(struct shadowmap *sm, const struct shadowmap_request *r)
-{
-    /* Normalised Gaussian weights, sigma = radius / 2, by |offset|. Radius
-     * 0 is the rows pass alone with weight 1: depth converted to moments. */
-    int radius = r->moments_blur_radius_texels;
-    float w[SHADOWMAP_MAX_BLUR_RADIUS + 1], sum = 0;
-    for (int k = 0; k <= radius; k++) {
-        w[k] = expf(-2.0f * (float)(k * k) / (float)(radius * radius > 0 ? radius * radius : 1));
-        sum += k ? 2 * w[k] : w[k];
-    }
-    for (int k = 0; k <= radius; k++)
-        w[k] /= sum;
-    if (radius > 0) {
-        blur_pass(sm, sm->temp_fbo, sm->blur_rows_program, sm->depth_texture, 1, 0, radius, w);
-        blur_pass(sm, sm->moments_fbo, sm->blur_columns_program, sm->moments_temp, 0, 1, radius, w);
-    } else {
-        blur_pass(sm, sm->moments_fbo, sm->blur_rows_program, sm->depth_texture, 1, 0, 0, w);
-    }
-    glBindTexture(GL_TEXTURE_2D, sm->moments);
-    glGenerateMipmap(GL_TEXTURE_2D);
-}
-
-static void render_sat(struct shadowmap *sm, const struct shadowmap_request *r)
-{
-    int n = sm->desc.size_texels;
-    struct shadowmap_block *b = &sm->block;
-    b->sat_format = (int)r->sat_format;
-    if (r->sat_format == SAT_INT32) {
-        shadowmap_sat_int32_scale(r, n, &b->sat_scale, &b->sat_max_box_texels);
-    } else {
-        b->sat_scale = 1.0f;
-        b->sat_max_box_texels = (float)n;
-    }
-    glBindBuffer(GL_UNIFORM_BUFFER, sm->ubo);
-    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof *b, b);
-
-    glBindBufferBase(GL_UNIFORM_BUFFER, 0, sm->ubo);
-    glBindTextureUnit(0, sm->depth_texture);
-    glBindSampler(0, 0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, sm->sat_buffer);
-    glUseProgram(sm->sat_rows_program);
-    glDispatchCompute((GLuint)(n + 63) / 64, 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-    glUseProgram(sm->sat_columns_program);
-    glDispatchCompute((GLuint)(n + 63) / 64, 1, 1);
-    glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-}
-
-void shadowmap_render_product(struct shadowmap *sm, const struct scene_mesh *mesh,
-                              enum shadowmap_product product, const struct shadowmap_request *r)
-{
-    switch (product) {
-    case SM_DEPTH:
-        glBindFramebuffer(GL_FRAMEBUFFER, sm->depth_fbo);
-        glViewport(0, 0, sm->desc.size_texels, sm->desc.size_texels);
-        glClearBufferfv(GL_DEPTH, 0, (const float[]){0.0f}); /* reversed Z: far */
-        glUseProgram(sm->depth_program);
-        glBindBufferBase(GL_UNIFORM_BUFFER, 0, sm->ubo);
-        scene_mesh_draw(mesh);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        break;
-    case SM_MOMENTS:
-        render_moments(sm, r);
-        sm->made.moments_blur_radius_texels = r->moments_blur_radius_texels;
-        break;
-    case SM_MOMENTS_SAT:
-        render_sat(sm, r);
-        sm->made.sat_format = r->sat_format;
-        sm->made.sat_max_box_texels = r->sat_max_box_texels;
-        break;
-    }
-    sm->current |= product;
-}
-
-bool shadowmap_same_product(enum shadowmap_product p, const struct shadowmap_request *a,
+bool shadowmap_same_product(int p, const struct shadowmap_request *a,
                             const struct shadowmap_request *b)
 {
-    switch (p) {
-    case SM_DEPTH: return true;
-    case SM_MOMENTS: return a->moments_blur_radius_texels == b->moments_blur_radius_texels;
-    case SM_MOMENTS_SAT:
-        return a->sat_format == b->sat_format &&
-               (a->sat_format != SAT_INT32 || a->sat_max_box_texels == b->sat_max_box_texels);
-    }
-    return false;
+    return !kinds[p].same || kinds[p].same(a, b);
 }
 
 void shadowmap_require(struct shadowmap *sm, const struct scene_mesh *mesh,
                        const struct shadowmap_request *r)
 {
-    for (unsigned p = SM_DEPTH; p <= SM_MOMENTS_SAT; p <<= 1)
-        if ((r->products & p) &&
-            !((sm->current & p) && shadowmap_same_product((enum shadowmap_product)p, &sm->made, r)))
-            shadowmap_render_product(sm, mesh, (enum shadowmap_product)p, r);
+    for (int p = 0; p < SM_PRODUCT_COUNT; p++)
+        if ((r->products & (1u << p)) &&
+            !(sm->products[p].current && shadowmap_same_product(p, &sm->products[p].made, r)))
+            shadowmap_render_product(sm, mesh, p, r);
 }
 
 void shadowmap_bind(const struct shadowmap *sm)
 {
-    glBindBufferBase(GL_UNIFORM_BUFFER, 0, sm->ubo);
-    glBindTextureUnit(0, sm->depth_texture);
-    glBindSampler(0, 0);
-    glBindTextureUnit(1, sm->depth_texture);
-    glBindSampler(1, sm->compare_sampler);
-    glBindTextureUnit(2, sm->moments);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, 0, sm->sat_buffer);
+    glBindBufferBase(GL_UNIFORM_BUFFER, BLOCK_BINDING, sm->ubo);
+    for (int i = 0; i < SM_PRODUCT_COUNT; i++) {
+        const struct product_kind *k = &kinds[i];
+        const struct shadowmap_product *p = &sm->products[i];
+        if (!k->format) {
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, k->binding, p->buffer);
+            continue;
+        }
+        glBindTextureUnit(k->binding, p->texture);
+        glBindSampler(k->binding, 0);
+        if (k->compare_binding) {
+            glBindTextureUnit(k->compare_binding, p->texture);
+            glBindSampler(k->compare_binding, sm->compare_sampler);
+        }
+    }
 }
 
 void shadowmap_destroy(struct shadowmap *sm)
 {
-    GLuint programs[] = {sm->depth_program, sm->blur_rows_program,
-                         sm->blur_columns_program, sm->sat_rows_program, sm->sat_columns_program};
-    for (size_t i = 0; i < sizeof programs / sizeof *programs; i++)
-        if (programs[i])
-            glDeleteProgram(programs[i]);
-    GLuint fbos[] = {sm->depth_fbo, sm->moments_fbo, sm->temp_fbo};
-    glDeleteFramebuffers(3, fbos);
+    for (int i = 0; i < SM_PRODUCT_COUNT; i++) {
+        struct shadowmap_product *p = &sm->products[i];
+        for (int k = 0; k < 2; k++)
+            if (p->programs[k])
+                glDeleteProgram(p->programs[k]);
+        glDeleteFramebuffers(2, p->framebuffers);
+        GLuint textures[] = {p->texture, p->temp_texture};
+        glDeleteTextures(2, textures);
+        if (p->buffer)
+            glDeleteBuffers(1, &p->buffer);
+    }
     if (sm->fullscreen_vao)
         glDeleteVertexArrays(1, &sm->fullscreen_vao);
     if (sm->compare_sampler)
         glDeleteSamplers(1, &sm->compare_sampler);
-    GLuint textures[] = {sm->depth_texture, sm->moments_temp, sm->moments};
-    glDeleteTextures(3, textures);
-    GLuint buffers[] = {sm->ubo, sm->sat_buffer};
-    glDeleteBuffers(2, buffers);
+    if (sm->ubo)
+        glDeleteBuffers(1, &sm->ubo);
     memset(sm, 0, sizeof *sm);
 }

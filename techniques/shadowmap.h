@@ -1,10 +1,12 @@
-/* The shared shadow-map layer (DESIGN.md §5): the light's frustum, and the
- * products techniques sample, keyed by product, not by technique (STYLE.md
- * item 5). Each product is rendered once per light pose and shared by every
- * technique of a run. */
+/* The shared shadow-map layer (DESIGN.md §5): the products techniques sample,
+ * keyed by product, not by technique (STYLE.md item 5). A product is a row
+ * of the table in shadowmap.c (its texture format or buffer, its binding,
+ * its passes) plus its shaders; the layer renders each requested product
+ * once per light pose and shares it with every technique of a run. */
 #ifndef SB_SHADOWMAP_H
 #define SB_SHADOWMAP_H
 
+#include "base/util.h"
 #include "gl/gl.h"
 #include "gl/scene_mesh.h"
 #include "scene/light_frustum.h"
@@ -36,43 +38,56 @@ _Static_assert(offsetof(struct shadowmap_block, near_world) == 184, "std140 layo
 
 /* Zero means default (sokol style); shadowmap_create fills the defaults. */
 struct shadowmap_desc {
-    int size_texels;  /* square map, default 1024, [16, 8192] */
+    int size_texels;  /* square map, default SHADOWMAP_DEFAULT_SIZE, [16, 8192] */
 };
 
 #define SHADOWMAP_DEFAULT_SIZE 1024
-#define SHADOWMAP_MAX_BLUR_RADIUS 32  /* BLUR_MAX_RADIUS in shaders/moments_blur.frag */
 
-struct shadowmap {
-    struct shadowmap_desc desc;       /* filled */
-    struct light_frustum frustum;
-    struct shadowmap_block block;     /* as last uploaded to ubo */
-    unsigned current;                 /* SM_* products valid for this light pose ... */
-    struct shadowmap_request made;    /* ... rendered with these options */
-    GLuint ubo;
-    GLuint depth_texture, depth_fbo, depth_program, compare_sampler;
-    GLuint moments, moments_temp;     /* RG32F; `moments` is filtered and mipmapped */
-    GLuint moments_fbo, temp_fbo;     /* rendering into level 0 of each */
-    GLuint fullscreen_vao;            /* empty: the full-screen passes need none */
-    GLuint blur_rows_program, blur_columns_program;
-    GLuint sat_rows_program, sat_columns_program;
-    GLuint sat_buffer;                /* (N+1)^2 uvec2 */
+/* One product's GL objects: the product itself (a texture or a storage
+ * buffer) and what its passes need. shadowmap_destroy deletes what is set. */
+struct shadowmap_product {
+    GLuint texture;                 /* the product, when a texture */
+    GLuint buffer;                  /* the product, when a storage buffer */
+    GLuint temp_texture;            /* an intermediate, e.g. a separable filter's first pass */
+    GLuint framebuffers[2];
+    GLuint programs[2];
+    bool created;                   /* the objects above exist (shadowmap_prepare) */
+    bool current;                   /* rendered for this light pose ... */
+    struct shadowmap_request made;  /* ... with these options */
 };
 
-/* Fits the frustum to s and creates the depth product's GL objects.
- * Returns 0 or -1 (logged). */
+struct shadowmap {
+    struct shadowmap_desc desc;    /* filled */
+    struct light_frustum frustum;
+    struct shadowmap_block block;  /* as last uploaded to ubo */
+    GLuint ubo;
+    GLuint compare_sampler;        /* hardware comparison (sampler2DShadow) of depth products */
+    GLuint fullscreen_vao;         /* empty: the full-screen passes need none */
+    struct shadowmap_product products[SM_PRODUCT_COUNT];  /* by SM_PRODUCT_* */
+};
+
+/* Fits the frustum to s and creates what every product shares (the uniform
+ * block, the comparison sampler). Returns 0 or -1 (logged). */
 int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct shadowmap_desc *desc);
 
+/* Appends the #defines that the layer's shaders and the receiver pass share
+ * with C: the product bindings (SM_BINDING_<PRODUCT>), the light shapes
+ * (SM_LIGHT_<SHAPE>), the SAT formats (SM_SAT_<FORMAT>), SM_MAX_BLUR_RADIUS
+ * and the tap loops SM_UNROLL_<n> for n in TAP_COUNTS and 0. */
+void shadowmap_shader_defines(struct strbuf *out);
+
 /* Creates what the products of r need (textures, buffers, programs), so
- * rendering them later does no set-up work. Returns 0 or -1 (logged). */
+ * rendering them later does no set-up work, and checks r's options.
+ * Returns 0 or -1 (logged). */
 int shadowmap_prepare(struct shadowmap *sm, const struct shadowmap_request *r);
 
-/* Renders one product of r unconditionally (the harness times this call);
- * SM_MOMENTS and SM_MOMENTS_SAT read the current depth product. */
-void shadowmap_render_product(struct shadowmap *sm, const struct scene_mesh *mesh,
-                              enum shadowmap_product product, const struct shadowmap_request *r);
+/* Renders product p (SM_PRODUCT_*) with r's options, unconditionally (the
+ * harness times this call); the products past depth read the current depth. */
+void shadowmap_render_product(struct shadowmap *sm, const struct scene_mesh *mesh, int p,
+                              const struct shadowmap_request *r);
 
-/* Do requests a and b ask for the same product p (same options)? */
-bool shadowmap_same_product(enum shadowmap_product p, const struct shadowmap_request *a,
+/* Do requests a and b ask for the same product p (the same options)? */
+bool shadowmap_same_product(int p, const struct shadowmap_request *a,
                             const struct shadowmap_request *b);
 
 /* Makes every product of r current with r's options, rendering only what
@@ -80,16 +95,9 @@ bool shadowmap_same_product(enum shadowmap_product p, const struct shadowmap_req
 void shadowmap_require(struct shadowmap *sm, const struct scene_mesh *mesh,
                        const struct shadowmap_request *r);
 
-/* Binds the uniform block (binding 0), the product textures and the SAT
- * buffer to the units shaders/shadow_common.glsl and sat.glsl declare. */
+/* Binds the uniform block and every product to the bindings the shaders
+ * name (SM_BINDING_*). */
 void shadowmap_bind(const struct shadowmap *sm);
-
-/* The SAT_INT32 fixed-point scale (units per 1.0 of depth) and the widest
- * box side in texels it allows, for a request on an n x n map. The scale is
- * 2^k with k = 30 - floor(log2(largest box area the reader forms)), so
- * every box sum stays below 2^31. */
-void shadowmap_sat_int32_scale(const struct shadowmap_request *r, int n, float *scale,
-                               float *max_box_texels);
 
 /* Accepts a half-built map. */
 void shadowmap_destroy(struct shadowmap *sm);

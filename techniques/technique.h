@@ -9,43 +9,87 @@
 
 #include <stddef.h>
 
-/* Shadow-map products (DESIGN.md §1, §5), requested by flags. The shared
- * layer renders each requested product once per light pose. Every product
- * is derived from the depth pass, which is always rendered. */
-enum shadowmap_product {
-    SM_DEPTH = 1u << 0,        /* hardware depth, D32F, reversed Z */
-    SM_MOMENTS = 1u << 1,      /* linear depth d and d², RG32F, prefiltered, mipmapped */
-    SM_MOMENTS_SAT = 1u << 2,  /* summed-area table of (d, d²), storage buffer */
+/* Shadow-map products (DESIGN.md §1, §5): X(ID, name). Each is a row of the
+ * shared layer's table (techniques/shadowmap.c) plus its shaders; the layer
+ * renders each requested product once per light pose. Every product is
+ * derived from the depth pass, which is always rendered: the depth pass is
+ * timed as ms_shadowmap, every other product as ms_filter_prep. */
+#define SM_PRODUCTS(X)                                                                  \
+    X(DEPTH, "depth")             /* hardware depth, D32F, reversed Z */                \
+    X(MOMENTS, "moments")         /* linear depth d and d², RG32F, filtered, mipmapped */ \
+    X(MOMENTS_SAT, "moments_sat") /* summed-area table of (d, d²), storage buffer */
+
+enum {
+#define X(id, name) SM_PRODUCT_##id,
+    SM_PRODUCTS(X)
+#undef X
+    SM_PRODUCT_COUNT
 };
 
-/* Precision of the summed-area table (the `sat_format` parameter). */
+/* A product as a request flag: SM_DEPTH, SM_MOMENTS, ... */
+enum shadowmap_product_flag {
+#define X(id, name) SM_##id = 1u << SM_PRODUCT_##id,
+    SM_PRODUCTS(X)
+#undef X
+};
+
+/* Precision of the summed-area table (the `sat_format` parameter): X(ID,
+ * name). GLSL sees SM_SAT_<ID>. */
+#define SAT_FORMATS(X)                                                                   \
+    X(FP32, "fp32")                   /* plain float sums of d, d² */                     \
+    X(FP32_CENTERED, "fp32_centered") /* float sums of d - 0.5, (d - 0.5)²: smaller sums */ \
+    X(INT32, "int32")                 /* fixed point in uint32, exact differences by wrap */
+
 enum sat_format {
-    SAT_FP32,           /* plain float sums of d, d² */
-    SAT_FP32_CENTERED,  /* float sums of d - 0.5, (d - 0.5)²: smaller sums */
-    SAT_INT32,          /* fixed point in uint32, exact differences by wrap-around */
+#define X(id, name) SAT_##id,
+    SAT_FORMATS(X)
+#undef X
 };
 
 /* Their parameter spellings, by enum value, NULL-terminated. */
 extern const char *const sat_format_names[];
 
-/* What one technique asks of the shared layer: products and their options.
- * Two cells with equal requests share the products; a different request
- * (e.g. another blur radius) re-renders them. Zero means default. */
+/* The moments product's widest Gaussian prefilter (GLSL: SM_MAX_BLUR_RADIUS). */
+#define SM_MAX_BLUR_RADIUS_TEXELS 32
+
+/* What one technique asks of the shared layer: products and their options,
+ * a block per product that has any. Two cells whose requests agree on a
+ * product share it; a different option (another blur radius) re-renders it.
+ * Zero means default. */
 struct shadowmap_request {
-    unsigned products;             /* SM_* flags */
-    int moments_blur_radius_texels;/* SM_MOMENTS: separable Gaussian, sigma = radius / 2; 0 = none */
-    enum sat_format sat_format;    /* SM_MOMENTS_SAT */
-    float sat_max_box_texels;      /* SM_MOMENTS_SAT, SAT_INT32: widest box side the technique
-                                      reads; sets the fixed-point scale so no box sum overflows */
+    unsigned products;  /* SM_* flags */
+    struct {
+        int blur_radius_texels;  /* separable Gaussian, sigma = radius / 2, [0, SM_MAX_BLUR_RADIUS_TEXELS]; 0 = none */
+    } moments;
+    struct {
+        enum sat_format format;
+        float max_box_texels;    /* SAT_INT32: widest box side the technique reads; sets the
+                                    fixed-point scale so that no box sum overflows */
+    } moments_sat;
 };
+
+/* The tap counts a tap-based technique may use (PARAM_TAPS). The parameter
+ * choices, the shaders' SM_UNROLL_<n> expansions and the length of the
+ * sample tables (tools/sample_patterns.c) all come from this list. */
+#define TAP_COUNTS(X) X(16) X(25) X(32) X(64) X(100) X(128)
+
+/* The largest of them: the size of a union of one array per count. */
+union tap_count_max {
+#define X(n) char taps_##n[n];
+    TAP_COUNTS(X)
+#undef X
+};
+#define TAP_COUNT_MAX ((int)sizeof(union tap_count_max))
 
 struct light_frustum;  /* scene/light_frustum.h */
 
 enum param_type {
     PARAM_FLOAT,  /* member is a float */
-    PARAM_INT,    /* member is an int; with choices, one of those numbers */
+    PARAM_INT,    /* member is an int in [min, max] */
     PARAM_BOOL,   /* member is an int, 0 or 1; given as true/false/1/0 */
     PARAM_ENUM,   /* member is an int, the index into choices */
+    PARAM_TAPS,   /* member is an int, one of TAP_COUNTS: the taps of one loop of depth-map
+                     fetches (`bench` measures the fetch limit from these) */
 };
 
 struct technique_param {
@@ -53,9 +97,8 @@ struct technique_param {
     const char *help;             /* one line: meaning and unit */
     size_t offset;                /* of the member in the settings struct */
     enum param_type type;
-    double def, min, max;         /* PARAM_ENUM: indices into choices */
-    const char *const *choices;   /* PARAM_ENUM: NULL-terminated names; PARAM_INT: the
-                                     allowed values as text, or NULL for any in range */
+    double def, min, max;         /* PARAM_ENUM: indices into choices; PARAM_TAPS: unused */
+    const char *const *choices;   /* PARAM_ENUM only: NULL-terminated names */
 };
 
 struct technique {

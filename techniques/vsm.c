@@ -21,21 +21,20 @@
  * p_max high inside the nearer one's umbra (leaks). bleed_reduction trades
  * the leaks for darker, narrower penumbrae. The blur is fixed (no contact
  * hardening), and min_variance too large lightens contact shadows. */
-#include "technique.h"
+#include "param_rows.h"
 
 struct vsm_settings {
-    int blur_radius_texels;  /* [0, 32] */
+    int blur_radius_texels;  /* [0, SM_MAX_BLUR_RADIUS_TEXELS] */
     float min_variance;      /* linear depth², [0, 0.01] */
     float bleed_reduction;   /* [0, 0.99] */
 };
 
 static const struct technique_param vsm_params[] = {
     {"blur_radius_texels", "Gaussian prefilter of the moments, radius in texels (sigma = r/2)",
-     offsetof(struct vsm_settings, blur_radius_texels), PARAM_INT, 2, 0, 32, NULL},
-    {"min_variance", "floor on the variance, linear depth units squared",
-     offsetof(struct vsm_settings, min_variance), PARAM_FLOAT, 1e-5, 0.0, 0.01, NULL},
-    {"bleed_reduction", "light-bleeding reduction: p_max below this becomes 0 (0 = off)",
-     offsetof(struct vsm_settings, bleed_reduction), PARAM_FLOAT, 0.0, 0.0, 0.99, NULL},
+     offsetof(struct vsm_settings, blur_radius_texels), PARAM_INT, 2, 0, SM_MAX_BLUR_RADIUS_TEXELS,
+     NULL},
+    PARAM_ROW_MIN_VARIANCE(struct vsm_settings),
+    PARAM_ROW_BLEED_REDUCTION(struct vsm_settings),
     {NULL},
 };
 
@@ -43,7 +42,7 @@ static void vsm_request(const void *settings, const struct light_frustum *f,
                         int map_size_texels, struct shadowmap_request *r)
 {
     (void)f, (void)map_size_texels;
-    r->moments_blur_radius_texels = ((const struct vsm_settings *)settings)->blur_radius_texels;
+    r->moments.blur_radius_texels = ((const struct vsm_settings *)settings)->blur_radius_texels;
 }
 
 const struct technique technique_vsm = {

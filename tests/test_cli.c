@@ -55,9 +55,9 @@ int main(int argc, char **argv)
            "pcss.blocker_samples: 30 is not one of: 16, 25, 32, 64, 100, 128");
     expect(2, "run --set pcf.pattern=hexagon", "pcf.pattern: 'hexagon' is not one of: grid, poisson");
     expect(2, "run --set pcf.pattern=grid",
-           "pcf: pattern=grid needs a square sample count (16, 25, 64 or 100), not 32");
+           "pcf: pattern=grid needs a square sample count (16, 25, 64, 100), not 32");
     expect(2, "bench --set pcf.pattern=grid --set pcf.samples=128",
-           "pcf: pattern=grid needs a square sample count (16, 25, 64 or 100), not 128");
+           "pcf: pattern=grid needs a square sample count (16, 25, 64, 100), not 128");
     expect(2, "run --set savsm.sat_format=fp16",
            "savsm.sat_format: 'fp16' is not one of: fp32, fp32_centered, int32");
     expect(2, "run --set vsm.bleed_reduction=1", "vsm.bleed_reduction: 1 is out of range [0.0, 0.99]");
@@ -88,7 +88,7 @@ int main(int argc, char **argv)
     expect(2, "run --sweep pcss.blocker_samples=16 --sweep pcss.blocker_samples=32",
            "--sweep: pcss.blocker_samples is swept twice");
     expect(2, "run --sweep pcf.pattern=grid,poisson",
-           "pcf: pattern=grid needs a square sample count (16, 25, 64 or 100), not 32");
+           "pcf: pattern=grid needs a square sample count (16, 25, 64, 100), not 32");
     expect(2, "run --sweep pcss.blocker_samples=",
            "--sweep: 'pcss.blocker_samples=' is not technique.parameter=value,value,...");
     expect(2, "gt --scene parallel_planes --sweep pcss.blocker_samples=16",

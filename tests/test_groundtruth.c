@@ -110,7 +110,7 @@ static void check_closed_form(bool disk)
     /* The noise floor from two seeds (rms difference / sqrt 2) must estimate
      * the true error of one image over the same pixels: within a factor 1.25
      * (the estimator is unbiased; ~8000 pixels make its spread a few %). */
-    double floor = gt_rms_difference(lo.v, lo2.v, in_profile, IMG * IMG) / sqrt(2.0);
+    double floor = gt_noise_floor(lo.v, lo2.v, in_profile, IMG * IMG);
     printf("%s light: noise floor estimate at N=256 %.5f (true error %.5f)\n", shape, floor, e_lo.rms);
     CHECK(floor > e_lo.rms / 1.25 && floor < e_lo.rms * 1.25,
           "%s: noise floor %.5f does not estimate the true error %.5f", shape, floor, e_lo.rms);

@@ -10,7 +10,6 @@
  *     int32. */
 #include "check.h"
 #include "gl/gl_context.h"
-#include "check.h"
 #include "gltf_writer.h"
 #include "run_cmd.h"
 #include "scene/scene.h"
@@ -51,12 +50,12 @@ static struct box random_box(void)
 static uint32_t *build_sat(struct shadowmap *sm, const struct scene_mesh *mesh, enum sat_format f,
                            float *scale)
 {
-    struct shadowmap_request r = {.products = SM_DEPTH | SM_MOMENTS_SAT, .sat_format = f,
-                                  .sat_max_box_texels = MAX_BOX};
+    struct shadowmap_request r = {.products = SM_DEPTH | SM_MOMENTS_SAT,
+                                  .moments_sat = {.format = f, .max_box_texels = MAX_BOX}};
     CHECK(shadowmap_prepare(sm, &r) == 0, "SAT resources");
     shadowmap_require(sm, mesh, &r);
     uint32_t *sat = xmalloc(sizeof(uint32_t) * 2 * STRIDE * STRIDE);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, sm->sat_buffer);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, sm->products[SM_PRODUCT_MOMENTS_SAT].buffer);
     glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof(uint32_t) * 2 * STRIDE * STRIDE, sat);
     *scale = sm->block.sat_scale;
     return sat;
@@ -184,7 +183,7 @@ int main(void)
         if (!moments) {
             moments = xmalloc(sizeof(float) * 2 * N * N);
             float *depth = xmalloc(sizeof(float) * N * N);
-            glBindTexture(GL_TEXTURE_2D, sm.depth_texture);
+            glBindTexture(GL_TEXTURE_2D, sm.products[SM_PRODUCT_DEPTH].texture);
             glPixelStorei(GL_PACK_ALIGNMENT, 4);
             glGetTexImage(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT, GL_FLOAT, depth);
             float n = sm.block.near_world, f = sm.block.far_world;
@@ -208,9 +207,8 @@ int main(void)
         free(sat);
     }
     printf("SAT at %d^2, rms error over %d boxes up to %dx%d texels:\n", N, BOXES, MAX_BOX, MAX_BOX);
-    static const char *const names[] = {"fp32", "fp32_centered", "int32"};
-    for (int f = 0; f < 3; f++)
-        printf("  %-14s mean %.3g  variance %.3g\n", names[f], mean_rms[f], var_rms[f]);
+    for (int f = SAT_FP32; f <= SAT_INT32; f++)
+        printf("  %-14s mean %.3g  variance %.3g\n", sat_format_names[f], mean_rms[f], var_rms[f]);
     CHECK(var_rms[SAT_FP32] > var_rms[SAT_FP32_CENTERED] && mean_rms[SAT_FP32] > mean_rms[SAT_FP32_CENTERED],
           "centring must help fp32");
     CHECK(var_rms[SAT_FP32_CENTERED] >= var_rms[SAT_INT32] && mean_rms[SAT_FP32_CENTERED] >= mean_rms[SAT_INT32],

@@ -171,11 +171,10 @@ int gltf_write(const char *path, const struct mesh_builder *m, const struct gltf
     cJSON_AddStringToObject(n_light, "name", "area light");
     cJSON_AddItemToObject(n_light, "matrix", look_at_matrix(d->light_pos, d->light_target));
     cJSON *al = cJSON_AddObjectToObject(cJSON_AddObjectToObject(n_light, "extras"), "area_light");
+    cJSON_AddStringToObject(al, "shape", light_shape_names[d->light_disk ? LIGHT_DISK : LIGHT_RECT]);
     if (d->light_disk) {
-        cJSON_AddStringToObject(al, "shape", "disk");
         cJSON_AddNumberToObject(al, "radius", d->light_radius);
     } else {
-        cJSON_AddStringToObject(al, "shape", "rect");
         cJSON_AddItemToObject(al, "size", cJSON_CreateFloatArray((const float[]){d->light_width, d->light_height}, 2));
     }
     cJSON_AddItemToArray(nodes, n_mesh);

@@ -5,7 +5,7 @@
 #ifndef SB_GLTF_WRITER_H
 #define SB_GLTF_WRITER_H
 
-#include "scene/vecmath.h"
+#include "scene/scene.h"
 
 #include <stddef.h>
 #include <stdint.h>

@@ -1,9 +1,10 @@
 /* Writes shaders/sample_patterns.glsl: the PCF/PCSS sample tables, as GLSL
- * constants. The tap loops that read them unroll (shadow_common.glsl's
+ * constants. The tap loops that read them unroll (shadow_taps.glsl's
  * SM_UNROLL), so every index is a constant and each point costs nothing;
  * on llvmpipe a uniform-block table was 1.7x slower per tap.
  *
- * Two progressive Poisson-disk sets of SAMPLE_PATTERN_MAX points:
+ * Two progressive Poisson-disk sets of SAMPLE_PATTERN_MAX points, the
+ * largest tap count a technique may use (TAP_COUNTS):
  *   - square: points in [-1, 1]^2 from Mitchell's best-candidate algorithm
  *             (Mitchell 1991, "Spectrally optimal sampling for distribution
  *             ray tracing"): point i is the best of 16·(i+1) random
@@ -28,7 +29,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-#define SAMPLE_PATTERN_MAX 128
+#include "techniques/technique.h"
+
+#define SAMPLE_PATTERN_MAX TAP_COUNT_MAX
 #define CANDIDATES_PER_POINT 16
 
 static uint64_t rng_state = 0x9e3779b97f4a7c15ull;

@@ -202,31 +202,56 @@ double util_median(double *values, int n)
     return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
-void strbuf_append(struct strbuf *sb, const char *s, size_t n)
+/* Room for `extra` more characters and the NUL. */
+static void strbuf_reserve(struct strbuf *sb, size_t extra)
 {
-    if (sb->len + n + 1 > sb->cap) {
-        sb->cap = (sb->len + n + 1) * 2;
+    if (sb->len + extra + 1 > sb->cap) {
+        sb->cap = (sb->len + extra + 1) * 2;
         sb->data = xrealloc(sb->data, sb->cap);
     }
+}
+
+void strbuf_append(struct strbuf *sb, const char *s, size_t n)
+{
+    strbuf_reserve(sb, n);
     memcpy(sb->data + sb->len, s, n);
     sb->len += n;
     sb->data[sb->len] = '\0';
+}
+
+static void strbuf_vprintf(struct strbuf *sb, const char *fmt, va_list ap)
+{
+    va_list again;
+    va_copy(again, ap);
+    int n = vsnprintf(NULL, 0, fmt, ap);
+    strbuf_reserve(sb, (size_t)n);
+    vsnprintf(sb->data + sb->len, (size_t)n + 1, fmt, again);
+    va_end(again);
+    sb->len += (size_t)n;
 }
 
 void strbuf_printf(struct strbuf *sb, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    int n = vsnprintf(NULL, 0, fmt, ap);
+    strbuf_vprintf(sb, fmt, ap);
     va_end(ap);
-    if (sb->len + (size_t)n + 1 > sb->cap) {
-        sb->cap = (sb->len + (size_t)n + 1) * 2;
-        sb->data = xrealloc(sb->data, sb->cap);
-    }
+}
+
+void strbuf_list_printf(struct strbuf *sb, const char *sep, const char *fmt, ...)
+{
+    if (sb->len > 0)
+        strbuf_append(sb, sep, strlen(sep));
+    va_list ap;
     va_start(ap, fmt);
-    vsnprintf(sb->data + sb->len, (size_t)n + 1, fmt, ap);
+    strbuf_vprintf(sb, fmt, ap);
     va_end(ap);
-    sb->len += (size_t)n;
+}
+
+void strbuf_join(struct strbuf *sb, const char *const *items, const char *sep)
+{
+    for (int k = 0; items[k]; k++)
+        strbuf_list_printf(sb, sep, "%s", items[k]);
 }
 
 void strbuf_free(struct strbuf *sb)
@@ -250,15 +275,12 @@ void strbuf_xml(struct strbuf *sb, const char *s)
 
 char *util_printf(const char *fmt, ...)
 {
+    struct strbuf sb = {0};
     va_list ap;
     va_start(ap, fmt);
-    int n = vsnprintf(NULL, 0, fmt, ap);
+    strbuf_vprintf(&sb, fmt, ap);
     va_end(ap);
-    char *s = xmalloc((size_t)n + 1);
-    va_start(ap, fmt);
-    vsnprintf(s, (size_t)n + 1, fmt, ap);
-    va_end(ap);
-    return s;
+    return sb.data;  /* never NULL: the buffer holds at least the NUL */
 }
 
 const char *util_find_dir(const char *override, const char *env, const char *sub, const char *probe)

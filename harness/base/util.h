@@ -43,6 +43,12 @@ void strbuf_printf(struct strbuf *sb, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
 void strbuf_append(struct strbuf *sb, const char *s, size_t n);
 void strbuf_free(struct strbuf *sb);
+/* Appends one item of a list: sep first unless sb is empty, then the
+ * formatted item ("a, b, c" item by item). */
+void strbuf_list_printf(struct strbuf *sb, const char *sep, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/* Appends the NULL-terminated items separated by sep. */
+void strbuf_join(struct strbuf *sb, const char *const *items, const char *sep);
 /* Appends s with &, <, > and " escaped (for HTML and SVG). */
 void strbuf_xml(struct strbuf *sb, const char *s);
 

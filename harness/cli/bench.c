@@ -14,18 +14,17 @@
 #include <string.h>
 
 /* The probe's own descriptor: reaches the receiver pass like a technique,
- * with its tap counts as parameters. Not in the registry. */
+ * its two tap loops as parameters (set from a technique's PARAM_TAPS values,
+ * never parsed). Not in the registry. */
 struct probe_settings {
-    int first, second;  /* taps of each group: 0 or a sample count */
+    int first_taps, second_taps;  /* 0 or a tap count */
 };
 
-static const char *const probe_counts[] = {"0", "16", "25", "32", "64", "100", "128", NULL};
-
 static const struct technique_param probe_params[] = {
-    {"first", "depth-map fetches per pixel, first group", offsetof(struct probe_settings, first),
-     PARAM_INT, 32, 0, 128, probe_counts},
-    {"second", "depth-map fetches per pixel, second group", offsetof(struct probe_settings, second),
-     PARAM_INT, 32, 0, 128, probe_counts},
+    {"first_taps", "depth-map fetches per pixel, first loop",
+     offsetof(struct probe_settings, first_taps), PARAM_INT, 0, 0, 0, NULL},
+    {"second_taps", "depth-map fetches per pixel, second loop",
+     offsetof(struct probe_settings, second_taps), PARAM_INT, 0, 0, 0, NULL},
     {NULL},
 };
 
@@ -36,19 +35,6 @@ static const struct technique fetch_probe = {
     .settings_size = sizeof(struct probe_settings),
     .shader = "fetch_probe.glsl",
 };
-
-/* The probe matching the depth fetches per pixel of a PCF-family technique
- * at these settings (its tap parameters); false for the others. */
-static bool probe_for(const struct technique *t, const void *settings, struct probe_settings *p)
-{
-    double a = 0, b = 0;
-    if (params_get(t, settings, "samples", &a) != 0 &&
-        (params_get(t, settings, "blocker_samples", &a) != 0 ||
-         params_get(t, settings, "filter_samples", &b) != 0))
-        return false;
-    *p = (struct probe_settings){(int)a, (int)b};
-    return true;
-}
 
 static int covered_pixels(const struct receiver *rc)
 {
@@ -96,7 +82,8 @@ int bench_main(const struct run_options *o)
         receiver_create(&rcv, &s, o->width, o->height) != 0)
         goto out_free_gl;
     scene_mesh_upload(&s, &mesh);
-    struct stage_timer timer = {.sm = &sm, .mesh = &mesh, .warmup = o->warmup, .frames = o->frames};
+    struct stage_timer timer = {.sm = &sm, .mesh = &mesh, .receiver = &rcv, .warmup = o->warmup,
+                                .frames = o->frames};
 
     printf("scene %s, %dx%d, %d^2 shadow map, median of %d frames after %d warm-up, on %s\n",
            s.name, o->width, o->height, sm.desc.size_texels, o->frames, o->warmup,
@@ -107,36 +94,37 @@ int bench_main(const struct run_options *o)
     for (int i = 0; i < o->technique_count; i++) {
         const struct technique *t = o->techniques[i];
         void *settings = run_settings(o, t);
-        struct shadowmap_request req;
-        technique_request(t, settings, &sm.frustum, sm.desc.size_texels, &req);
-        if (!(program = receiver_program(t, settings, s.light.shape)) || shadowmap_prepare(&sm, &req) != 0)
+        struct stage_times times;
+        if (!(program = receiver_program(t, settings, s.light.shape)) ||
+            stage_timer_cell(&timer, t, settings, program, &times) != 0)
             goto out_free_gl;
-        double sm_ms = stage_timer_products_ms(&timer, &req, SM_DEPTH);
-        double prep_ms = stage_timer_products_ms(&timer, &req, SM_MOMENTS | SM_MOMENTS_SAT);
-        shadowmap_require(&sm, &mesh, &req);
-        receiver_ms[i] = stage_timer_receiver_ms(&timer, &rcv, program);
         glDeleteProgram(program);
         program = 0;
+        receiver_ms[i] = times.receiver_ms;
         struct strbuf text = {0};
         params_summary(t, settings, &text);
-        printf("%-11s %12.2f %12.2f %12.2f %10.2f  %s\n", t->name, sm_ms, prep_ms, receiver_ms[i],
-               sm_ms + prep_ms + receiver_ms[i], text.data ? text.data : "");
+        printf("%-11s %12.2f %12.2f %12.2f %10.2f  %s\n", t->name, times.shadowmap_ms,
+               times.filter_prep_ms, times.receiver_ms, times.total_ms, text.data ? text.data : "");
         fflush(stdout);
         strbuf_free(&text);
     }
 
-    /* The fetch limit, at the tap count of each PCF-family technique. */
+    /* The fetch limit, at the tap loops (PARAM_TAPS) of each technique that has any. */
     int covered = covered_pixels(&rcv);
     printf("\nfetch limit: a receiver pass doing only N depth fetches per pixel (%d covered pixels)\n",
            covered);
     for (int i = 0; i < o->technique_count; i++) {
-        struct probe_settings ps;
-        if (!probe_for(o->techniques[i], run_settings(o, o->techniques[i]), &ps))
+        int loops[2] = {0, 0};
+        int n = params_taps(o->techniques[i], run_settings(o, o->techniques[i]), loops, 2);
+        if (n == 0)
             continue;
-        int taps = ps.first + ps.second;
+        if (n > 2)
+            log_warn("%s: %d tap loops; the fetch probe counts the first two", o->techniques[i]->name, n);
+        struct probe_settings ps = {loops[0], loops[1]};
+        int taps = ps.first_taps + ps.second_taps;
         if (!(program = receiver_program(&fetch_probe, &ps, s.light.shape)))
             goto out_free_gl;
-        double probe_ms = stage_timer_receiver_ms(&timer, &rcv, program);
+        double probe_ms = stage_timer_receiver_ms(&timer, program);
         glDeleteProgram(program);
         program = 0;
         printf("  %-10s %3d fetches: probe %.2f ms (%.2f G fetches/s); %s receiver %.2f ms = %.2fx "

@@ -364,7 +364,7 @@ static int cmd_list(int argc, char **argv)
         }
         printf("  %s\n    %s\n    shows: %s\n    %zu triangles, %s light\n\n", s.name,
                s.description, *s.shows ? s.shows : "-", s.triangle_count,
-               s.light.shape == LIGHT_RECT ? "rect" : "disk");
+               light_shape_names[s.light.shape]);
         scene_free(&s);
     }
     catalog_free(paths, n);

@@ -3,19 +3,18 @@
  * receiver pass per technique, scored and written out (DESIGN.md §2, §8). */
 #include "run.h"
 #include "catalog.h"
-#include "gl/gl_context.h"
-#include "truth/groundtruth.h"
-#include "base/image.h"
 #include "base/log.h"
-#include "score/metrics.h"
-#include "techniques/params.h"
-#include "output/picture.h"
-#include "render/receiver.h"
-#include "output/report.h"
+#include "base/util.h"
+#include "gl/gl_context.h"
 #include "gl/scene_mesh.h"
 #include "gl/shader.h"
+#include "output/cell_output.h"
+#include "output/report.h"
+#include "render/receiver.h"
 #include "render/stage_timer.h"
-#include "base/util.h"
+#include "score/metrics.h"
+#include "techniques/params.h"
+#include "truth/groundtruth.h"
 
 #include <OpenEXR/openexr.h>
 #include <embree3/rtcore.h>
@@ -95,18 +94,6 @@ static int prepare_out_dir(const char *dir)
     return 0;
 }
 
-static int write_pictures(const char *dir, const char *name, const float *v, const float *distance,
-                          const float *scored, int w, int h)
-{
-    struct picture p;
-    picture_visibility(v, distance, scored, w, h, &p);
-    char *path = util_printf("%s/%s.png", dir, name);
-    int rc = image_write_png(path, p.width, p.height, 3, p.rgb);
-    free(path);
-    picture_free(&p);
-    return rc;
-}
-
 /* Everything of one scene that the cells share. */
 struct scene_run {
     const struct run_options *o;
@@ -116,67 +103,59 @@ struct scene_run {
     struct shadowmap sm;
     struct receiver receiver;
     struct stage_timer timer;
-    float *v, *distance, *scored, *error;
+    float *v, *distance, *scored;  /* the current cell's V_tech, GL distance, scored mask */
     char *dir;
     int *cells_done, cells_total, label_width;  /* progress */
 };
 
+/* The cell's scores against the scene's ground truth (DESIGN.md §6, §7). */
+static void score_cell(struct scene_run *sr, const struct stage_times *times, struct metrics *m)
+{
+    const int w = sr->o->width, h = sr->o->height;
+    *m = (struct metrics){.ms_shadowmap = times->shadowmap_ms, .ms_filter_prep = times->filter_prep_ms,
+                          .ms_receiver = times->receiver_ms, .ms_total = times->total_ms};
+    m->mismatch_pixels = metrics_score_mask(sr->gt.mask, sr->gt.distance, sr->distance, w * h,
+                                            sr->scored);
+    metrics_compute(sr->v, sr->gt.v, sr->gt.v_alt, sr->scored, sr->distance, w, h, m);
+}
+
+/* What a cell is: its scene, technique, name and parameter values. */
+static void describe_cell(const struct scene_run *sr, const struct run_config *config, struct cell *c)
+{
+    c->scene = sr->scene->name;
+    c->technique = config->technique;
+    c->label = config->label;
+    c->gl_renderer = gl_context_renderer();
+    c->params = params_json(config->technique, config->settings);
+    struct strbuf text = {0};
+    params_summary(config->technique, config->settings, &text);
+    c->params_text = text.data ? text.data : xstrdup("");
+}
+
 static int run_cell(struct scene_run *sr, const struct run_config *config, GLuint program,
                     struct cell *c)
 {
-    const struct run_options *o = sr->o;
-    const struct technique *t = config->technique;
-    const void *settings = config->settings;
-    const int w = o->width, h = o->height, count = w * h;
-    struct shadowmap_request req;
-    technique_request(t, settings, &sr->sm.frustum, sr->sm.desc.size_texels, &req);
-    if (shadowmap_prepare(&sr->sm, &req) != 0)
+    struct stage_times times;
+    if (stage_timer_cell(&sr->timer, config->technique, config->settings, program, &times) != 0)
         return -1;
-    c->m.ms_shadowmap = stage_timer_products_ms(&sr->timer, &req, SM_DEPTH);
-    c->m.ms_filter_prep = stage_timer_products_ms(&sr->timer, &req, SM_MOMENTS | SM_MOMENTS_SAT);
-    shadowmap_require(&sr->sm, &sr->mesh, &req);
-    c->m.ms_receiver = stage_timer_receiver_ms(&sr->timer, &sr->receiver, program);
-    c->m.ms_total = c->m.ms_shadowmap + c->m.ms_filter_prep + c->m.ms_receiver;
     receiver_read(&sr->receiver, sr->v, sr->distance);
+    score_cell(sr, &times, &c->m);
+    describe_cell(sr, config, c);
 
-    c->m.mismatch_pixels = metrics_score_mask(sr->gt.mask, sr->gt.distance, sr->distance, count,
-                                              sr->scored);
-    metrics_compute(sr->v, sr->gt.v, sr->gt.v_alt, sr->scored, sr->distance, w, h, &c->m);
-
-    c->scene = sr->scene->name;
-    c->technique = t;
-    c->label = config->label;
-    c->gl_renderer = gl_context_renderer();
-    c->params = params_json(t, settings);
-    struct strbuf text = {0};
-    params_summary(t, settings, &text);
-    c->params_text = text.data ? text.data : xstrdup("");
-
-    for (int i = 0; i < count; i++)
-        sr->error[i] = sr->scored[i] > 0.5f ? sr->v[i] - sr->gt.v[i] : 0.0f;
     char *dir = util_printf("%s/%s", sr->dir, config->label);
-    char *vis_exr = util_printf("%s/visibility.exr", dir), *err_exr = util_printf("%s/error.exr", dir);
-    char *heat = util_printf("%s/heatmap.png", dir), *json = util_printf("%s/metrics.json", dir);
-    struct picture hm;
-    picture_error_heatmap(sr->v, sr->gt.v, sr->scored, w, h, &hm);
-    cJSON *mj = report_cell_json(c);
-    int rc = util_mkdirs(dir) ||
-             image_write_exr(vis_exr, w, h, &(struct exr_channel){"V", sr->v}, 1) ||
-             image_write_exr(err_exr, w, h, &(struct exr_channel){"E", sr->error}, 1) ||
-             write_pictures(dir, "visibility", sr->v, sr->distance, NULL, w, h) ||
-             image_write_png(heat, hm.width, hm.height, 3, hm.rgb) || report_write_json(json, mj);
-    cJSON_Delete(mj);
-    picture_free(&hm);
-    free(vis_exr), free(err_exr), free(heat), free(json), free(dir);
-
+    const struct cell_images im = {sr->o->width, sr->o->height, sr->v, sr->distance, sr->gt.v,
+                                   sr->scored};
+    int rc = output_cell(dir, c, &im);
+    free(dir);
     log_info("  [%d/%d] %-*s rmse %.4f  penumbra_rmse %.4f  leak %.4f  dark %.4f  %7.2f ms%s",
              ++*sr->cells_done, sr->cells_total, sr->label_width, config->label, c->m.rmse,
              c->m.penumbra_rmse, c->m.leak_fraction, c->m.dark_fraction, c->m.ms_total,
              c->m.nonfinite ? "  NON-FINITE VALUES" : "");
-    return rc ? -1 : 0;
+    return rc;
 }
 
-static int run_scene(struct scene_run *sr, GLuint (*programs)[2], struct cell *cells, int *cell_count)
+static int run_scene(struct scene_run *sr, GLuint (*programs)[LIGHT_SHAPE_COUNT], struct cell *cells,
+                     int *cell_count)
 {
     const struct run_options *o = sr->o;
     const int w = o->width, h = o->height, count = w * h;
@@ -189,8 +168,8 @@ static int run_scene(struct scene_run *sr, GLuint (*programs)[2], struct cell *c
     if (shadowmap_create(&sr->sm, sr->scene, &(struct shadowmap_desc){.size_texels = o->shadow_map_size}) ||
         receiver_create(&sr->receiver, sr->scene, w, h))
         return -1;
-    sr->timer = (struct stage_timer){.sm = &sr->sm, .mesh = &sr->mesh, .warmup = o->warmup,
-                                     .frames = o->frames};
+    sr->timer = (struct stage_timer){.sm = &sr->sm, .mesh = &sr->mesh, .receiver = &sr->receiver,
+                                     .warmup = o->warmup, .frames = o->frames};
     if (gt_obtain(sr->scene, &sr->sm.frustum,
                   &(struct gt_desc){.width = w, .height = h, .samples = o->gt_samples},
                   o->cache_dir, &sr->gt) != 0)
@@ -199,7 +178,6 @@ static int run_scene(struct scene_run *sr, GLuint (*programs)[2], struct cell *c
     sr->v = xmalloc(sizeof(float) * (size_t)count);
     sr->distance = xmalloc(sizeof(float) * (size_t)count);
     sr->scored = xmalloc(sizeof(float) * (size_t)count);
-    sr->error = xmalloc(sizeof(float) * (size_t)count);
     for (int i = 0; i < o->config_count; i++)
         if (run_cell(sr, &o->configs[i], programs[i][sr->scene->light.shape],
                      &cells[(*cell_count)++]) != 0)
@@ -207,12 +185,7 @@ static int run_scene(struct scene_run *sr, GLuint (*programs)[2], struct cell *c
 
     /* The scored mask is the same for every cell of the scene (same camera,
      * same geometry): groundtruth.exr carries the last cell's. */
-    char *gt_path = util_printf("%s/groundtruth.exr", sr->dir);
-    struct exr_channel ch[] = {{"V", sr->gt.v}, {"V_weighted", sr->gt.v_weighted}, {"mask", sr->scored}};
-    int rc = image_write_exr(gt_path, w, h, ch, 3) ||
-             write_pictures(sr->dir, "groundtruth", sr->gt.v, sr->gt.distance, sr->scored, w, h);
-    free(gt_path);
-    return rc ? -1 : 0;
+    return output_groundtruth(sr->dir, w, h, sr->gt.v, sr->gt.v_weighted, sr->scored, sr->gt.distance);
 }
 
 static void scene_run_free(struct scene_run *sr)
@@ -221,7 +194,7 @@ static void scene_run_free(struct scene_run *sr)
     receiver_destroy(&sr->receiver);
     shadowmap_destroy(&sr->sm);
     scene_mesh_destroy(&sr->mesh);
-    free(sr->v), free(sr->distance), free(sr->scored), free(sr->error), free(sr->dir);
+    free(sr->v), free(sr->distance), free(sr->scored), free(sr->dir);
     memset(sr, 0, sizeof *sr);
 }
 
@@ -299,7 +272,7 @@ int run_main(const struct run_options *given)
     int scene_count = 0, status = EXIT_CHECK_FAILED;
     struct cell *cells = NULL;
     int cell_count = 0;
-    GLuint (*programs)[2] = xcalloc((size_t)o.config_count, sizeof *programs);  /* by light shape */
+    GLuint (*programs)[LIGHT_SHAPE_COUNT] = xcalloc((size_t)o.config_count, sizeof *programs);  /* by light shape */
     struct report_scene rs[RUN_MAX_SCENES] = {0};
 
     if (load_scenes(&o, scenes, &scene_count) != 0 || prepare_out_dir(o.out_dir) != 0) {
@@ -369,7 +342,7 @@ int run_main(const struct run_options *given)
     free(cells);
 out_free_gl:
     for (int i = 0; i < o.config_count; i++)
-        for (int k = 0; k < 2; k++)
+        for (int k = 0; k < LIGHT_SHAPE_COUNT; k++)
             if (programs[i][k])
                 glDeleteProgram(programs[i][k]);
     gl_context_destroy();
@@ -406,15 +379,12 @@ int run_gt(const struct run_options *given)
     if (gt_obtain(&s, &f, &(struct gt_desc){.width = o.width, .height = o.height, .samples = o.gt_samples},
                   o.cache_dir, &gt) == 0) {
         /* No GL pass here: the mask lacks run's silhouette check (DESIGN.md §6). */
-        char *out = util_printf("%s/groundtruth.exr", dir);
-        struct exr_channel ch[] = {{"V", gt.v}, {"V_weighted", gt.v_weighted}, {"mask", gt.mask}};
-        if (image_write_exr(out, o.width, o.height, ch, 3) == 0 &&
-            write_pictures(dir, "groundtruth", gt.v, gt.distance, gt.mask, o.width, o.height) == 0) {
-            double noise = gt_rms_difference(gt.v, gt.v_alt, gt.mask, o.width * o.height) / sqrt(2.0);
-            printf("%s\nnoise floor (rms error of V at %d samples): %.5f\n", out, o.gt_samples, noise);
+        if (output_groundtruth(dir, o.width, o.height, gt.v, gt.v_weighted, gt.mask, gt.distance) == 0) {
+            double noise = gt_noise_floor(gt.v, gt.v_alt, gt.mask, (size_t)o.width * (size_t)o.height);
+            printf("%s/groundtruth.exr\nnoise floor (rms error of V at %d samples): %.5f\n", dir,
+                   o.gt_samples, noise);
             status = EXIT_OK;
         }
-        free(out);
         gt_image_free(&gt);
     }
     free(dir);

@@ -52,6 +52,17 @@ void gl_install_debug_output(void)
     glDebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DONT_CARE, 0, NULL, GL_TRUE);
 }
 
+bool gl_framebuffer_complete(GLuint fbo, const char *label)
+{
+    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    gl_label(GL_FRAMEBUFFER, fbo, label);
+    if (status == GL_FRAMEBUFFER_COMPLETE)
+        return true;
+    log_error("%s: framebuffer incomplete (0x%x)", label, status);
+    return false;
+}
+
 void gl_label(GLenum type, GLuint object, const char *label)
 {
     glObjectLabel(type, object, (GLsizei)strlen(label), label);

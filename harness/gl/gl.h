@@ -100,6 +100,10 @@ bool gl_load(gl_proc (*getproc)(const char *name));
  * objects: call once per context. */
 void gl_install_debug_output(void);
 
+/* Labels framebuffer fbo (bound), unbinds it and checks it is complete;
+ * false after logging "<label>: framebuffer incomplete" if not. */
+bool gl_framebuffer_complete(GLuint fbo, const char *label);
+
 /* glObjectLabel with a C string. */
 void gl_label(GLenum type, GLuint object, const char *label);
 

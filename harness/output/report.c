@@ -14,10 +14,8 @@ cJSON *report_cell_json(const struct cell *c)
     cJSON_AddStringToObject(o, "technique", c->technique->name);
     cJSON_AddStringToObject(o, "cell", c->label);
     cJSON_AddItemToObject(o, "params", cJSON_Duplicate(c->params, 1));
-    cJSON *m = metrics_json(&c->m);
-    for (cJSON *it = m->child; it; it = it->next)
-        cJSON_AddNumberToObject(o, it->string, it->valuedouble);
-    cJSON_Delete(m);
+    for (int k = 0; k < METRIC_COUNT; k++)
+        cJSON_AddNumberToObject(o, metric_info[k].key, metrics_value(&c->m, k));
     cJSON_AddStringToObject(o, "gl_renderer", c->gl_renderer);
     return o;
 }
@@ -43,12 +41,10 @@ static void csv_field(struct strbuf *sb, const char *s)
 
 static int write_matrix(const struct report *r)
 {
-    /* The metric columns are metrics_json()'s keys, in its order: one list. */
     struct strbuf csv = {0};
     strbuf_printf(&csv, "scene,technique,params");
-    cJSON *names = metrics_json(&(struct metrics){0});
-    for (const cJSON *it = names->child; it; it = it->next)
-        strbuf_printf(&csv, ",%s", it->string);
+    for (int k = 0; k < METRIC_COUNT; k++)
+        strbuf_printf(&csv, ",%s", metric_info[k].key);
     strbuf_printf(&csv, ",gl_renderer,cell\n");
     cJSON *matrix = cJSON_CreateObject();
     cJSON *cells = cJSON_AddArrayToObject(matrix, "cells");
@@ -59,8 +55,8 @@ static int write_matrix(const struct report *r)
         csv_field(&csv, r->cells[i].technique->name);
         strbuf_printf(&csv, ",");
         csv_field(&csv, r->cells[i].params_text);
-        for (const cJSON *it = names->child; it; it = it->next)
-            strbuf_printf(&csv, ",%.9g", cJSON_GetObjectItem(row, it->string)->valuedouble);
+        for (int k = 0; k < METRIC_COUNT; k++)
+            strbuf_printf(&csv, ",%.9g", metrics_value(&r->cells[i].m, k));
         strbuf_printf(&csv, ",");
         csv_field(&csv, r->cells[i].gl_renderer);
         strbuf_printf(&csv, ",");
@@ -68,7 +64,6 @@ static int write_matrix(const struct report *r)
         strbuf_printf(&csv, "\n");
         cJSON_AddItemToArray(cells, row);
     }
-    cJSON_Delete(names);
     char *csv_path = util_printf("%s/matrix.csv", r->out_dir);
     char *json_path = util_printf("%s/matrix.json", r->out_dir);
     int rc = util_write_file_atomic(csv_path, csv.data, csv.len) ||
@@ -230,17 +225,6 @@ static const char script[] =
     "const m=location.hash.match(/^#sort=(-?)([a-z_]+)$/);if(m)sort(m[2],m[1]==='-');\n"
     "})();\n";
 
-/* The metric columns of the matrix table, between the scene and cell
- * columns and the params column: key, and its printf format. */
-static const struct column {
-    const char *key, *format;
-} columns[] = {
-    {"rmse", "%.4f"}, {"penumbra_rmse", "%.4f"}, {"mae", "%.4f"}, {"bias", "%+.4f"},
-    {"p99_abs", "%.4f"}, {"leak_fraction", "%.4f"}, {"dark_fraction", "%.4f"},
-    {"nonfinite", "%.0f"}, {"ms_shadowmap", "%.2f"}, {"ms_filter_prep", "%.2f"},
-    {"ms_receiver", "%.2f"}, {"ms_total", "%.2f"}, {"gt_noise_penumbra_rmse", "%.4f"},
-};
-
 /* A path segment or fragment of a URL: anything but unreserved characters
  * and @ = , + percent-encoded (a scene file may be named anything). */
 static void url(struct strbuf *h, const char *s)
@@ -300,8 +284,12 @@ static void matrix_table(const struct report *r, struct strbuf *h)
     pareto_flags(r, front);
     strbuf_printf(h, "<div class=\"scroll\"><table id=\"matrix\"><thead><tr>"
                      "<th data-k=\"scene\">scene</th><th data-k=\"cell\">cell</th>");
-    for (size_t k = 0; k < ARRAY_SIZE(columns); k++)
-        strbuf_printf(h, "<th data-k=\"%s\">%s</th>", columns[k].key, columns[k].key);
+    for (int k = 0; k < METRIC_COUNT; k++)
+        if (metric_info[k].in_report) {
+            strbuf_printf(h, "<th data-k=\"%s\" title=\"", metric_info[k].key);
+            strbuf_xml(h, metric_info[k].help);
+            strbuf_printf(h, "\">%s</th>", metric_info[k].key);
+        }
     strbuf_printf(h, "<th data-k=\"params\">params</th></tr></thead>\n<tbody>\n");
     for (int i = 0; i < r->cell_count; i++) {
         const struct cell *c = &r->cells[i];
@@ -313,14 +301,14 @@ static void matrix_table(const struct report *r, struct strbuf *h)
         strbuf_printf(h, "\">");
         strbuf_xml(h, c->label);
         strbuf_printf(h, "</a></td>");
-        cJSON *row = report_cell_json(c);
-        for (size_t k = 0; k < ARRAY_SIZE(columns); k++) {
-            double v = cJSON_GetNumberValue(cJSON_GetObjectItem(row, columns[k].key));
+        for (int k = 0; k < METRIC_COUNT; k++) {
+            if (!metric_info[k].in_report)
+                continue;
+            double v = metrics_value(&c->m, k);
             strbuf_printf(h, "<td data-v=\"%.9g\">", v);
-            strbuf_printf(h, columns[k].format, v);
+            strbuf_printf(h, metric_info[k].format, v);
             strbuf_printf(h, "</td>");
         }
-        cJSON_Delete(row);
         strbuf_printf(h, "<td class=\"p\">");
         strbuf_xml(h, c->params_text);
         strbuf_printf(h, "</td></tr>\n");

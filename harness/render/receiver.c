@@ -38,11 +38,7 @@ int receiver_create(struct receiver *r, const struct scene *s, int width, int he
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, r->distance, 0);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, r->depth, 0);
     glDrawBuffers(2, (const GLenum[]){GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1});
-    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    gl_label(GL_FRAMEBUFFER, r->fbo, "receiver pass");
-    if (status != GL_FRAMEBUFFER_COMPLETE) {
-        log_error("receiver pass: framebuffer incomplete (0x%x)", status);
+    if (!gl_framebuffer_complete(r->fbo, "receiver pass")) {
         receiver_destroy(r);
         return -1;
     }
@@ -52,10 +48,10 @@ int receiver_create(struct receiver *r, const struct scene *s, int width, int he
 GLuint receiver_program(const struct technique *t, const void *settings, enum light_shape shape)
 {
     struct strbuf defines = {0};
-    strbuf_printf(&defines, "#define SM_LIGHT_SHAPE %d\n", shape == LIGHT_RECT ? 0 : 1);
+    shadowmap_shader_defines(&defines);
+    strbuf_printf(&defines, "#define SM_LIGHT_SHAPE %d\n", (int)shape);
     params_defines(t, settings, &defines);
-    char *label = util_printf("receiver pass: %s, %s light", t->name,
-                              shape == LIGHT_RECT ? "rect" : "disk");
+    char *label = util_printf("receiver pass: %s, %s light", t->name, light_shape_names[shape]);
     GLuint p = shader_program(
         label, defines.data,
         (const struct shader_stage[]){{GL_VERTEX_SHADER, {"receiver.vert"}},

@@ -3,24 +3,23 @@
 
 struct job {
     struct stage_timer *t;
-    enum shadowmap_product product;
+    int product;                          /* SM_PRODUCT_*, or -1: the receiver pass */
     const struct shadowmap_request *request;
-    const struct receiver *receiver;  /* NULL: the job renders the product */
     GLuint program;
 };
 
 static void run_job(const struct job *j)
 {
-    if (j->receiver)
-        receiver_render(j->receiver, j->program, j->t->mesh, j->t->sm);
+    if (j->product < 0)
+        receiver_render(j->t->receiver, j->program, j->t->mesh, j->t->sm);
     else
         shadowmap_render_product(j->t->sm, j->t->mesh, j->product, j->request);
 }
 
 static double median_ms(const struct job *j)
 {
-    double samples[1000];
-    int frames = j->t->frames < 1000 ? j->t->frames : 1000;
+    double samples[STAGE_TIMER_MAX_FRAMES];
+    int frames = j->t->frames < STAGE_TIMER_MAX_FRAMES ? j->t->frames : STAGE_TIMER_MAX_FRAMES;
     glFinish();
     for (int i = 0; i < j->t->warmup; i++) {
         run_job(j);
@@ -35,34 +34,43 @@ static double median_ms(const struct job *j)
     return util_median(samples, frames);
 }
 
-double stage_timer_products_ms(struct stage_timer *t, const struct shadowmap_request *r,
-                               unsigned which)
+/* Median ms of product p with r's options: timed the first time, then
+ * remembered. Timing renders it, which leaves it current. */
+static double product_ms(struct stage_timer *t, int p, const struct shadowmap_request *r)
 {
-    double ms = 0;
-    for (unsigned p = SM_DEPTH; p <= SM_MOMENTS_SAT; p <<= 1) {
-        if (!(r->products & which & p))
-            continue;
-        int i = 0;
-        while (i < t->product_count &&
-               !(t->products[i].product == p && shadowmap_same_product(p, &t->products[i].request, r)))
-            i++;
-        if (i < t->product_count) {
-            ms += t->products[i].ms;
-            continue;
-        }
-        double product_ms = median_ms(&(struct job){t, (enum shadowmap_product)p, r, NULL, 0});
-        if (t->product_count < STAGE_TIMER_MAX_PRODUCTS) {  /* else: timed again when asked */
-            t->products[i].product = (enum shadowmap_product)p;
-            t->products[i].request = *r;
-            t->products[i].ms = product_ms;
-            t->product_count++;
-        }
-        ms += product_ms;
+    for (int i = 0; i < t->product_count; i++)
+        if (t->products[i].product == p && shadowmap_same_product(p, &t->products[i].request, r))
+            return t->products[i].ms;
+    double ms = median_ms(&(struct job){t, p, r, 0});
+    if (t->product_count < STAGE_TIMER_MAX_PRODUCTS) {  /* else: timed again when asked */
+        t->products[t->product_count].product = p;
+        t->products[t->product_count].request = *r;
+        t->products[t->product_count].ms = ms;
+        t->product_count++;
     }
     return ms;
 }
 
-double stage_timer_receiver_ms(struct stage_timer *t, const struct receiver *rc, GLuint program)
+int stage_timer_cell(struct stage_timer *timer, const struct technique *t, const void *settings,
+                     GLuint program, struct stage_times *out)
 {
-    return median_ms(&(struct job){t, 0, NULL, rc, program});
+    struct shadowmap_request r;
+    technique_request(t, settings, &timer->sm->frustum, timer->sm->desc.size_texels, &r);
+    if (shadowmap_prepare(timer->sm, &r) != 0)
+        return -1;
+    *out = (struct stage_times){0};
+    for (int p = 0; p < SM_PRODUCT_COUNT; p++)
+        if (r.products & (1u << p)) {
+            double ms = product_ms(timer, p, &r);
+            *(p == SM_PRODUCT_DEPTH ? &out->shadowmap_ms : &out->filter_prep_ms) += ms;
+        }
+    shadowmap_require(timer->sm, timer->mesh, &r);
+    out->receiver_ms = stage_timer_receiver_ms(timer, program);
+    out->total_ms = out->shadowmap_ms + out->filter_prep_ms + out->receiver_ms;
+    return 0;
+}
+
+double stage_timer_receiver_ms(struct stage_timer *timer, GLuint program)
+{
+    return median_ms(&(struct job){timer, -1, NULL, program});
 }

@@ -3,6 +3,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+const char *const light_shape_names[LIGHT_SHAPE_COUNT] = {
+#define X(id, name) name,
+    LIGHT_SHAPES(X)
+#undef X
+};
+
 void scene_free(struct scene *s)
 {
     free(s->path);

@@ -13,7 +13,18 @@
 extern "C" {
 #endif
 
-enum light_shape { LIGHT_RECT, LIGHT_DISK };
+/* X(ID, name): the area light's shapes (DESIGN.md §4); GLSL sees SM_LIGHT_<ID>. */
+#define LIGHT_SHAPES(X) X(RECT, "rect") X(DISK, "disk")
+
+enum light_shape {
+#define X(id, name) LIGHT_##id,
+    LIGHT_SHAPES(X)
+#undef X
+    LIGHT_SHAPE_COUNT
+};
+
+/* Their spellings in a scene file, by enum value. */
+extern const char *const light_shape_names[LIGHT_SHAPE_COUNT];
 
 struct scene_light {
     enum light_shape shape;

@@ -166,10 +166,11 @@ private:
     void take_light(int ni, const tinygltf::Value &l, struct mat4 world)
     {
         const char *where = "area light";
+        const char *rect = light_shape_names[LIGHT_RECT], *disk = light_shape_names[LIGHT_DISK];
         if (!l.IsObject() || !l.Has("shape") || !l.Get("shape").IsString())
-            fail(fmt("%s (node %d): \"shape\" must be \"rect\" or \"disk\"", where, ni));
+            fail(fmt("%s (node %d): \"shape\" must be \"%s\" or \"%s\"", where, ni, rect, disk));
         std::string shape = l.Get("shape").Get<std::string>();
-        if (shape == "rect") {
+        if (shape == rect) {
             const tinygltf::Value &s = l.Get("size");
             if (!s.IsArray() || s.ArrayLen() != 2 || !s.Get(0).IsNumber() || !s.Get(1).IsNumber())
                 fail(fmt("%s (node %d): \"size\" must be an array of two numbers", where, ni));
@@ -179,7 +180,7 @@ private:
             light.shape = LIGHT_RECT;
             light.width = (float)w;
             light.height = (float)h;
-        } else if (shape == "disk") {
+        } else if (shape == disk) {
             const tinygltf::Value &r = l.Get("radius");
             if (!r.IsNumber())
                 fail(fmt("%s (node %d): \"radius\" must be a number", where, ni));
@@ -190,8 +191,8 @@ private:
             light.radius = (float)rad;
             light.width = light.height = (float)(2 * rad);
         } else {
-            fail(fmt("%s (node %d): \"shape\" must be \"rect\" or \"disk\", got \"%s\"", where, ni,
-                     shape.c_str()));
+            fail(fmt("%s (node %d): \"shape\" must be \"%s\" or \"%s\", got \"%s\"", where, ni,
+                     rect, disk, shape.c_str()));
         }
         if (!node_frame(world, &light.pos, &light.x, &light.y, &light.z))
             fail(fmt("%s (node %d): the node has a degenerate transform", where, ni));

@@ -1,4 +1,5 @@
 #include "metrics.h"
+#include "truth/groundtruth.h"
 #include "base/util.h"
 
 #include <math.h>
@@ -22,7 +23,7 @@ long metrics_score_mask(const float *gt_mask, const float *gt_distance, const fl
 
 /* Penumbra band of V_gt dilated by METRICS_PENUMBRA_DILATE, within scored. */
 static void penumbra_mask(const float *v_gt, const float *scored, int width, int height,
-                          unsigned char *band)
+                          float *band)
 {
     const int r = METRICS_PENUMBRA_DILATE;
     size_t count = (size_t)width * (size_t)height;
@@ -44,7 +45,7 @@ static void penumbra_mask(const float *v_gt, const float *scored, int width, int
             for (int k = y - r; k <= y + r && !any; k++)
                 any = k >= 0 && k < height && rows[(size_t)k * width + x];
             size_t i = (size_t)y * width + x;
-            band[i] = any && scored[i] > 0.5f;
+            band[i] = any && scored[i] > 0.5f ? 1.0f : 0.0f;
         }
     free(rows);
     free(core);
@@ -61,32 +62,26 @@ void metrics_compute(const float *v_tech, const float *v_gt, const float *v_gt_a
                      struct metrics *m)
 {
     size_t count = (size_t)width * (size_t)height;
-    unsigned char *band = xmalloc(count);
+    float *band = xmalloc(count * sizeof(float));
     penumbra_mask(v_gt, scored, width, height, band);
     float *abs_err = xmalloc(count * sizeof(float));
 
-    double sum2 = 0, sum_abs = 0, sum = 0, max_abs = 0, pen2 = 0, noise2 = 0, pen_noise2 = 0;
-    long n = 0, pen = 0, leak = 0, dark = 0, nonfinite = 0, scored_n = 0, band_n = 0;
+    double sum2 = 0, sum_abs = 0, sum = 0, max_abs = 0, pen2 = 0;
+    long n = 0, pen = 0, leak = 0, dark = 0, nonfinite = 0, scored_n = 0;
     for (size_t i = 0; i < count; i++) {
         bool finite = isfinite(v_tech[i]);
         if (!finite && gl_distance[i] >= 0.0f)
             nonfinite++;
-        band_n += band[i];
         if (scored[i] < 0.5f)
             continue;
         scored_n++;
-        if (v_gt_alt) {
-            double d = (double)v_gt[i] - (double)v_gt_alt[i];
-            noise2 += d * d;
-            pen_noise2 += band[i] ? d * d : 0.0;
-        }
         if (!finite)
             continue;
         double e = (double)v_tech[i] - (double)v_gt[i], a = fabs(e);
         sum += e, sum_abs += a, sum2 += e * e;
         max_abs = fmax(max_abs, a);
         abs_err[n++] = (float)a;
-        if (band[i])
+        if (band[i] > 0.5f)
             pen2 += e * e, pen++;
         leak += v_gt[i] < 0.05f && v_tech[i] > 0.25f;
         dark += v_gt[i] > 0.95f && v_tech[i] < 0.75f;
@@ -114,36 +109,26 @@ void metrics_compute(const float *v_tech, const float *v_gt, const float *v_gt_a
         .ms_filter_prep = m->ms_filter_prep,
         .ms_receiver = m->ms_receiver,
         .ms_total = m->ms_total,
-        .gt_noise_rmse = scored_n ? sqrt(noise2 / (2.0 * scored_n)) : 0,
-        .gt_noise_penumbra_rmse = band_n ? sqrt(pen_noise2 / (2.0 * band_n)) : 0,
+        .gt_noise_rmse = v_gt_alt ? gt_noise_floor(v_gt, v_gt_alt, scored, count) : 0,
+        .gt_noise_penumbra_rmse = v_gt_alt ? gt_noise_floor(v_gt, v_gt_alt, band, count) : 0,
     };
     *m = r;
     free(abs_err);
     free(band);
 }
 
-cJSON *metrics_json(const struct metrics *m)
+const struct metric_info metric_info[METRIC_COUNT] = {
+#define X(key, type, format, in_report, help) {#key, format, help, in_report},
+    METRICS(X)
+#undef X
+};
+
+double metrics_value(const struct metrics *m, int k)
 {
-    cJSON *o = cJSON_CreateObject();
-#define NUM(k) cJSON_AddNumberToObject(o, #k, (double)m->k)
-    NUM(rmse);
-    NUM(mae);
-    NUM(bias);
-    NUM(max_abs);
-    NUM(p99_abs);
-    NUM(penumbra_rmse);
-    NUM(leak_fraction);
-    NUM(dark_fraction);
-    NUM(nonfinite);
-    NUM(scored_pixels);
-    NUM(mismatch_pixels);
-    NUM(penumbra_pixels);
-    NUM(ms_shadowmap);
-    NUM(ms_filter_prep);
-    NUM(ms_receiver);
-    NUM(ms_total);
-    NUM(gt_noise_rmse);
-    NUM(gt_noise_penumbra_rmse);
-#undef NUM
-    return o;
+    switch (k) {
+#define X(key, type, format, in_report, help) case METRIC_##key: return (double)m->key;
+        METRICS(X)
+#undef X
+    }
+    return NAN;
 }

@@ -3,7 +3,8 @@
 #ifndef SB_METRICS_H
 #define SB_METRICS_H
 
-#include <cjson/cJSON.h>
+#include <stdbool.h>
+#include <stddef.h>
 
 /* Relative disagreement between the GL camera distance and the ray-traced
  * hit distance above which a pixel is a silhouette mismatch. Both sample the
@@ -16,17 +17,52 @@
 #define METRICS_PENUMBRA_HI 0.98
 #define METRICS_PENUMBRA_DILATE 2
 
+/* Every metric of a cell, once (STYLE.md item 6a): X(key, C type, printf
+ * format for the report, shown in the report's matrix table, help). struct
+ * metrics, metrics.json, matrix.csv/json and the report's columns come from
+ * this list, in this order; test_metrics checks the README's metric table
+ * against it. */
+#define METRICS(X)                                                                              \
+    X(rmse, double, "%.4f", true, "root-mean-square error")                                     \
+    X(mae, double, "%.4f", true, "mean absolute error")                                          \
+    X(bias, double, "%+.4f", true, "mean signed error (> 0: too bright)")                        \
+    X(max_abs, double, "%.4f", false, "largest absolute error")                                  \
+    X(p99_abs, double, "%.4f", true, "99th-percentile absolute error (nearest rank)")             \
+    X(penumbra_rmse, double, "%.4f", true, "rmse over the penumbra band")                        \
+    X(leak_fraction, double, "%.4f", true, "share of scored pixels with V_gt < 0.05, V_tech > 0.25") \
+    X(dark_fraction, double, "%.4f", true, "share of scored pixels with V_gt > 0.95, V_tech < 0.75") \
+    X(nonfinite, long, "%.0f", true, "NaN/Inf values of V_tech where GL drew geometry")          \
+    X(scored_pixels, long, "%.0f", false, "pixels scored")                                       \
+    X(mismatch_pixels, long, "%.0f", false, "pixels where GL and the ray tracer see different surfaces") \
+    X(penumbra_pixels, long, "%.0f", false, "pixels in the penumbra band")                       \
+    X(ms_shadowmap, double, "%.2f", true, "median ms per frame: the depth pass")                 \
+    X(ms_filter_prep, double, "%.2f", true, "median ms per frame: the products filtered from it") \
+    X(ms_receiver, double, "%.2f", true, "median ms per frame: the receiver pass")                \
+    X(ms_total, double, "%.2f", true, "median ms per frame: the sum of the stages")              \
+    X(gt_noise_rmse, double, "%.4f", false, "the ground truth's own rms error over the scored pixels") \
+    X(gt_noise_penumbra_rmse, double, "%.4f", true, "the ground truth's own rms error over the band")
+
 struct metrics {
-    double rmse, mae, bias, max_abs, p99_abs;
-    double penumbra_rmse;
-    double leak_fraction;   /* of scored pixels: V_gt < 0.05 and V_tech > 0.25 */
-    double dark_fraction;   /* of scored pixels: V_gt > 0.95 and V_tech < 0.75 */
-    long nonfinite;         /* NaN/Inf in V_tech anywhere GL drew geometry */
-    long scored_pixels, mismatch_pixels, penumbra_pixels;
-    double ms_shadowmap, ms_filter_prep, ms_receiver, ms_total;
-    double gt_noise_rmse;           /* the ground truth's own rms error over the mask */
-    double gt_noise_penumbra_rmse;  /* ... over the penumbra band */
+#define X(key, type, format, in_report, help) type key;
+    METRICS(X)
+#undef X
 };
+
+/* The list as data, for the writers that iterate over it. */
+struct metric_info {
+    const char *key, *format, *help;
+    bool in_report;  /* a column of the report's matrix table */
+};
+enum {
+#define X(key, type, format, in_report, help) METRIC_##key,
+    METRICS(X)
+#undef X
+    METRIC_COUNT
+};
+extern const struct metric_info metric_info[METRIC_COUNT];
+
+/* The value of metric k (METRIC_*) of m. */
+double metrics_value(const struct metrics *m, int k);
 
 /* scored[i] = 1 where gt_mask is set and GL saw the same surface (camera
  * distances agree within METRICS_DEPTH_TOLERANCE); returns the number of
@@ -39,11 +75,9 @@ long metrics_score_mask(const float *gt_mask, const float *gt_distance, const fl
 /* Fills every error metric (not the timings, not mismatch_pixels). Pixels
  * whose V_tech is not finite are counted in nonfinite and left out of the
  * error sums. v_gt_alt (may be NULL) is the ground truth with an independent
- * seed: rms(v_gt - v_gt_alt) / sqrt(2) is the noise floor. */
+ * seed, for the noise floor (gt_noise_floor). */
 void metrics_compute(const float *v_tech, const float *v_gt, const float *v_gt_alt,
                      const float *scored, const float *gl_distance, int width, int height,
                      struct metrics *m);
-
-cJSON *metrics_json(const struct metrics *m);
 
 #endif

@@ -360,17 +360,17 @@ void gt_image_free(struct gt_image *g)
     memset(g, 0, sizeof *g);
 }
 
-double gt_rms_difference(const float *a, const float *b, const float *mask, int count)
+double gt_noise_floor(const float *v, const float *v_alt, const float *mask, size_t count)
 {
     double sum = 0;
     long n = 0;
-    for (int i = 0; i < count; i++)
+    for (size_t i = 0; i < count; i++)
         if (mask[i] > 0.5f) {
-            double e = (double)a[i] - (double)b[i];
-            sum += e * e;
+            double d = (double)v[i] - (double)v_alt[i];
+            sum += d * d;
             n++;
         }
-    return n ? sqrt(sum / (double)n) : 0.0;
+    return n ? sqrt(sum / (2.0 * (double)n)) : 0.0;
 }
 
 static char *cache_path(const char *dir, const struct scene *s, const struct light_frustum *f,

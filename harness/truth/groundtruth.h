@@ -53,8 +53,9 @@ void gt_image_free(struct gt_image *g);
 /* Releases the process's Embree device (made by the first gt_render). */
 void gt_shutdown(void);
 
-/* Mean of (a - b)^2 over mask, as an RMS: for two independent seeds,
- * rms/sqrt(2) estimates one image's own error (the noise floor). */
-double gt_rms_difference(const float *a, const float *b, const float *mask, int count);
+/* The noise floor (DESIGN.md §6): the rms error of one ground-truth image
+ * over mask (1 = counted), estimated from two renderings with independent
+ * seeds as rms(v - v_alt) / sqrt(2). */
+double gt_noise_floor(const float *v, const float *v_alt, const float *mask, size_t count);
 
 #endif

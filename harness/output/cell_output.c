@@ -1,0 +1,54 @@
+#include "cell_output.h"
+#include "picture.h"
+#include "base/image.h"
+#include "base/util.h"
+
+#include <stdlib.h>
+
+/* <dir>/<name>.png: V in grey, unscored pixels hatched where scored is given. */
+static int write_visibility_png(const char *dir, const char *name, const float *v, const float *distance,
+                                const float *scored, int w, int h)
+{
+    struct picture p;
+    picture_visibility(v, distance, scored, w, h, &p);
+    char *path = util_printf("%s/%s.png", dir, name);
+    int rc = image_write_png(path, p.width, p.height, 3, p.rgb);
+    free(path);
+    picture_free(&p);
+    return rc;
+}
+
+int output_cell(const char *dir, const struct cell *c, const struct cell_images *im)
+{
+    const int w = im->width, h = im->height;
+    size_t count = (size_t)w * (size_t)h;
+    float *error = xmalloc(sizeof(float) * count);
+    for (size_t i = 0; i < count; i++)
+        error[i] = im->scored[i] > 0.5f ? im->v[i] - im->v_gt[i] : 0.0f;
+    char *vis_exr = util_printf("%s/visibility.exr", dir), *err_exr = util_printf("%s/error.exr", dir);
+    char *heat = util_printf("%s/heatmap.png", dir), *json = util_printf("%s/metrics.json", dir);
+    struct picture hm;
+    picture_error_heatmap(im->v, im->v_gt, im->scored, w, h, &hm);
+    cJSON *mj = report_cell_json(c);
+    int rc = util_mkdirs(dir) ||
+             image_write_exr(vis_exr, w, h, &(struct exr_channel){"V", (float *)im->v}, 1) ||
+             image_write_exr(err_exr, w, h, &(struct exr_channel){"E", error}, 1) ||
+             write_visibility_png(dir, "visibility", im->v, im->distance, NULL, w, h) ||
+             image_write_png(heat, hm.width, hm.height, 3, hm.rgb) || report_write_json(json, mj);
+    cJSON_Delete(mj);
+    picture_free(&hm);
+    free(vis_exr), free(err_exr), free(heat), free(json), free(error);
+    return rc ? -1 : 0;
+}
+
+int output_groundtruth(const char *dir, int width, int height, const float *v,
+                       const float *v_weighted, const float *mask, const float *distance)
+{
+    char *path = util_printf("%s/groundtruth.exr", dir);
+    struct exr_channel ch[] = {{"V", (float *)v}, {"V_weighted", (float *)v_weighted},
+                               {"mask", (float *)mask}};
+    int rc = image_write_exr(path, width, height, ch, 3) ||
+             write_visibility_png(dir, "groundtruth", v, distance, mask, width, height);
+    free(path);
+    return rc ? -1 : 0;
+}

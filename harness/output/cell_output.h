@@ -1,0 +1,28 @@
+/* The files of one cell and of one scene's ground truth (DESIGN.md §8),
+ * each written atomically. Run-level files are report.c's. */
+#ifndef SB_CELL_OUTPUT_H
+#define SB_CELL_OUTPUT_H
+
+#include "report.h"
+
+/* The images of one cell and what they are compared with; width x height,
+ * top row first. */
+struct cell_images {
+    int width, height;
+    const float *v;         /* V_tech */
+    const float *distance;  /* GL's camera distance, -1 where no geometry */
+    const float *v_gt;      /* V_gt */
+    const float *scored;    /* 1 where scored */
+};
+
+/* <dir>/visibility.exr (V), error.exr (E = V_tech - V_gt where scored, else
+ * 0), visibility.png, heatmap.png and metrics.json of cell c. Creates dir.
+ * Returns 0 or -1 (logged). */
+int output_cell(const char *dir, const struct cell *c, const struct cell_images *im);
+
+/* <dir>/groundtruth.exr (channels V, V_weighted, mask) and groundtruth.png
+ * (V, unscored pixels hatched). Returns 0 or -1 (logged). */
+int output_groundtruth(const char *dir, int width, int height, const float *v,
+                       const float *v_weighted, const float *mask, const float *distance);
+
+#endif

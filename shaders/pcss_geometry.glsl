@@ -1,0 +1,24 @@
+// PCSS geometry (Fernando 2005) for a perspective light, shared by pcss and
+// pcss_savsm. A light of size L at depth 0 and a receiver at planar depth z_r: a blocker
+// at depth z_b occludes a light point l where the segment receiver -> l
+// crosses depth z_b. Projected from the light centre onto the near plane n,
+// those crossings cover, around the receiver's own uv, a region of size
+//     light_size_uv * n * (z_r - z_b) / (z_b * z_r)
+// (the light's shape, scaled). For a blocker plane parallel to the light this
+// region is exact: the visible fraction is the unblocked share of it.
+#include "shadow_common.glsl"
+
+// Half-extent (uv) of that region for a blocker at world depth z_b.
+vec2 sm_penumbra_half_uv(ShadowInput s, float z_b, float light_scale)
+{
+    float z_r = s.depth_world;
+    return 0.5 * light_scale * sm.light_size_uv * sm.near_world * max(z_r - z_b, 0.0)
+           / (max(z_b, sm.near_world) * z_r);
+}
+
+// The blocker-search region: the same region for the nearest possible
+// blocker (z_b = near), which contains every other.
+vec2 sm_search_half_uv(ShadowInput s, float light_scale)
+{
+    return sm_penumbra_half_uv(s, sm.near_world, light_scale);
+}
