@@ -1,23 +1,21 @@
-/* Every technique the harness knows. Adding one: techniques/<name>.c,
- * shaders/<name>.glsl, and one line in each list below. */
+/* Every technique the harness knows, in the order `list` and the matrix
+ * show them. Adding one: techniques/<name>.c (ending in `const struct
+ * technique technique_<name>`), shaders/<name>.glsl, and X(<name>) here. */
 #include "technique.h"
+#include "base/util.h"
 
 #include <string.h>
 
-extern const struct technique technique_hard;
-extern const struct technique technique_pcf;
-extern const struct technique technique_pcss;
-extern const struct technique technique_vsm;
-extern const struct technique technique_savsm;
-extern const struct technique technique_pcss_savsm;
+#define TECHNIQUES(X) X(hard) X(pcf) X(pcss) X(vsm) X(savsm) X(pcss_savsm)
+
+#define X(name) extern const struct technique technique_##name;
+TECHNIQUES(X)
+#undef X
 
 const struct technique *const technique_list[] = {
-    &technique_hard,
-    &technique_pcf,
-    &technique_pcss,
-    &technique_vsm,
-    &technique_savsm,
-    &technique_pcss_savsm,
+#define X(name) &technique_##name,
+    TECHNIQUES(X)
+#undef X
     NULL,
 };
 
@@ -34,6 +32,12 @@ const struct technique *technique_find(const char *name)
         if (strcmp((*t)->name, name) == 0)
             return *t;
     return NULL;
+}
+
+void technique_names(struct strbuf *out, const char *sep)
+{
+    for (const struct technique *const *t = technique_list; *t; t++)
+        strbuf_list_printf(out, sep, "%s", (*t)->name);
 }
 
 void technique_request(const struct technique *t, const void *settings,

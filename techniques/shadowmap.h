@@ -36,12 +36,14 @@ _Static_assert(sizeof(struct shadowmap_block) == 208, "std140 layout of ShadowMa
 _Static_assert(offsetof(struct shadowmap_block, light_size_uv) == 160, "std140 layout");
 _Static_assert(offsetof(struct shadowmap_block, near_world) == 184, "std140 layout");
 
+#define SHADOWMAP_DEFAULT_SIZE 1024
+#define SHADOWMAP_MIN_SIZE 16
+#define SHADOWMAP_MAX_SIZE 8192
+
 /* Zero means default (sokol style); shadowmap_create fills the defaults. */
 struct shadowmap_desc {
-    int size_texels;  /* square map, default SHADOWMAP_DEFAULT_SIZE, [16, 8192] */
+    int size_texels;  /* square map, [SHADOWMAP_MIN_SIZE, SHADOWMAP_MAX_SIZE] */
 };
-
-#define SHADOWMAP_DEFAULT_SIZE 1024
 
 /* One product's GL objects: the product itself (a texture or a storage
  * buffer) and what its passes need. shadowmap_destroy deletes what is set. */

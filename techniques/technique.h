@@ -129,4 +129,9 @@ extern const struct technique *const technique_list[];
 /* The technique called name, or NULL. */
 const struct technique *technique_find(const char *name);
 
+struct strbuf;  /* base/util.h */
+
+/* Appends every technique's name, in registry order, separated by sep. */
+void technique_names(struct strbuf *out, const char *sep);
+
 #endif

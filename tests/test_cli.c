@@ -2,7 +2,9 @@
  * gets one clear line and exit status 2, before any heavy work; --help
  * answers with status 0; list shows every technique's parameters. */
 #include "check.h"
+#include "cli/catalog.h"
 #include "run_cmd.h"
+#include "techniques/technique.h"
 
 #include <string.h>
 
@@ -44,8 +46,12 @@ int main(int argc, char **argv)
 
     expect(2, "", NULL);
     expect(2, "frobnicate", "unknown command 'frobnicate' (commands: run, gt, bench, list; see --help)");
-    expect(2, "run --technique nope",
-           "--technique: unknown technique 'nope' (known: hard, pcf, pcss, vsm, savsm, pcss_savsm)");
+    struct strbuf known = {0};  /* every registered technique, in registry order */
+    for (int i = 0; technique_list[i]; i++)
+        strbuf_printf(&known, "%s%s", i ? ", " : "", technique_list[i]->name);
+    char *line = util_printf("--technique: unknown technique 'nope' (known: %s)", known.data);
+    expect(2, "run --technique nope", line);
+    free(line), strbuf_free(&known);
     expect(2, "run --set hard.nope=1", "hard.nope: unknown parameter (hard has: constant_bias, slope_bias)");
     expect(2, "run --set nope.x=1", "--set: unknown technique 'nope'");
     expect(2, "run --set hard.slope_bias=99", "hard.slope_bias: 99 is out of range [0.0, 16.0]");
@@ -71,10 +77,17 @@ int main(int argc, char **argv)
     expect(2, "run --bogus", "--bogus: unknown option (see --help)");
     expect(2, "gt --technique hard", "--technique: unknown option for gt (see --help)");
     expect(2, "gt", "gt: --scene is required (see --help)");
-    expect(2, "run --scene nope",
-           "unknown scene 'nope' (shipped: contact_hardening, curved_receivers, floating_box_sphere, "
-           "grazing_receiver, large_light, map_border, overlapping_occluders, parallel_planes, "
-           "parallel_planes_disk, stanford_bunny, thin_features)");
+    char **paths;  /* every shipped scene, sorted: its file stem */
+    int n = catalog_shipped(&paths);
+    struct strbuf stems = {0};
+    for (int i = 0; i < n; i++) {
+        const char *base = strrchr(paths[i], '/') + 1;
+        strbuf_list_printf(&stems, ", ", "%.*s", (int)strcspn(base, "."), base);
+    }
+    CHECK(n >= 11, "the shipped scenes are found: %d", n);
+    line = util_printf("unknown scene 'nope' (shipped: %s)", stems.data);
+    expect(2, "run --scene nope", line);
+    free(line), strbuf_free(&stems), catalog_free(paths, n);
 
     /* --sweep: each value as --set takes it, each parameter and value once,
      * only selected techniques, every combination consistent. */
@@ -98,7 +111,7 @@ int main(int argc, char **argv)
     char *file = util_printf("%s/a_file", dir);
     util_write_file_atomic(file, "x", 1);
     char *args = util_printf("run %s --out %s/sub", small, file);
-    char *line = util_printf("%s/sub: cannot create folder: Not a directory", file);
+    line = util_printf("%s/sub: cannot create folder: Not a directory", file);
     expect(2, args, line);
     free(args), free(line);
     args = util_printf("gt %s --out %s/sub", small, file);

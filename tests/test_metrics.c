@@ -2,8 +2,10 @@
  * answers are known by hand. Tolerances are float rounding (1e-6): every
  * expected value below is exact arithmetic on a few pixels. */
 #include "check.h"
+#include "base/util.h"
 #include "score/metrics.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 #define W 10
@@ -137,6 +139,47 @@ static void test_score_mask(void)
           "scored mask %g %g %g %g %g %g", out[0], out[1], out[2], out[3], out[4], out[5]);
 }
 
+/* The README's metric table ("### Metrics", first column, `key`s) names
+ * exactly the metrics of METRICS(), the list every output is written from:
+ * a metric added to one and not the other fails here. */
+static void test_readme_table(void)
+{
+    char *path = util_printf("%s/README.md", SB_SOURCE_DIR), *text = NULL;
+    size_t size;
+    CHECK(util_read_file(path, &text, &size) == 0, "cannot read %s", path);
+    char *section = text ? strstr(text, "\n### Metrics") : NULL;
+    CHECK(section != NULL, "README.md has no '### Metrics' section");
+    bool listed[METRIC_COUNT] = {false};
+    int rows = 0;
+    /* Table rows until the next heading or the end of the table. */
+    for (char *line = section ? strchr(section + 1, '\n') : NULL; line && line[1] != '#';
+         line = strchr(line + 1, '\n')) {
+        if (strncmp(line + 1, "| `", 3) != 0)
+            continue;
+        rows++;
+        char *end = strchr(line + 2, '|');  /* the first cell */
+        for (char *k = strchr(line + 1, '`'); k && k < end; k = strchr(k + 1, '`')) {
+            char *close = strchr(k + 1, '`');
+            if (!close || close > end)
+                break;
+            int found = -1;
+            for (int m = 0; m < METRIC_COUNT; m++)
+                if ((size_t)(close - k - 1) == strlen(metric_info[m].key) &&
+                    strncmp(k + 1, metric_info[m].key, (size_t)(close - k - 1)) == 0)
+                    found = m;
+            CHECK(found >= 0, "README lists `%.*s`, which is not a metric", (int)(close - k - 1), k + 1);
+            if (found >= 0)
+                listed[found] = true;
+            k = close;
+        }
+    }
+    CHECK(rows > 0, "README's metric table has no rows");
+    for (int m = 0; m < METRIC_COUNT; m++)
+        CHECK(listed[m], "README's metric table lacks `%s`", metric_info[m].key);
+    free(text);
+    free(path);
+}
+
 int main(void)
 {
     test_basic_errors();
@@ -145,5 +188,6 @@ int main(void)
     test_penumbra_band();
     test_leak_dark_nonfinite();
     test_score_mask();
+    test_readme_table();
     return check_finish();
 }

@@ -57,7 +57,7 @@ char *catalog_resolve(const char *arg)
         size_t stem = strcspn(base, ".");
         if (!found && strlen(arg) == stem && strncmp(base, arg, stem) == 0)
             found = xstrdup(paths[i]);
-        strbuf_printf(&names, "%s%.*s", i ? ", " : "", (int)stem, base);
+        strbuf_list_printf(&names, ", ", "%.*s", (int)stem, base);
     }
     if (!found)
         log_error("unknown scene '%s' (shipped: %s)", arg, names.data ? names.data : "none");

@@ -1,15 +1,17 @@
 /* shadowbench: measures real-time shadow techniques against a ray-traced
  * area-light ground truth. This file is the command line only. */
-#include "techniques/technique.h"
 #include "bench.h"
 #include "catalog.h"
-#include "base/log.h"
-#include "techniques/params.h"
 #include "run.h"
-#include "truth/groundtruth.h"
-#include "scene/scene.h"
 #include "sweep.h"
+#include "base/log.h"
 #include "base/util.h"
+#include "render/stage_timer.h"
+#include "scene/scene.h"
+#include "techniques/params.h"
+#include "techniques/shadowmap.h"
+#include "techniques/technique.h"
+#include "truth/groundtruth.h"
 
 #include <errno.h>
 #include <getopt.h>
@@ -18,6 +20,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#define SIZE_RANGE RUN_STR(RUN_MIN_SIZE) ".." RUN_STR(RUN_MAX_SIZE)
+#define MAP_RANGE RUN_STR(SHADOWMAP_MIN_SIZE) ".." RUN_STR(SHADOWMAP_MAX_SIZE)
 
 static const char usage_main[] =
     "usage: shadowbench <command> [options]\n"
@@ -59,15 +64,18 @@ static const char usage_run[] =
     "                        swept value overrides --set), e.g.\n"
     "                        --sweep pcss.blocker_samples=16,32,64. Each cell is\n"
     "                        named T@P=V,... (its folder under each scene)\n"
-    "  --width W, --height H image size in pixels, 16..8192 (default 512 x 512)\n"
+    "  --width W, --height H image size in pixels, " SIZE_RANGE " (default " RUN_STR(RUN_DEFAULT_SIZE)
+    " x " RUN_STR(RUN_DEFAULT_SIZE) ")\n"
     "  --gt-samples N        light samples per pixel for the ground truth, a square\n"
-    "                        n*n, 1..65536 (default 1024 = 32x32)\n"
-    "  --shadow-map-size N   shadow map resolution, 16..8192 (default 1024)\n"
+    "                        n*n, 1.." RUN_STR(GT_MAX_SAMPLES) " (default " RUN_STR(GT_DEFAULT_SAMPLES) ")\n"
+    "  --shadow-map-size N   shadow map resolution, " MAP_RANGE " (default "
+    RUN_STR(SHADOWMAP_DEFAULT_SIZE) ")\n"
     "  --frames K            timed frames per measurement; the median is reported,\n"
-    "                        1..1000 (default 5)\n"
-    "  --warmup K            untimed frames before timing, 0..100 (default 2)\n"
-    "  --out DIR             output folder (default results/runs/latest)\n"
-    "  --cache DIR           ground-truth cache (default results/cache)\n"
+    "                        1.." RUN_STR(STAGE_TIMER_MAX_FRAMES) " (default " RUN_STR(RUN_DEFAULT_FRAMES) ")\n"
+    "  --warmup K            untimed frames before timing, 0.." RUN_STR(RUN_MAX_WARMUP) " (default "
+    RUN_STR(RUN_DEFAULT_WARMUP) ")\n"
+    "  --out DIR             output folder (default " RUN_DEFAULT_OUT ")\n"
+    "  --cache DIR           ground-truth cache (default " RUN_DEFAULT_CACHE ")\n"
     "  --no-cache            always ray trace the ground truth, store nothing\n"
     "  --shaders DIR         GLSL folder (default: found next to the executable or in\n"
     "                        the source tree; or $SHADOWBENCH_SHADERS)\n"
@@ -87,10 +95,12 @@ static const char usage_gt[] =
     "\n"
     "options:\n"
     "  --scene S             a glTF file, or the name of a shipped scene (required)\n"
-    "  --width W, --height H image size in pixels, 16..8192 (default 512 x 512)\n"
-    "  --gt-samples N        light samples per pixel, a square n*n (default 1024)\n"
-    "  --out DIR             output folder (default results/gt)\n"
-    "  --cache DIR, --no-cache   as for run (default results/cache)\n"
+    "  --width W, --height H image size in pixels, " SIZE_RANGE " (default " RUN_STR(RUN_DEFAULT_SIZE)
+    " x " RUN_STR(RUN_DEFAULT_SIZE) ")\n"
+    "  --gt-samples N        light samples per pixel, a square n*n (default "
+    RUN_STR(GT_DEFAULT_SAMPLES) ")\n"
+    "  --out DIR             output folder (default " GT_DEFAULT_OUT ")\n"
+    "  --cache DIR, --no-cache   as for run (default " RUN_DEFAULT_CACHE ")\n"
     "  -q, --quiet, -v, --verbose\n";
 
 static const char usage_bench[] =
@@ -108,10 +118,13 @@ static const char usage_bench[] =
     "  --scene S             a glTF file or shipped scene (default: the first shipped)\n"
     "  --technique T[,T...]  techniques to time (default: all)\n"
     "  --set T.P=V           set a technique parameter (repeatable)\n"
-    "  --width W, --height H receiver size in pixels (default 1024 x 1024)\n"
-    "  --shadow-map-size N   shadow map resolution, 16..8192 (default 1024)\n"
-    "  --frames K            timed frames, the median is reported (default 9)\n"
-    "  --warmup K            untimed frames first (default 3)\n"
+    "  --width W, --height H receiver size in pixels, " SIZE_RANGE " (default "
+    RUN_STR(BENCH_DEFAULT_SIZE) " x " RUN_STR(BENCH_DEFAULT_SIZE) ")\n"
+    "  --shadow-map-size N   shadow map resolution, " MAP_RANGE " (default "
+    RUN_STR(SHADOWMAP_DEFAULT_SIZE) ")\n"
+    "  --frames K            timed frames, the median is reported (default "
+    RUN_STR(BENCH_DEFAULT_FRAMES) ")\n"
+    "  --warmup K            untimed frames first (default " RUN_STR(BENCH_DEFAULT_WARMUP) ")\n"
     "  --shaders DIR         GLSL folder, as for run\n"
     "  -q, --quiet, -v, --verbose\n";
 
@@ -172,8 +185,7 @@ static int add_techniques(struct run_options *o, const char *list)
         const struct technique *t = technique_find(name);
         if (!t) {
             struct strbuf known = {0};
-            for (const struct technique *const *k = technique_list; *k; k++)
-                strbuf_printf(&known, "%s%s", k == technique_list ? "" : ", ", (*k)->name);
+            technique_names(&known, ", ");
             log_error("--technique: unknown technique '%s' (known: %s)", name, known.data);
             strbuf_free(&known);
             rc = -1;
@@ -211,27 +223,25 @@ static int apply_set(struct run_options *o, const char *arg)
     return params_set(technique_list[index], o->settings[index], name, eq + 1);
 }
 
-enum command { CMD_RUN, CMD_GT, CMD_BENCH };
-
 /* Does the command take this option? */
-static bool takes(enum command cmd, int c)
+static bool takes(enum run_command cmd, int c)
 {
     bool gl = c == OPT_TECHNIQUE || c == OPT_SET || c == OPT_SM_SIZE || c == OPT_FRAMES ||
               c == OPT_WARMUP || c == OPT_SHADERS;
     bool gt = c == OPT_GT_SAMPLES || c == OPT_OUT || c == OPT_CACHE || c == OPT_NO_CACHE;
     if (c == OPT_SWEEP)
-        return cmd == CMD_RUN;
+        return cmd == RUN_CMD_RUN;
     switch (cmd) {
-    case CMD_RUN: return true;
-    case CMD_GT: return !gl;
-    case CMD_BENCH: return !gt;
+    case RUN_CMD_RUN: return true;
+    case RUN_CMD_GT: return !gl;
+    case RUN_CMD_BENCH: return !gt;
     }
     return false;
 }
 
 static int parse_gt_samples(const char *text, int *out)
 {
-    if (parse_int("gt-samples", text, 1, 65536, out))
+    if (parse_int("gt-samples", text, 1, GT_MAX_SAMPLES, out))
         return -1;
     int n = (int)lround(sqrt((double)*out));
     if (n * n != *out) {
@@ -263,15 +273,10 @@ static int finish_techniques(struct run_options *o)
 
 /* Parses the options of run, gt and bench into o. Returns 0, 1 after
  * --help, or -1. */
-static int parse_options(int argc, char **argv, const char *usage, enum command cmd,
+static int parse_options(int argc, char **argv, const char *usage, enum run_command cmd,
                          struct run_options *o)
 {
-    bool is_gt = cmd == CMD_GT;
-    o->cache_dir = "results/cache";
-    o->out_dir = is_gt ? "results/gt" : "results/runs/latest";
-    o->warmup = cmd == CMD_BENCH ? 3 : 2;
-    if (cmd == CMD_BENCH)
-        o->width = o->height = 1024, o->frames = 9;
+    run_options_defaults(o, cmd);
     int c, index = 0;
     optind = 1;
     opterr = 0;
@@ -288,8 +293,8 @@ static int parse_options(int argc, char **argv, const char *usage, enum command 
         int rc = 0;
         switch (c) {
         case OPT_SCENE:
-            if (o->scene_count == RUN_MAX_SCENES || (cmd != CMD_RUN && o->scene_count == 1)) {
-                log_error("--scene: %s", cmd != CMD_RUN ? "gt and bench take one scene"
+            if (o->scene_count == RUN_MAX_SCENES || (cmd != RUN_CMD_RUN && o->scene_count == 1)) {
+                log_error("--scene: %s", cmd != RUN_CMD_RUN ? "gt and bench take one scene"
                                                          : "too many scenes");
                 return -1;
             }
@@ -304,12 +309,15 @@ static int parse_options(int argc, char **argv, const char *usage, enum command 
             }
             o->sweeps[o->sweep_count++] = optarg;
             break;
-        case OPT_WIDTH: rc = parse_int("width", optarg, 16, 8192, &o->width); break;
-        case OPT_HEIGHT: rc = parse_int("height", optarg, 16, 8192, &o->height); break;
+        case OPT_WIDTH: rc = parse_int("width", optarg, RUN_MIN_SIZE, RUN_MAX_SIZE, &o->width); break;
+        case OPT_HEIGHT: rc = parse_int("height", optarg, RUN_MIN_SIZE, RUN_MAX_SIZE, &o->height); break;
         case OPT_GT_SAMPLES: rc = parse_gt_samples(optarg, &o->gt_samples); break;
-        case OPT_SM_SIZE: rc = parse_int("shadow-map-size", optarg, 16, 8192, &o->shadow_map_size); break;
-        case OPT_FRAMES: rc = parse_int("frames", optarg, 1, 1000, &o->frames); break;
-        case OPT_WARMUP: rc = parse_int("warmup", optarg, 0, 100, &o->warmup); break;
+        case OPT_SM_SIZE:
+            rc = parse_int("shadow-map-size", optarg, SHADOWMAP_MIN_SIZE, SHADOWMAP_MAX_SIZE,
+                           &o->shadow_map_size);
+            break;
+        case OPT_FRAMES: rc = parse_int("frames", optarg, 1, STAGE_TIMER_MAX_FRAMES, &o->frames); break;
+        case OPT_WARMUP: rc = parse_int("warmup", optarg, 0, RUN_MAX_WARMUP, &o->warmup); break;
         case OPT_OUT: o->out_dir = optarg; break;
         case OPT_CACHE: o->cache_dir = optarg; break;
         case OPT_NO_CACHE: o->cache_dir = NULL; break;
@@ -325,13 +333,13 @@ static int parse_options(int argc, char **argv, const char *usage, enum command 
         log_error("%s: unexpected argument (see --help)", argv[optind]);
         return -1;
     }
-    if (is_gt && o->scene_count == 0) {
+    if (cmd == RUN_CMD_GT && o->scene_count == 0) {
         log_error("gt: --scene is required (see --help)");
         return -1;
     }
     if (finish_techniques(o) != 0)
         return -1;
-    return cmd == CMD_RUN ? sweep_configs(o) : 0;
+    return cmd == RUN_CMD_RUN ? sweep_configs(o) : 0;
 }
 
 static int cmd_list(int argc, char **argv)
@@ -394,7 +402,7 @@ int main(int argc, char **argv)
         return EXIT_USAGE;
     }
     struct run_options o = {.argc = argc, .argv = argv};
-    int rc = parse_options(argc - 1, argv + 1, usages[k], (enum command)k, &o);
+    int rc = parse_options(argc - 1, argv + 1, usages[k], (enum run_command)k, &o);
     int status = rc > 0 ? EXIT_OK : rc < 0 ? EXIT_USAGE : mains[k](&o);
     for (int i = 0; i < RUN_MAX_TECHNIQUES; i++)
         free(o.settings[i]);

@@ -26,14 +26,16 @@
 #include <time.h>
 #include <unistd.h>
 
-static void fill_defaults(struct run_options *o)
+void run_options_defaults(struct run_options *o, enum run_command cmd)
 {
-    if (!o->width) o->width = 512;
-    if (!o->height) o->height = 512;
-    if (!o->gt_samples) o->gt_samples = 1024;
-    if (!o->shadow_map_size) o->shadow_map_size = SHADOWMAP_DEFAULT_SIZE;
-    if (!o->frames) o->frames = 5;
-    if (!o->out_dir) o->out_dir = "results/runs/latest";
+    bool bench = cmd == RUN_CMD_BENCH;
+    o->width = o->height = bench ? BENCH_DEFAULT_SIZE : RUN_DEFAULT_SIZE;
+    o->gt_samples = GT_DEFAULT_SAMPLES;
+    o->shadow_map_size = SHADOWMAP_DEFAULT_SIZE;
+    o->frames = bench ? BENCH_DEFAULT_FRAMES : RUN_DEFAULT_FRAMES;
+    o->warmup = bench ? BENCH_DEFAULT_WARMUP : RUN_DEFAULT_WARMUP;
+    o->out_dir = cmd == RUN_CMD_GT ? GT_DEFAULT_OUT : RUN_DEFAULT_OUT;
+    o->cache_dir = RUN_DEFAULT_CACHE;
 }
 
 void *run_settings(const struct run_options *o, const struct technique *t)
@@ -262,20 +264,18 @@ static cJSON *run_json(const struct run_options *o, double seconds)
     return r;
 }
 
-int run_main(const struct run_options *given)
+int run_main(const struct run_options *o)
 {
     double start = util_now_ms();
-    struct run_options o = *given;
-    fill_defaults(&o);
 
     static struct scene scenes[RUN_MAX_SCENES];
     int scene_count = 0, status = EXIT_CHECK_FAILED;
     struct cell *cells = NULL;
     int cell_count = 0;
-    GLuint (*programs)[LIGHT_SHAPE_COUNT] = xcalloc((size_t)o.config_count, sizeof *programs);  /* by light shape */
+    GLuint (*programs)[LIGHT_SHAPE_COUNT] = xcalloc((size_t)o->config_count, sizeof *programs);  /* by light shape */
     struct report_scene rs[RUN_MAX_SCENES] = {0};
 
-    if (load_scenes(&o, scenes, &scene_count) != 0 || prepare_out_dir(o.out_dir) != 0) {
+    if (load_scenes(o, scenes, &scene_count) != 0 || prepare_out_dir(o->out_dir) != 0) {
         status = EXIT_USAGE;
         goto out_free_scenes;
     }
@@ -286,28 +286,28 @@ int run_main(const struct run_options *given)
             goto out_free_scenes;
         }
     }
-    if (gl_context_create() != 0 || shader_init(o.shader_dir) != 0)
+    if (gl_context_create() != 0 || shader_init(o->shader_dir) != 0)
         goto out_free_scenes;
     for (int s = 0; s < scene_count; s++)
-        for (int i = 0; i < o.config_count; i++) {
+        for (int i = 0; i < o->config_count; i++) {
             enum light_shape shape = scenes[s].light.shape;
             if (!programs[i][shape] &&
                 !(programs[i][shape] =
-                      receiver_program(o.configs[i].technique, o.configs[i].settings, shape)))
+                      receiver_program(o->configs[i].technique, o->configs[i].settings, shape)))
                 goto out_free_gl;
         }
 
-    int cells_total = scene_count * o.config_count, cells_done = 0, label_width = 0;
-    for (int i = 0; i < o.config_count; i++)
-        if ((int)strlen(o.configs[i].label) > label_width)
-            label_width = (int)strlen(o.configs[i].label);
+    int cells_total = scene_count * o->config_count, cells_done = 0, label_width = 0;
+    for (int i = 0; i < o->config_count; i++)
+        if ((int)strlen(o->configs[i].label) > label_width)
+            label_width = (int)strlen(o->configs[i].label);
     log_info("run: %d scene(s) x %d technique configuration(s), %dx%d, %d GT samples, %d^2 shadow "
-             "map, median of %d frames after %d warm-up on %s", scene_count, o.config_count, o.width,
-             o.height, o.gt_samples, o.shadow_map_size, o.frames, o.warmup, gl_context_renderer());
+             "map, median of %d frames after %d warm-up on %s", scene_count, o->config_count, o->width,
+             o->height, o->gt_samples, o->shadow_map_size, o->frames, o->warmup, gl_context_renderer());
     cells = xcalloc((size_t)cells_total, sizeof *cells);
     int failed = 0;
     for (int s = 0; s < scene_count; s++) {
-        struct scene_run sr = {.o = &o, .scene = &scenes[s], .cells_done = &cells_done,
+        struct scene_run sr = {.o = o, .scene = &scenes[s], .cells_done = &cells_done,
                                .cells_total = cells_total, .label_width = label_width};
         failed |= run_scene(&sr, programs, cells, &cell_count);
         rs[s] = (struct report_scene){scenes[s].name, scenes[s].description, scenes[s].shows,
@@ -318,8 +318,8 @@ int run_main(const struct run_options *given)
     }
     if (!failed) {
         double seconds = (util_now_ms() - start) * 1e-3;
-        struct report rep = {.out_dir = o.out_dir, .width = o.width, .height = o.height,
-                             .run = run_json(&o, seconds), .scenes = rs,
+        struct report rep = {.out_dir = o->out_dir, .width = o->width, .height = o->height,
+                             .run = run_json(o, seconds), .scenes = rs,
                              .scene_count = scene_count, .cells = cells, .cell_count = cell_count};
         failed = report_write(&rep);
         cJSON_Delete(rep.run);
@@ -331,7 +331,7 @@ int run_main(const struct run_options *given)
         status = bad ? EXIT_CHECK_FAILED : EXIT_OK;
         if (bad)
             log_error("%ld cell(s) produced NaN or Inf visibility", bad);
-        printf("report: %s/report.html\nmatrix: %s/matrix.csv\n", o.out_dir, o.out_dir);
+        printf("report: %s/report.html\nmatrix: %s/matrix.csv\n", o->out_dir, o->out_dir);
         log_info("run finished in %.1f s", (util_now_ms() - start) * 1e-3);
     }
 
@@ -341,7 +341,7 @@ int run_main(const struct run_options *given)
     }
     free(cells);
 out_free_gl:
-    for (int i = 0; i < o.config_count; i++)
+    for (int i = 0; i < o->config_count; i++)
         for (int k = 0; k < LIGHT_SHAPE_COUNT; k++)
             if (programs[i][k])
                 glDeleteProgram(programs[i][k]);
@@ -353,12 +353,10 @@ out_free_scenes:
     return status;
 }
 
-int run_gt(const struct run_options *given)
+int run_gt(const struct run_options *o)
 {
-    struct run_options o = *given;
-    fill_defaults(&o);
     struct scene s;
-    char *path = catalog_resolve(o.scenes[0]);
+    char *path = catalog_resolve(o->scenes[0]);
     if (!path)
         return EXIT_USAGE;
     int rc = scene_load(path, &s);
@@ -368,7 +366,7 @@ int run_gt(const struct run_options *given)
         scene_free(&s);
         return EXIT_USAGE;
     }
-    char *dir = util_printf("%s/%s", o.out_dir, s.name);
+    char *dir = util_printf("%s/%s", o->out_dir, s.name);
     if (prepare_out_dir(dir) != 0) {
         free(dir);
         scene_free(&s);
@@ -376,13 +374,13 @@ int run_gt(const struct run_options *given)
     }
     struct gt_image gt;
     int status = EXIT_CHECK_FAILED;
-    if (gt_obtain(&s, &f, &(struct gt_desc){.width = o.width, .height = o.height, .samples = o.gt_samples},
-                  o.cache_dir, &gt) == 0) {
+    if (gt_obtain(&s, &f, &(struct gt_desc){.width = o->width, .height = o->height, .samples = o->gt_samples},
+                  o->cache_dir, &gt) == 0) {
         /* No GL pass here: the mask lacks run's silhouette check (DESIGN.md §6). */
-        if (output_groundtruth(dir, o.width, o.height, gt.v, gt.v_weighted, gt.mask, gt.distance) == 0) {
-            double noise = gt_noise_floor(gt.v, gt.v_alt, gt.mask, (size_t)o.width * (size_t)o.height);
+        if (output_groundtruth(dir, o->width, o->height, gt.v, gt.v_weighted, gt.mask, gt.distance) == 0) {
+            double noise = gt_noise_floor(gt.v, gt.v_alt, gt.mask, (size_t)o->width * (size_t)o->height);
             printf("%s/groundtruth.exr\nnoise floor (rms error of V at %d samples): %.5f\n", dir,
-                   o.gt_samples, noise);
+                   o->gt_samples, noise);
             status = EXIT_OK;
         }
         gt_image_free(&gt);

@@ -12,6 +12,28 @@ enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_USAGE = 2 };
 #define RUN_MAX_SWEEPS 16
 #define RUN_MAX_CONFIGS 256
 
+/* The commands that render: they share struct run_options. */
+enum run_command { RUN_CMD_RUN, RUN_CMD_GT, RUN_CMD_BENCH };
+
+/* Option defaults and ranges, one definition each: run_options_defaults()
+ * and the option parser use them, and --help prints them (as text, through
+ * RUN_STR). The shadow map's and the ground truth's own come from their
+ * modules (SHADOWMAP_*, GT_*), the frame limit from the timer. */
+#define RUN_DEFAULT_SIZE 512    /* run and gt: --width, --height */
+#define BENCH_DEFAULT_SIZE 1024 /* bench: the receiver */
+#define RUN_MIN_SIZE 16
+#define RUN_MAX_SIZE 8192
+#define RUN_DEFAULT_FRAMES 5
+#define BENCH_DEFAULT_FRAMES 9
+#define RUN_DEFAULT_WARMUP 2
+#define BENCH_DEFAULT_WARMUP 3
+#define RUN_MAX_WARMUP 100
+#define RUN_DEFAULT_OUT "results/runs/latest"
+#define GT_DEFAULT_OUT "results/gt"
+#define RUN_DEFAULT_CACHE "results/cache"
+#define RUN_STR_(x) #x
+#define RUN_STR(x) RUN_STR_(x)  /* a numeric default as text, for --help */
+
 /* One technique with one parameter set: a column of the matrix. */
 struct run_config {
     const struct technique *technique;
@@ -30,17 +52,21 @@ struct run_options {
     int sweep_count;
     struct run_config *configs;          /* run: filled by sweep_configs() */
     int config_count;
-    int width, height;                   /* image size, default 512 x 512 */
-    int gt_samples;                      /* default 1024 */
-    int shadow_map_size;                 /* default 1024 */
-    int frames;                          /* timed frames, default 5 */
-    int warmup;                          /* untimed frames first (0 allowed; the CLI's default is 2) */
-    const char *out_dir;                 /* default results/runs/latest */
+    int width, height;                   /* image size in pixels */
+    int gt_samples;                      /* light samples per pixel of the ground truth */
+    int shadow_map_size;                 /* texels */
+    int frames;                          /* timed frames */
+    int warmup;                          /* untimed frames first (0 allowed) */
+    const char *out_dir;
     const char *cache_dir;               /* NULL: no ground-truth cache */
     const char *shader_dir;              /* NULL: found automatically */
     int argc;                            /* the command line, for run.json */
     char **argv;
 };
+
+/* Every option of command cmd at its default (before the command line
+ * overrides them: 0 warm-up frames and no cache are choices, not "unset"). */
+void run_options_defaults(struct run_options *o, enum run_command cmd);
 
 int run_main(const struct run_options *o);
 int run_gt(const struct run_options *o);

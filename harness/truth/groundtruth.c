@@ -30,12 +30,8 @@
 
 static void desc_defaults(struct gt_desc *d)
 {
-    if (!d->width)
-        d->width = 512;
-    if (!d->height)
-        d->height = 512;
     if (!d->samples)
-        d->samples = 1024;
+        d->samples = GT_DEFAULT_SAMPLES;
     if (!d->seed)
         d->seed = 1;
 }
@@ -298,6 +294,10 @@ int gt_render(const struct scene *s, const struct light_frustum *f, const struct
 {
     struct tracer tr = {.scene = s, .frustum = f, .desc = *d};
     desc_defaults(&tr.desc);
+    if (tr.desc.width <= 0 || tr.desc.height <= 0) {
+        log_error("ground truth: no image size (%d x %d)", tr.desc.width, tr.desc.height);
+        return -1;
+    }
     tr.strata = (int)lround(sqrt((double)tr.desc.samples));
     if (tr.strata * tr.strata != tr.desc.samples) {
         log_error("ground truth: %d samples is not a square n*n", tr.desc.samples);

@@ -17,10 +17,13 @@
  * scene's bounding-box diagonal. */
 #define GT_OFFSET_SCALE 1e-4f
 
-/* Zero means default. */
+#define GT_DEFAULT_SAMPLES 1024
+#define GT_MAX_SAMPLES 65536
+
+/* Zero means default (samples, seed); the image size is required. */
 struct gt_desc {
-    int width, height;  /* default 512 x 512 */
-    int samples;        /* N light samples per pixel, a square n*n, default 1024 */
+    int width, height;  /* pixels */
+    int samples;        /* N light samples per pixel, a square n*n, default GT_DEFAULT_SAMPLES */
     uint32_t seed;      /* default 1 */
 };
 
