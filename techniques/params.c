@@ -19,11 +19,17 @@ static const char *const tap_count_names[] = {
     NULL,
 };
 
-static bool is_tap_count(int n)
-{
-#define X(count) if (n == count) return true;
+const int tap_counts[TAP_COUNT_KINDS] = {
+#define X(n) n,
     TAP_COUNTS(X)
 #undef X
+};
+
+static bool is_tap_count(int n)
+{
+    for (int i = 0; i < TAP_COUNT_KINDS; i++)
+        if (tap_counts[i] == n)
+            return true;
     return false;
 }
 

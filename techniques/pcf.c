@@ -76,15 +76,10 @@ static int pcf_check(const void *settings, char *why, size_t why_size)
     const struct pcf_settings *s = settings;
     if (s->pattern != PCF_GRID || is_square(s->samples))
         return 0;
-    static const int counts[] = {
-#define X(n) n,
-        TAP_COUNTS(X)
-#undef X
-    };
     struct strbuf squares = {0};
-    for (size_t i = 0; i < ARRAY_SIZE(counts); i++)
-        if (is_square(counts[i]))
-            strbuf_list_printf(&squares, ", ", "%d", counts[i]);
+    for (int i = 0; i < TAP_COUNT_KINDS; i++)
+        if (is_square(tap_counts[i]))
+            strbuf_list_printf(&squares, ", ", "%d", tap_counts[i]);
     snprintf(why, why_size, "pattern=grid needs a square sample count (%s), not %d", squares.data,
              s->samples);
     strbuf_free(&squares);

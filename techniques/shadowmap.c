@@ -344,14 +344,8 @@ void shadowmap_shader_defines(struct strbuf *out)
     strbuf_printf(out, "#define SM_MAX_BLUR_RADIUS %d\n", SM_MAX_BLUR_RADIUS_TEXELS);
     /* SM_UNROLL_n(F): F(0) ... F(n-1) in blocks of 32, 16, 4 and 1 (the
      * SM_T* macros of shadow_taps.glsl). */
-    static const int counts[] = {
-        0,
-#define X(n) n,
-        TAP_COUNTS(X)
-#undef X
-    };
-    for (size_t i = 0; i < ARRAY_SIZE(counts); i++) {
-        int n = counts[i], at = 0;
+    for (int i = -1; i < TAP_COUNT_KINDS; i++) {  /* -1: SM_UNROLL_0, no taps */
+        int n = i < 0 ? 0 : tap_counts[i], at = 0;
         strbuf_printf(out, "#define SM_UNROLL_%d(F)", n);
         for (; n - at >= 32; at += 32)
             strbuf_printf(out, " SM_T32(F, %d)", at);

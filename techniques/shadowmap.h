@@ -6,12 +6,12 @@
 #ifndef SB_SHADOWMAP_H
 #define SB_SHADOWMAP_H
 
+#include "technique.h"
 #include "base/util.h"
 #include "gl/gl.h"
 #include "gl/scene_mesh.h"
 #include "scene/light_frustum.h"
 #include "scene/scene.h"
-#include "technique.h"
 
 #include <stdbool.h>
 

@@ -81,6 +81,15 @@ union tap_count_max {
 };
 #define TAP_COUNT_MAX ((int)sizeof(union tap_count_max))
 
+/* The list as data, in its order (techniques/params.c). */
+enum {
+    TAP_COUNT_KINDS = 0
+#define X(n) + 1
+    TAP_COUNTS(X)
+#undef X
+};
+extern const int tap_counts[TAP_COUNT_KINDS];
+
 struct light_frustum;  /* scene/light_frustum.h */
 
 enum param_type {

@@ -2,8 +2,8 @@
  * gets one clear line and exit status 2, before any heavy work; --help
  * answers with status 0; list shows every technique's parameters. */
 #include "check.h"
-#include "cli/catalog.h"
 #include "run_cmd.h"
+#include "cli/catalog.h"
 #include "techniques/technique.h"
 
 #include <string.h>

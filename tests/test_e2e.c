@@ -3,9 +3,9 @@
  * the shipped scene, and the ground-truth cache is reused only when its key
  * (scene, size, samples, version) matches. */
 #include "check.h"
+#include "run_cmd.h"
 #include "base/image.h"
 #include "techniques/technique.h"
-#include "run_cmd.h"
 
 #include <cjson/cJSON.h>
 #include <string.h>

@@ -10,11 +10,11 @@
  * Also: same seed -> same image; the error falls from N to 4N; the two-seed
  * noise-floor estimate matches the true error. */
 #include "check.h"
-#include "cli/catalog.h"
-#include "truth/groundtruth.h"
 #include "parallel_planes.h"
-#include "scene/light_frustum.h"
 #include "base/util.h"
+#include "cli/catalog.h"
+#include "scene/light_frustum.h"
+#include "truth/groundtruth.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -5,9 +5,9 @@
  * ground truth's edge: a shadow-map texel here is about one screen pixel, so
  * the comparison can flip at most the pixels the edge's texels cover. */
 #include "check.h"
-#include "base/image.h"
 #include "parallel_planes.h"
 #include "run_cmd.h"
+#include "base/image.h"
 
 #include <string.h>
 

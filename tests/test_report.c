@@ -4,9 +4,9 @@
  * address asks), every picture (each loads: a broken one is marked
  * "missing", which the test proves it would see), and the inline charts
  * with their Pareto fronts and bars. Also the Pareto front itself. */
-#include "output/chart.h"
 #include "check.h"
 #include "run_cmd.h"
+#include "output/chart.h"
 
 #include <cjson/cJSON.h>
 #include <stdlib.h>

@@ -9,12 +9,12 @@
  *     from the table (as sat.glsl reads them) orders fp32 > fp32_centered >=
  *     int32. */
 #include "check.h"
-#include "gl/gl_context.h"
 #include "gltf_writer.h"
 #include "run_cmd.h"
-#include "scene/scene.h"
+#include "gl/gl_context.h"
 #include "gl/scene_mesh.h"
 #include "gl/shader.h"
+#include "scene/scene.h"
 #include "techniques/shadowmap.h"
 
 #include <math.h>

@@ -3,10 +3,10 @@
  * the composed source; a clean composition of several files links; GL errors
  * reach our log through the debug-output callback, with no check at the call. */
 #include "check.h"
-#include "gl/gl_context.h"
-#include "gl/shader.h"
 #include "run_cmd.h"
 #include "base/util.h"
+#include "gl/gl_context.h"
+#include "gl/shader.h"
 
 #include <fcntl.h>
 #include <stdlib.h>

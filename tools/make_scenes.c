@@ -1,8 +1,8 @@
 /* Writes every shipped scene (tools/scene_library.c) into a folder.
  * Usage: make_scenes <scenes folder>. The stanford_bunny scene reads its mesh
  * from Debian's glmark2-data package (tools/setup installs it). */
-#include "base/log.h"
 #include "scene_library.h"
+#include "base/log.h"
 
 #include <stdio.h>
 

@@ -1,12 +1,12 @@
 #include "bench.h"
 #include "catalog.h"
-#include "gl/gl_context.h"
 #include "base/log.h"
-#include "techniques/params.h"
-#include "render/receiver.h"
-#include "gl/shader.h"
-#include "render/stage_timer.h"
 #include "base/util.h"
+#include "gl/gl_context.h"
+#include "gl/shader.h"
+#include "render/receiver.h"
+#include "render/stage_timer.h"
+#include "techniques/params.h"
 
 #include <stdbool.h>
 #include <stdio.h>

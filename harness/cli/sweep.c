@@ -1,7 +1,7 @@
 #include "sweep.h"
 #include "base/log.h"
-#include "techniques/params.h"
 #include "base/util.h"
+#include "techniques/params.h"
 
 #include <stdio.h>
 #include <stdlib.h>

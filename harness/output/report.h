@@ -3,8 +3,8 @@
 #ifndef SB_REPORT_H
 #define SB_REPORT_H
 
-#include "techniques/technique.h"
 #include "score/metrics.h"
+#include "techniques/technique.h"
 
 #include <cjson/cJSON.h>
 #include <stdbool.h>

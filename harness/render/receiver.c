@@ -1,8 +1,8 @@
 #include "receiver.h"
 #include "base/log.h"
-#include "techniques/params.h"
-#include "gl/shader.h"
 #include "base/util.h"
+#include "gl/shader.h"
+#include "techniques/params.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -4,11 +4,11 @@
 #ifndef SB_RECEIVER_H
 #define SB_RECEIVER_H
 
+#include "gl/gl.h"
+#include "gl/scene_mesh.h"
+#include "scene/scene.h"
 #include "techniques/shadowmap.h"
 #include "techniques/technique.h"
-#include "gl/gl.h"
-#include "scene/scene.h"
-#include "gl/scene_mesh.h"
 
 struct receiver {
     int width, height;

@@ -16,8 +16,8 @@
 #include <vector>
 
 extern "C" {
-#include "base/log.h"
 #include "scene.h"
+#include "base/log.h"
 #include "base/util.h"
 }
 

@@ -1,6 +1,6 @@
 #include "metrics.h"
-#include "truth/groundtruth.h"
 #include "base/util.h"
+#include "truth/groundtruth.h"
 
 #include <math.h>
 #include <stdlib.h>
