@@ -116,6 +116,7 @@ int params_set(const struct technique *t, void *settings, const char *name, cons
             log_error("%s.%s: '%s' is not a number", t->name, name, value);
             return -1;
         }
+        v += 0.0;  /* -0 is 0: one spelling in the outputs, and one cell in a sweep */
         break;
     case PARAM_INT:
     case PARAM_TAPS:

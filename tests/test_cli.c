@@ -106,11 +106,23 @@ int main(int argc, char **argv)
            "--sweep: 'pcss.blocker_samples=' is not technique.parameter=value,value,...");
     expect(2, "gt --scene parallel_planes --sweep pcss.blocker_samples=16",
            "--sweep: unknown option for gt (see --help)");
+    expect(2, "run --sweep pcss.blocker_samples=16,,32",
+           "--sweep: 'pcss.blocker_samples=16,,32' has an empty value");
+    expect(2, "run --sweep pcss.blocker_samples=,",
+           "--sweep: 'pcss.blocker_samples=,' has an empty value");
+    expect(2, "run --sweep hard.constant_bias=0,-0", "--sweep: hard.constant_bias: -0 is listed twice");
+    expect(2, "run --width", "--width: needs a value (see --help)");
+    /* The rules across parameters apply to each swept cell, not to the
+     * --set values a sweep replaces: grid with 16 or 25 taps is fine. */
+    char *args = util_printf("run %s --frames 1 --warmup 0 -q --technique pcf --set pcf.pattern=grid "
+                             "--sweep pcf.samples=16,25 --out %s/swept", small, dir);
+    expect(0, args, NULL);
+    free(args);
 
     /* An output folder that cannot be created: a path through a file. */
     char *file = util_printf("%s/a_file", dir);
     util_write_file_atomic(file, "x", 1);
-    char *args = util_printf("run %s --out %s/sub", small, file);
+    args = util_printf("run %s --out %s/sub", small, file);
     line = util_printf("%s/sub: cannot create folder: Not a directory", file);
     expect(2, args, line);
     free(args), free(line);

@@ -111,13 +111,16 @@ int bench_main(const struct run_options *o)
 
     /* The fetch limit, at the tap loops (PARAM_TAPS) of each technique that has any. */
     int covered = covered_pixels(&rcv);
-    printf("\nfetch limit: a receiver pass doing only N depth fetches per pixel (%d covered pixels)\n",
-           covered);
+    bool heading = false;
     for (int i = 0; i < o->technique_count; i++) {
         int loops[2] = {0, 0};
         int n = params_taps(o->techniques[i], run_settings(o, o->techniques[i]), loops, 2);
         if (n == 0)
             continue;
+        if (!heading)
+            printf("\nfetch limit: a receiver pass doing only N depth fetches per pixel (%d covered "
+                   "pixels)\n", covered);
+        heading = true;
         if (n > 2)
             log_warn("%s: %d tap loops; the fetch probe counts the first two", o->techniques[i]->name, n);
         struct probe_settings ps = {loops[0], loops[1]};

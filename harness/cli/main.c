@@ -97,8 +97,8 @@ static const char usage_gt[] =
     "  --scene S             a glTF file, or the name of a shipped scene (required)\n"
     "  --width W, --height H image size in pixels, " SIZE_RANGE " (default " RUN_STR(RUN_DEFAULT_SIZE)
     " x " RUN_STR(RUN_DEFAULT_SIZE) ")\n"
-    "  --gt-samples N        light samples per pixel, a square n*n (default "
-    RUN_STR(GT_DEFAULT_SAMPLES) ")\n"
+    "  --gt-samples N        light samples per pixel, a square n*n, 1.." RUN_STR(GT_MAX_SAMPLES)
+    " (default " RUN_STR(GT_DEFAULT_SAMPLES) ")\n"
     "  --out DIR             output folder (default " GT_DEFAULT_OUT ")\n"
     "  --cache DIR, --no-cache   as for run (default " RUN_DEFAULT_CACHE ")\n"
     "  -q, --quiet, -v, --verbose\n";
@@ -122,9 +122,10 @@ static const char usage_bench[] =
     RUN_STR(BENCH_DEFAULT_SIZE) " x " RUN_STR(BENCH_DEFAULT_SIZE) ")\n"
     "  --shadow-map-size N   shadow map resolution, " MAP_RANGE " (default "
     RUN_STR(SHADOWMAP_DEFAULT_SIZE) ")\n"
-    "  --frames K            timed frames, the median is reported (default "
-    RUN_STR(BENCH_DEFAULT_FRAMES) ")\n"
-    "  --warmup K            untimed frames first (default " RUN_STR(BENCH_DEFAULT_WARMUP) ")\n"
+    "  --frames K            timed frames, the median is reported, 1.." RUN_STR(STAGE_TIMER_MAX_FRAMES)
+    " (default " RUN_STR(BENCH_DEFAULT_FRAMES) ")\n"
+    "  --warmup K            untimed frames first, 0.." RUN_STR(RUN_MAX_WARMUP) " (default "
+    RUN_STR(BENCH_DEFAULT_WARMUP) ")\n"
     "  --shaders DIR         GLSL folder, as for run\n"
     "  -q, --quiet, -v, --verbose\n";
 
@@ -265,6 +266,13 @@ static int finish_techniques(struct run_options *o)
     for (int i = 0; technique_list[i]; i++)
         if (!o->settings[i])
             o->settings[i] = params_defaults(technique_list[i]);
+    return 0;
+}
+
+/* The rules across parameters, for the commands without sweeps (run checks
+ * each configuration once its swept values are in: sweep_configs). */
+static int check_settings(const struct run_options *o)
+{
     for (int i = 0; i < o->technique_count; i++)
         if (params_check(o->techniques[i], run_settings(o, o->techniques[i])) != 0)
             return -1;
@@ -280,9 +288,13 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
     int c, index = 0;
     optind = 1;
     opterr = 0;
-    while ((c = getopt_long(argc, argv, "qvh", long_options, &index)) != -1) {
+    while ((c = getopt_long(argc, argv, ":qvh", long_options, &index)) != -1) {
         if (c == '?') {
             log_error("%s: unknown option (see --help)", argv[optind - 1]);
+            return -1;
+        }
+        if (c == ':') {
+            log_error("%s: needs a value (see --help)", argv[optind - 1]);
             return -1;
         }
         if (c >= OPT_SCENE && !takes(cmd, c)) {
@@ -339,7 +351,7 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
     }
     if (finish_techniques(o) != 0)
         return -1;
-    return cmd == RUN_CMD_RUN ? sweep_configs(o) : 0;
+    return cmd == RUN_CMD_RUN ? sweep_configs(o) : check_settings(o);
 }
 
 static int cmd_list(int argc, char **argv)

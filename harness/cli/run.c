@@ -236,7 +236,7 @@ static cJSON *run_json(const struct run_options *o, double seconds)
     cJSON *r = cJSON_CreateObject();
     struct strbuf cmd = {0};
     for (int i = 0; i < o->argc; i++)
-        strbuf_printf(&cmd, "%s%s", i ? " " : "", o->argv[i]);
+        strbuf_list_printf(&cmd, " ", "%s", o->argv[i]);
     cJSON_AddStringToObject(r, "command_line", cmd.data ? cmd.data : "");
     strbuf_free(&cmd);
     char *git = git_describe(), *cpu = cpu_model();

@@ -59,10 +59,15 @@ static int parse_sweep(const struct run_options *o, const char *arg, const struc
 
     /* Each value must be one that --set takes; spelled as the outputs do. */
     void *scratch = params_defaults(s->t);
-    char *list = xstrdup(eq + 1), *save = NULL;
+    char *list = xstrdup(eq + 1), *rest = list;
     int rc = 0;
-    for (char *v = strtok_r(list, ",", &save); v && !rc; v = strtok_r(NULL, ",", &save)) {
+    for (char *v = strsep(&rest, ","); v && !rc; v = strsep(&rest, ",")) {
         char text[64];
+        if (!*v) {
+            log_error("--sweep: '%s' has an empty value", arg);
+            rc = -1;
+            break;
+        }
         if ((rc = params_set(s->t, scratch, s->param, v)) != 0)
             break;
         params_value_text(s->t, scratch, s->param, text, sizeof text);
