@@ -7,7 +7,7 @@
 // VSM filterable (Donnelly and Lauritzen 2006).
 #include "depth.glsl"
 
-layout(binding = 0) uniform sampler2D source;  // this pass's input: depth map, or moments
+layout(binding = SM_BINDING_PASS_SOURCE) uniform sampler2D source;  // depth map, or moments
 layout(location = 0) out vec2 out_moments;
 
 uniform ivec2 u_direction;                        // (1, 0) or (0, 1)

@@ -1,7 +1,7 @@
 #version 450 core
 // Receiver pass: the scene from the camera.
-layout(location = 0) in vec3 a_position;
-layout(location = 1) in vec3 a_normal;
+layout(location = SM_ATTRIB_POSITION) in vec3 a_position;
+layout(location = SM_ATTRIB_NORMAL) in vec3 a_normal;
 
 uniform mat4 u_camera_view_proj;
 

@@ -2,7 +2,7 @@
 // Depth product: the scene from the light centre (DESIGN.md §5).
 #include "shadow_block.glsl"
 
-layout(location = 0) in vec3 a_position;
+layout(location = SM_ATTRIB_POSITION) in vec3 a_position;
 
 void main()
 {

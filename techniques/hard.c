@@ -25,7 +25,7 @@ struct hard_settings {
 
 static const struct technique_param hard_params[] = {
     PARAM_ROW_CONSTANT_BIAS(struct hard_settings),
-    PARAM_ROW_SLOPE_BIAS(struct hard_settings),
+    PARAM_ROW_SLOPE_BIAS(struct hard_settings, ""),
     {NULL},
 };
 

@@ -11,9 +11,11 @@
     {"constant_bias", "constant depth offset, linear shadow-map depth units (1 = near..far)", \
      offsetof(settings, constant_bias), PARAM_FLOAT, 0.0005, 0.0, 0.1, NULL}
 
-#define PARAM_ROW_SLOPE_BIAS(settings)                                                     \
-    {"slope_bias", "slope-scaled offset, texels of the receiver's depth slope (unused with "  \
-     "receiver_plane_bias)", offsetof(settings, slope_bias), PARAM_FLOAT, 1.0, 0.0, 16.0, NULL}
+/* note: "" or what else decides whether it applies, e.g. " (unused with
+ * receiver_plane_bias)". */
+#define PARAM_ROW_SLOPE_BIAS(settings, note)                                               \
+    {"slope_bias", "slope-scaled offset, texels of the receiver's depth slope" note,        \
+     offsetof(settings, slope_bias), PARAM_FLOAT, 1.0, 0.0, 16.0, NULL}
 
 #define PARAM_ROW_RECEIVER_PLANE_BIAS(settings)                                            \
     {"receiver_plane_bias", "compare against the receiver's plane at each tap",            \

@@ -25,10 +25,10 @@ const int tap_counts[TAP_COUNT_KINDS] = {
 #undef X
 };
 
-static bool is_tap_count(int n)
+static bool is_tap_count(double v)
 {
     for (int i = 0; i < TAP_COUNT_KINDS; i++)
-        if (tap_counts[i] == n)
+        if (tap_counts[i] == v)
             return true;
     return false;
 }
@@ -126,7 +126,7 @@ int params_set(const struct technique *t, void *settings, const char *name, cons
             log_error("%s.%s: '%s' is not a whole number", t->name, name, value);
             return -1;
         }
-        if (p->type == PARAM_TAPS && !is_tap_count((int)v))
+        if (p->type == PARAM_TAPS && !is_tap_count(v))
             return not_one_of(t, p, value);
         break;
     case PARAM_BOOL:
@@ -270,8 +270,9 @@ void params_print(const struct technique *t, FILE *f)
                     c.data);
             strbuf_free(&c);
         } else {
-            format_value(p, p->min, lo, sizeof lo);
-            format_value(p, p->max, hi, sizeof hi);
+            bool boolean = p->type == PARAM_BOOL;  /* false and true */
+            format_value(p, boolean ? 0 : p->min, lo, sizeof lo);
+            format_value(p, boolean ? 1 : p->max, hi, sizeof hi);
             fprintf(f, "    %-16s %-5s default %-10s range [%s, %s]\n", p->name,
                     type_name[p->type], def, lo, hi);
         }

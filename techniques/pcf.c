@@ -59,7 +59,7 @@ static const struct technique_param pcf_params[] = {
      offsetof(struct pcf_settings, hardware_2x2), PARAM_BOOL, 0, 0, 1, NULL},
     PARAM_ROW_RECEIVER_PLANE_BIAS(struct pcf_settings),
     PARAM_ROW_CONSTANT_BIAS(struct pcf_settings),
-    PARAM_ROW_SLOPE_BIAS(struct pcf_settings),
+    PARAM_ROW_SLOPE_BIAS(struct pcf_settings, " (unused with receiver_plane_bias)"),
     {NULL},
 };
 

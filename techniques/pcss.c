@@ -46,7 +46,7 @@ static const struct technique_param pcss_params[] = {
     PARAM_ROW_LIGHT_SIZE_SCALE(struct pcss_settings),
     PARAM_ROW_RECEIVER_PLANE_BIAS(struct pcss_settings),
     PARAM_ROW_CONSTANT_BIAS(struct pcss_settings),
-    PARAM_ROW_SLOPE_BIAS(struct pcss_settings),
+    PARAM_ROW_SLOPE_BIAS(struct pcss_settings, " (unused with receiver_plane_bias)"),
     {NULL},
 };
 

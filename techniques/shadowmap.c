@@ -6,20 +6,22 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The uniform block's binding (GLSL: SM_BINDING_BLOCK). */
-enum { BLOCK_BINDING = 0 };
+/* The uniform block's binding (GLSL: SM_BINDING_BLOCK), and the texture
+ * unit a full-screen pass reads its input from (SM_BINDING_PASS_SOURCE). */
+enum { BLOCK_BINDING = 0, PASS_SOURCE_BINDING = 0 };
 
-/* One product: how it is stored, where shaders find it, how it is made. */
+/* One product: how it is stored, where shaders find it, how it is made.
+ * Its name is SM_PRODUCTS'. */
 struct product_kind {
-    const char *label;     /* names its GL objects: "shadow map: <label>" */
     GLenum format;         /* a texture product's internal format; 0: a storage buffer */
     bool mipmapped;        /* texture: a full mip chain, sampled trilinearly */
     float border[4];       /* texture: what is read outside the map */
     int binding;           /* texture unit or storage-buffer binding (GLSL: SM_BINDING_<ID>) */
     int compare_binding;   /* texture: also bound at this unit through the comparison sampler
                               (GLSL: SM_BINDING_<ID>_COMPARE); 0: not */
-    /* What the passes need beyond the product texture (framebuffers,
-     * programs, a storage buffer): called once. Returns 0 or -1 (logged). */
+    /* What the passes need beyond a texture product's texture (framebuffers,
+     * programs; a buffer product's buffer): called once. Returns 0 or -1
+     * (logged); what it made before failing is deleted with the rest. */
     int (*create)(struct shadowmap *sm, struct shadowmap_product *p);
     void (*render)(struct shadowmap *sm, struct shadowmap_product *p, const struct scene_mesh *mesh,
                    const struct shadowmap_request *r);
@@ -36,6 +38,20 @@ static const char *const product_ids[] = {
     SM_PRODUCTS(X)
 #undef X
 };
+
+static const char *const product_names[] = {
+#define X(id, name) name,
+    SM_PRODUCTS(X)
+#undef X
+};
+
+/* "shadow map: <product>": the label of a product's own GL object. */
+static void label_product(GLenum type, GLuint object, int p)
+{
+    char *label = util_printf("shadow map: %s", product_names[p]);
+    gl_label(type, object, label);
+    free(label);
+}
 
 /* ---- helpers ------------------------------------------------------------ */
 
@@ -64,7 +80,7 @@ static void upload_block(const struct shadowmap *sm)
     glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof sm->block, &sm->block);
 }
 
-static GLuint map_texture(GLenum format, int levels, int n, const float border[4], const char *label)
+static GLuint map_texture(GLenum format, int levels, int n, const float border[4])
 {
     GLuint t;
     glGenTextures(1, &t);
@@ -75,7 +91,6 @@ static GLuint map_texture(GLenum format, int levels, int n, const float border[4
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
     glTexParameterfv(GL_TEXTURE_2D, GL_TEXTURE_BORDER_COLOR, border);
-    gl_label(GL_TEXTURE, t, label);
     return t;
 }
 
@@ -106,39 +121,33 @@ static GLuint framebuffer(GLuint texture, GLenum attachment, const char *label)
     return fbo;
 }
 
-static GLuint compute_program(const char *label, const char *file, const char *defines)
+/* A program of a product's pass: the layer's shared defines, then its own.
+ * A single stage is a compute pass; two are vertex and fragment. */
+static GLuint pass_program(const char *label, const char *defines, const char *first,
+                           const char *fragment)
 {
     struct strbuf d = {0};
     shadowmap_shader_defines(&d);
     strbuf_printf(&d, "%s", defines);
-    GLuint p = shader_program(label, d.data, &(struct shader_stage){GL_COMPUTE_SHADER, {file}}, 1);
+    const struct shader_stage stages[2] = {
+        {fragment ? GL_VERTEX_SHADER : GL_COMPUTE_SHADER, {first}},
+        {GL_FRAGMENT_SHADER, {fragment}},
+    };
+    GLuint p = shader_program(label, d.data, stages, fragment ? 2 : 1);
     strbuf_free(&d);
     return p;
 }
 
-static GLuint raster_program(const char *label, const char *vertex, const char *fragment,
-                             const char *defines)
-{
-    struct strbuf d = {0};
-    shadowmap_shader_defines(&d);
-    strbuf_printf(&d, "%s", defines);
-    GLuint p = shader_program(label, d.data,
-                              (const struct shader_stage[]){{GL_VERTEX_SHADER, {vertex}},
-                                                            {GL_FRAGMENT_SHADER, {fragment}}},
-                              2);
-    strbuf_free(&d);
-    return p;
-}
-
-/* One full-screen pass of `program` into fbo, reading `source` on unit 0. */
+/* One full-screen pass of `program` into fbo, reading `source` (at
+ * SM_BINDING_PASS_SOURCE). */
 static void image_pass(struct shadowmap *sm, GLuint fbo, GLuint program, GLuint source)
 {
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
     glViewport(0, 0, sm->desc.size_texels, sm->desc.size_texels);
     glUseProgram(program);
     glBindBufferBase(GL_UNIFORM_BUFFER, BLOCK_BINDING, sm->ubo);
-    glBindTextureUnit(0, source);
-    glBindSampler(0, 0);
+    glBindTextureUnit(PASS_SOURCE_BINDING, source);
+    glBindSampler(PASS_SOURCE_BINDING, 0);
     glBindVertexArray(sm->fullscreen_vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -150,8 +159,8 @@ static int depth_create(struct shadowmap *sm, struct shadowmap_product *p)
 {
     (void)sm;
     p->framebuffers[0] = framebuffer(p->texture, GL_DEPTH_ATTACHMENT, "shadow map: depth pass");
-    p->programs[0] = raster_program("shadow map depth pass", "shadowmap_depth.vert",
-                                    "shadowmap_depth.frag", "");
+    p->programs[0] = pass_program("shadow map depth pass", "", "shadowmap_depth.vert",
+                                  "shadowmap_depth.frag");
     return p->framebuffers[0] && p->programs[0] ? 0 : -1;
 }
 
@@ -173,13 +182,14 @@ static void depth_render(struct shadowmap *sm, struct shadowmap_product *p,
 static int moments_create(struct shadowmap *sm, struct shadowmap_product *p)
 {
     p->temp_texture = map_texture(kinds[SM_PRODUCT_MOMENTS].format, 1, sm->desc.size_texels,
-                                  kinds[SM_PRODUCT_MOMENTS].border, "shadow map: blur temporary");
+                                  kinds[SM_PRODUCT_MOMENTS].border);
+    gl_label(GL_TEXTURE, p->temp_texture, "shadow map: moments blur temporary");
     p->framebuffers[0] = framebuffer(p->texture, GL_COLOR_ATTACHMENT0, "moments pass");
     p->framebuffers[1] = framebuffer(p->temp_texture, GL_COLOR_ATTACHMENT0, "moments blur, rows");
-    p->programs[0] = raster_program("moments blur, rows", "fullscreen.vert", "moments_blur.frag",
-                                    "#define BLUR_FROM_DEPTH 1\n");
-    p->programs[1] = raster_program("moments blur, columns", "fullscreen.vert", "moments_blur.frag",
-                                    "#define BLUR_FROM_DEPTH 0\n");
+    p->programs[0] = pass_program("moments blur, rows", "#define BLUR_FROM_DEPTH 1\n",
+                                  "fullscreen.vert", "moments_blur.frag");
+    p->programs[1] = pass_program("moments blur, columns", "#define BLUR_FROM_DEPTH 0\n",
+                                  "fullscreen.vert", "moments_blur.frag");
     return p->framebuffers[0] && p->framebuffers[1] && p->programs[0] && p->programs[1] ? 0 : -1;
 }
 
@@ -243,9 +253,9 @@ static int sat_create(struct shadowmap *sm, struct shadowmap_product *p)
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, p->buffer);
     glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)bytes, zero, GL_DYNAMIC_COPY);
     free(zero);
-    gl_label(GL_BUFFER, p->buffer, "shadow map: moments SAT");
-    p->programs[0] = compute_program("SAT rows", "sat_build.comp", "#define SAT_PASS_ROWS 1\n");
-    p->programs[1] = compute_program("SAT columns", "sat_build.comp", "#define SAT_PASS_ROWS 0\n");
+    label_product(GL_BUFFER, p->buffer, SM_PRODUCT_MOMENTS_SAT);
+    p->programs[0] = pass_program("SAT rows", "#define SAT_PASS_ROWS 1\n", "sat_build.comp", NULL);
+    p->programs[1] = pass_program("SAT columns", "#define SAT_PASS_ROWS 0\n", "sat_build.comp", NULL);
     return p->programs[0] && p->programs[1] ? 0 : -1;
 }
 
@@ -308,18 +318,18 @@ static void sat_render(struct shadowmap *sm, struct shadowmap_product *p,
  * engines do: hardware depth 0 (reversed Z), moments (1, 1). */
 static const struct product_kind kinds[SM_PRODUCT_COUNT] = {
     [SM_PRODUCT_DEPTH] = {
-        .label = "depth", .format = GL_DEPTH_COMPONENT32F, .border = {0, 0, 0, 0},
+        .format = GL_DEPTH_COMPONENT32F, .border = {0, 0, 0, 0},
         .binding = 0, .compare_binding = 1,
         .create = depth_create, .render = depth_render,
     },
     [SM_PRODUCT_MOMENTS] = {
-        .label = "moments", .format = GL_RG32F, .mipmapped = true, .border = {1, 1, 0, 0},
+        .format = GL_RG32F, .mipmapped = true, .border = {1, 1, 0, 0},
         .binding = 2,
         .create = moments_create, .render = moments_render, .same = moments_same,
         .check = moments_check,
     },
     [SM_PRODUCT_MOMENTS_SAT] = {
-        .label = "moments SAT", .binding = 0,
+        .binding = 0,
         .create = sat_create, .render = sat_render, .same = sat_same,
     },
 };
@@ -328,7 +338,10 @@ static const struct product_kind kinds[SM_PRODUCT_COUNT] = {
 
 void shadowmap_shader_defines(struct strbuf *out)
 {
-    strbuf_printf(out, "#define SM_BINDING_BLOCK %d\n", BLOCK_BINDING);
+    strbuf_printf(out, "#define SM_BINDING_BLOCK %d\n#define SM_BINDING_PASS_SOURCE %d\n",
+                  BLOCK_BINDING, PASS_SOURCE_BINDING);
+    strbuf_printf(out, "#define SM_ATTRIB_POSITION %d\n#define SM_ATTRIB_NORMAL %d\n",
+                  SCENE_MESH_POSITION, SCENE_MESH_NORMAL);
     for (int p = 0; p < SM_PRODUCT_COUNT; p++) {
         strbuf_printf(out, "#define SM_BINDING_%s %d\n", product_ids[p], kinds[p].binding);
         if (kinds[p].compare_binding)
@@ -362,6 +375,11 @@ void shadowmap_shader_defines(struct strbuf *out)
 int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct shadowmap_desc *desc)
 {
     memset(sm, 0, sizeof *sm);
+    for (int i = 0; i < SM_PRODUCT_COUNT; i++)
+        if (!kinds[i].create || !kinds[i].render) {  /* an X() in SM_PRODUCTS without its row */
+            log_error("shadow map: product '%s' has no row in the layer's table", product_names[i]);
+            return -1;
+        }
     sm->desc = *desc;
     if (!sm->desc.size_texels)
         sm->desc.size_texels = SHADOWMAP_DEFAULT_SIZE;
@@ -403,9 +421,8 @@ int shadowmap_prepare(struct shadowmap *sm, const struct shadowmap_request *r)
         p->created = true;  /* even if create fails: shadowmap_destroy deletes what it made */
         if (k->format) {
             int n = sm->desc.size_texels;
-            char *label = util_printf("shadow map: %s", k->label);
-            p->texture = map_texture(k->format, k->mipmapped ? mip_levels(n) : 1, n, k->border, label);
-            free(label);
+            p->texture = map_texture(k->format, k->mipmapped ? mip_levels(n) : 1, n, k->border);
+            label_product(GL_TEXTURE, p->texture, i);
         }
         if (k->create(sm, p) != 0)
             return -1;

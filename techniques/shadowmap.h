@@ -35,6 +35,7 @@ struct shadowmap_block {
 _Static_assert(sizeof(struct shadowmap_block) == 208, "std140 layout of ShadowMapBlock");
 _Static_assert(offsetof(struct shadowmap_block, light_size_uv) == 160, "std140 layout");
 _Static_assert(offsetof(struct shadowmap_block, near_world) == 184, "std140 layout");
+_Static_assert(offsetof(struct shadowmap_block, sat_format) == 196, "std140 layout");
 
 #define SHADOWMAP_DEFAULT_SIZE 1024
 #define SHADOWMAP_MIN_SIZE 16
@@ -73,9 +74,10 @@ struct shadowmap {
 int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct shadowmap_desc *desc);
 
 /* Appends the #defines that the layer's shaders and the receiver pass share
- * with C: the product bindings (SM_BINDING_<PRODUCT>), the light shapes
- * (SM_LIGHT_<SHAPE>), the SAT formats (SM_SAT_<FORMAT>), SM_MAX_BLUR_RADIUS
- * and the tap loops SM_UNROLL_<n> for n in TAP_COUNTS and 0. */
+ * with C: the bindings (SM_BINDING_<PRODUCT>, _BLOCK, _PASS_SOURCE), the
+ * vertex attributes (SM_ATTRIB_*), the light shapes (SM_LIGHT_<SHAPE>), the
+ * SAT formats (SM_SAT_<FORMAT>), SM_MAX_BLUR_RADIUS and the tap loops
+ * SM_UNROLL_<n> for n in TAP_COUNTS and 0. */
 void shadowmap_shader_defines(struct strbuf *out);
 
 /* Creates what the products of r need (textures, buffers, programs), so

@@ -106,7 +106,9 @@ struct technique_param {
     const char *help;             /* one line: meaning and unit */
     size_t offset;                /* of the member in the settings struct */
     enum param_type type;
-    double def, min, max;         /* PARAM_ENUM: indices into choices; PARAM_TAPS: unused */
+    double def;                   /* PARAM_ENUM: an index into choices */
+    double min, max;              /* PARAM_FLOAT and PARAM_INT only; the others take their
+                                     values from a list (bool: 0 and 1) */
     const char *const *choices;   /* PARAM_ENUM only: NULL-terminated names */
 };
 

@@ -4,6 +4,7 @@
 #include "check.h"
 #include "run_cmd.h"
 #include "cli/catalog.h"
+#include "techniques/params.h"
 #include "techniques/technique.h"
 
 #include <string.h>
@@ -37,11 +38,31 @@ static void expect_stdout_has(const char *args, const char *needle)
     free(cmd);
 }
 
+/* Every parameter's default is a value --set accepts (in range, one of its
+ * list: a tap count outside TAP_COUNTS would only fail later, as a shader
+ * that does not compile), and the defaults pass the technique's rules. */
+static void defaults_are_settable(void)
+{
+    for (int i = 0; technique_list[i]; i++) {
+        const struct technique *t = technique_list[i];
+        void *defaults = params_defaults(t), *scratch = params_defaults(t);
+        for (const struct technique_param *p = t->params; p->name; p++) {
+            char text[64];
+            params_value_text(t, defaults, p->name, text, sizeof text);
+            CHECK(params_set(t, scratch, p->name, text) == 0, "%s.%s: default %s refused", t->name,
+                  p->name, text);
+        }
+        CHECK(params_check(t, defaults) == 0, "%s: defaults break its rules", t->name);
+        free(defaults), free(scratch);
+    }
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2 || !mkdtemp(dir))
         return 1;
     sb = argv[1];
+    defaults_are_settable();
     const char *small = "--scene floating_box_sphere --width 16 --height 16 --gt-samples 1 --no-cache";
 
     expect(2, "", NULL);

@@ -24,6 +24,13 @@ for file in harness/*/*.c harness/*/*.h harness/*/*.cpp techniques/*.c technique
     esac
     own_rank=$(rank "$own")
     [ "$own_rank" = 99 ] && { echo "$file: folder '$own' is not in the layer order"; bad=$((bad + 1)); }
+    # Every quoted include is a file of the own folder or "<folder>/<file>":
+    # a path that climbs (..) or starts at the root would hide its folder.
+    if grep -E '^#include "' "$file" | grep -vqE '^#include "([a-z_]+/)?[a-z_0-9]+\.(h|glsl)"'; then
+        echo "$file: an include that does not name its folder: $(grep -E '^#include "' "$file" |
+            grep -vE '^#include "([a-z_]+/)?[a-z_0-9]+\.(h|glsl)"' | head -1)"
+        bad=$((bad + 1))
+    fi
     for dep in $(sed -n 's|^#include "\([a-z_]*\)/[a-z_0-9]*\.h".*|\1|p' "$file"); do
         if [ "$(rank "$dep")" -gt "$own_rank" ]; then
             echo "$file includes $dep/, a later stage than $own/"

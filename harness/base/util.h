@@ -44,7 +44,7 @@ void strbuf_printf(struct strbuf *sb, const char *fmt, ...)
 void strbuf_append(struct strbuf *sb, const char *s, size_t n);
 void strbuf_free(struct strbuf *sb);
 /* Appends one item of a list: sep first unless sb is empty, then the
- * formatted item ("a, b, c" item by item). */
+ * formatted item ("a, b, c" item by item). sb holds just this list. */
 void strbuf_list_printf(struct strbuf *sb, const char *sep, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
 /* Appends the NULL-terminated items separated by sep. */

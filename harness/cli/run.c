@@ -19,7 +19,6 @@
 #include <OpenEXR/openexr.h>
 #include <embree3/rtcore.h>
 
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -187,7 +186,7 @@ static int run_scene(struct scene_run *sr, GLuint (*programs)[LIGHT_SHAPE_COUNT]
 
     /* The scored mask is the same for every cell of the scene (same camera,
      * same geometry): groundtruth.exr carries the last cell's. */
-    return output_groundtruth(sr->dir, w, h, sr->gt.v, sr->gt.v_weighted, sr->scored, sr->gt.distance);
+    return output_groundtruth(sr->dir, &sr->gt, sr->scored);
 }
 
 static void scene_run_free(struct scene_run *sr)
@@ -377,7 +376,7 @@ int run_gt(const struct run_options *o)
     if (gt_obtain(&s, &f, &(struct gt_desc){.width = o->width, .height = o->height, .samples = o->gt_samples},
                   o->cache_dir, &gt) == 0) {
         /* No GL pass here: the mask lacks run's silhouette check (DESIGN.md §6). */
-        if (output_groundtruth(dir, o->width, o->height, gt.v, gt.v_weighted, gt.mask, gt.distance) == 0) {
+        if (output_groundtruth(dir, &gt, gt.mask) == 0) {
             double noise = gt_noise_floor(gt.v, gt.v_alt, gt.mask, (size_t)o->width * (size_t)o->height);
             printf("%s/groundtruth.exr\nnoise floor (rms error of V at %d samples): %.5f\n", dir,
                    o->gt_samples, noise);

@@ -32,7 +32,7 @@ enum run_command { RUN_CMD_RUN, RUN_CMD_GT, RUN_CMD_BENCH };
 #define GT_DEFAULT_OUT "results/gt"
 #define RUN_DEFAULT_CACHE "results/cache"
 #define RUN_STR_(x) #x
-#define RUN_STR(x) RUN_STR_(x)  /* a numeric default as text, for --help */
+#define RUN_STR(x) RUN_STR_(x)  /* a default as text, for --help: plain literals only */
 
 /* One technique with one parameter set: a column of the matrix. */
 struct run_config {

@@ -3,8 +3,9 @@
 #include "base/log.h"
 
 /* osmesa.h includes GL/gl.h, whose prototypes would clash with gl.h's
- * renaming macros; glcorearb.h (through gl.h) already has every type it
- * needs, so GL/gl.h is skipped through its include guard. */
+ * entry-point pointers of the same names; glcorearb.h (through gl.h)
+ * already has every type it needs, so GL/gl.h is skipped through its
+ * include guard. */
 #define __gl_h_
 #define GLAPIENTRY APIENTRY
 #include <GL/osmesa.h>

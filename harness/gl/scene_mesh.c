@@ -19,11 +19,11 @@ void scene_mesh_upload(const struct scene *s, struct scene_mesh *m)
     glBindVertexArray(m->vao);
     gl_label(GL_VERTEX_ARRAY, m->vao, s->name);
     m->positions = upload(GL_ARRAY_BUFFER, s->positions, s->vertex_count * 12, "scene positions");
-    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 12, NULL);
-    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(SCENE_MESH_POSITION, 3, GL_FLOAT, GL_FALSE, 12, NULL);
+    glEnableVertexAttribArray(SCENE_MESH_POSITION);
     m->normals = upload(GL_ARRAY_BUFFER, s->normals, s->vertex_count * 12, "scene normals");
-    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 12, NULL);
-    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(SCENE_MESH_NORMAL, 3, GL_FLOAT, GL_FALSE, 12, NULL);
+    glEnableVertexAttribArray(SCENE_MESH_NORMAL);
     m->indices = upload(GL_ELEMENT_ARRAY_BUFFER, s->indices, s->triangle_count * 12, "scene indices");
     m->index_count = (GLsizei)(s->triangle_count * 3);
     glBindVertexArray(0);

@@ -6,6 +6,9 @@
 #include "gl.h"
 #include "scene/scene.h"
 
+/* Vertex attribute locations (GLSL: SM_ATTRIB_POSITION, SM_ATTRIB_NORMAL). */
+enum { SCENE_MESH_POSITION = 0, SCENE_MESH_NORMAL = 1 };
+
 struct scene_mesh {
     GLuint vao, positions, normals, indices;
     GLsizei index_count;

@@ -41,14 +41,12 @@ int output_cell(const char *dir, const struct cell *c, const struct cell_images 
     return rc ? -1 : 0;
 }
 
-int output_groundtruth(const char *dir, int width, int height, const float *v,
-                       const float *v_weighted, const float *mask, const float *distance)
+int output_groundtruth(const char *dir, const struct gt_image *gt, const float *mask)
 {
     char *path = util_printf("%s/groundtruth.exr", dir);
-    struct exr_channel ch[] = {{"V", (float *)v}, {"V_weighted", (float *)v_weighted},
-                               {"mask", (float *)mask}};
-    int rc = image_write_exr(path, width, height, ch, 3) ||
-             write_visibility_png(dir, "groundtruth", v, distance, mask, width, height);
+    struct exr_channel ch[] = {{"V", gt->v}, {"V_weighted", gt->v_weighted}, {"mask", (float *)mask}};
+    int rc = image_write_exr(path, gt->width, gt->height, ch, 3) ||
+             write_visibility_png(dir, "groundtruth", gt->v, gt->distance, mask, gt->width, gt->height);
     free(path);
     return rc ? -1 : 0;
 }

@@ -4,6 +4,7 @@
 #define SB_CELL_OUTPUT_H
 
 #include "report.h"
+#include "truth/groundtruth.h"
 
 /* The images of one cell and what they are compared with; width x height,
  * top row first. */
@@ -21,8 +22,8 @@ struct cell_images {
 int output_cell(const char *dir, const struct cell *c, const struct cell_images *im);
 
 /* <dir>/groundtruth.exr (channels V, V_weighted, mask) and groundtruth.png
- * (V, unscored pixels hatched). Returns 0 or -1 (logged). */
-int output_groundtruth(const char *dir, int width, int height, const float *v,
-                       const float *v_weighted, const float *mask, const float *distance);
+ * (V, unscored pixels hatched) of gt, with the scored mask. Returns 0 or -1
+ * (logged). */
+int output_groundtruth(const char *dir, const struct gt_image *gt, const float *mask);
 
 #endif
