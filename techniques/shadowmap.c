@@ -74,12 +74,6 @@ static void fill_block(struct shadowmap *sm, const struct scene *s)
     b->map_size_texels = (float)sm->desc.size_texels;
 }
 
-static void upload_block(const struct shadowmap *sm)
-{
-    glBindBuffer(GL_UNIFORM_BUFFER, sm->ubo);
-    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof sm->block, &sm->block);
-}
-
 static GLuint map_texture(GLenum format, int levels, int n, const float border[4])
 {
     GLuint t;
@@ -298,7 +292,8 @@ static void sat_render(struct shadowmap *sm, struct shadowmap_product *p,
         b->sat_scale = 1.0f;
         b->sat_max_box_texels = (float)n;
     }
-    upload_block(sm);
+    glBindBuffer(GL_UNIFORM_BUFFER, sm->ubo);
+    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof *b, b);
 
     glBindBufferBase(GL_UNIFORM_BUFFER, BLOCK_BINDING, sm->ubo);
     glBindTextureUnit(kinds[SM_PRODUCT_DEPTH].binding, sm->products[SM_PRODUCT_DEPTH].texture);
