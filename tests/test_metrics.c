@@ -5,6 +5,7 @@
 #include "base/util.h"
 #include "score/metrics.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -12,12 +13,17 @@
 #define H 10
 #define N (W * H)
 
-static float v_gt[N], v_tech[N], scored[N], dist[N];
+static float v_gt[N], v_weighted[N], h[N], e[N], noise[N], v_tech[N], scored[N], dist[N];
+static const struct gt_image gt = {.width = W, .height = H, .v = v_gt, .v_weighted = v_weighted,
+                                   .h = h, .e = e, .noise = noise, .distance = dist, .mask = scored};
 
-static void reset(float gt, float tech)
+/* V_gt = V_gt_weighted = gt, V_tech = tech; every pixel scored, fully
+ * above the horizon (H = 1), unit irradiance, no ground-truth noise. */
+static void reset(float gt_value, float tech)
 {
     for (int i = 0; i < N; i++) {
-        v_gt[i] = gt, v_tech[i] = tech, scored[i] = 1.0f, dist[i] = 1.0f;
+        v_gt[i] = v_weighted[i] = gt_value, v_tech[i] = tech, scored[i] = 1.0f, dist[i] = 1.0f;
+        h[i] = 1.0f, e[i] = 1.0f, noise[i] = 0.0f;
     }
 }
 
@@ -28,7 +34,7 @@ static void test_basic_errors(void)
     for (int i = 0; i < N; i++)
         v_tech[i] = i % 2 ? 0.6f : 0.4f;
     struct metrics m = {0};
-    metrics_compute(v_tech, v_gt, NULL, scored, dist, W, H, &m);
+    metrics_compute(v_tech, &gt, scored, dist, &m);
     CHECK_NEAR(m.rmse, 0.1, 1e-6, "rmse of +-0.1");
     CHECK_NEAR(m.mae, 0.1, 1e-6, "mae of +-0.1");
     CHECK_NEAR(m.bias, 0.0, 1e-6, "bias of symmetric errors");
@@ -40,24 +46,91 @@ static void test_basic_errors(void)
     reset(0.5f, 0.5f);
     for (int i = 0; i < 50; i++)
         v_tech[i] = 1.0f, scored[i] = 0.0f;
-    metrics_compute(v_tech, v_gt, NULL, scored, dist, W, H, &m);
+    metrics_compute(v_tech, &gt, scored, dist, &m);
     CHECK(m.rmse == 0.0 && m.max_abs == 0.0, "unscored pixels must not count: rmse %g", m.rmse);
     CHECK(m.scored_pixels == 50, "scored %ld", m.scored_pixels);
+    CHECK(metrics_scored(&m), "a cell with scored pixels is scored");
+}
+
+static void test_unscored(void)
+{
+    /* Nothing scored: every error metric is null (NAN), never a perfect 0;
+     * the counts stay numbers. */
+    reset(0.5f, 0.5f);
+    for (int i = 0; i < N; i++)
+        scored[i] = 0.0f;
+    struct metrics m = {.ms_total = 3.0};
+    metrics_compute(v_tech, &gt, scored, dist, &m);
+    CHECK(!metrics_scored(&m), "no scored pixel: unscored");
+    for (int k = 0; k < METRIC_COUNT; k++) {
+        double v = metrics_value(&m, k);
+        bool count = strstr(metric_info[k].key, "pixels") || strcmp(metric_info[k].key, "nonfinite") == 0;
+        bool timing = strncmp(metric_info[k].key, "ms_", 3) == 0;
+        if (count || timing)
+            CHECK(!isnan(v), "%s is a count or a time, defined without scored pixels", metric_info[k].key);
+        else
+            CHECK(isnan(v), "%s = %g with no scored pixel; expected null", metric_info[k].key, v);
+    }
+    CHECK(m.scored_pixels == 0 && m.ms_total == 3.0, "counts 0, timings kept");
+    /* Scored pixels but an empty penumbra band (V_gt = 1 everywhere): the
+     * band's metrics are null, the others numbers. */
+    reset(1.0f, 1.0f);
+    metrics_compute(v_tech, &gt, scored, dist, &m);
+    CHECK(metrics_scored(&m) && m.rmse == 0.0, "lit and right: scored, rmse 0");
+    CHECK(isnan(m.penumbra_rmse) && isnan(m.gt_noise_penumbra_rmse) && m.penumbra_pixels == 0,
+          "empty band: penumbra_rmse %g, expected null", m.penumbra_rmse);
+}
+
+static void test_shaded_and_terminator(void)
+{
+    /* shaded_rmse = rms((V_tech - V_gt_weighted) E) / mean E over scored
+     * pixels. Half the pixels (odd) have E = 3, half (even) E = 1: mean E 2.
+     * V_tech - V_gt_weighted = 0.2 on the odd ones, -0.1 on the even ones:
+     * errors 0.6 and -0.1, rms sqrt((0.36 + 0.01) / 2), over 2. V_gt itself
+     * differs from V_gt_weighted, so rmse (against V_gt) is another number. */
+    reset(0.5f, 0.5f);
+    for (int i = 0; i < N; i++) {
+        e[i] = i % 2 ? 3.0f : 1.0f;
+        v_weighted[i] = 0.4f;
+        v_tech[i] = i % 2 ? 0.6f : 0.3f;
+        h[i] = i < 30 ? 0.5f : 1.0f;  /* 30 terminator pixels, 10 of them unscored */
+    }
+    for (int i = 0; i < 10; i++)
+        scored[i] = 0.0f;
+    /* The unscored pixels must not count: give them an absurd error. */
+    for (int i = 0; i < 10; i++)
+        v_tech[i] = 100.0f;
+    struct metrics m = {0};
+    metrics_compute(v_tech, &gt, scored, dist, &m);
+    CHECK_NEAR(m.shaded_rmse, sqrt((0.36 + 0.01) / 2.0) / 2.0, 1e-6, "shaded_rmse by hand");
+    CHECK_NEAR(m.rmse, sqrt((0.01 + 0.04) / 2.0), 1e-6, "rmse against V_gt, not V_gt_weighted");
+    CHECK(m.terminator_pixels == 20, "terminator pixels %ld, expected the 20 scored with H < 1",
+          m.terminator_pixels);
+    /* Acne where N.L already darkens (small E) costs little in the shaded
+     * image: the same error with E ten times smaller there counts less. */
+    double before = m.shaded_rmse;
+    for (int i = 0; i < N; i++)
+        if (i % 2 == 0)
+            e[i] = 0.1f;
+    metrics_compute(v_tech, &gt, scored, dist, &m);
+    CHECK_NEAR(m.shaded_rmse, sqrt((0.36 + 0.0001) / 2.0) / 1.55, 1e-6, "shaded_rmse, dim pixels");
+    CHECK(m.shaded_rmse != before, "E weights the error");
 }
 
 static void test_noise_floor(void)
 {
-    /* A second-seed ground truth differing by +-0.1 everywhere: the two
-     * estimates' difference has rms 0.1, so one image's own error is 0.1/sqrt 2. */
+    /* The ground truth's noise samples +-0.1 everywhere (and 5 on unscored
+     * pixels, which must not count): its noise floor is their rms, 0.1. */
     reset(0.5f, 0.5f);
-    float alt[N];
     for (int i = 0; i < N; i++)
-        alt[i] = i % 2 ? 0.6f : 0.4f;
+        noise[i] = i % 2 ? 0.1f : -0.1f;
+    for (int i = 0; i < 4; i++)
+        noise[i] = 5.0f, scored[i] = 0.0f;
     struct metrics m = {0};
-    metrics_compute(v_tech, v_gt, alt, scored, dist, W, H, &m);
-    CHECK_NEAR(m.gt_noise_rmse, 0.1 / sqrt(2.0), 1e-6, "noise floor from two seeds");
-    /* V_gt = 0.5 everywhere: every pixel is in the penumbra band. */
-    CHECK_NEAR(m.gt_noise_penumbra_rmse, 0.1 / sqrt(2.0), 1e-6, "noise floor over the band");
+    metrics_compute(v_tech, &gt, scored, dist, &m);
+    CHECK_NEAR(m.gt_noise_rmse, 0.1, 1e-6, "noise floor over the scored pixels");
+    /* V_gt = 0.5 everywhere: every scored pixel is in the penumbra band. */
+    CHECK_NEAR(m.gt_noise_penumbra_rmse, 0.1, 1e-6, "noise floor over the band");
 }
 
 static void test_p99_and_bias(void)
@@ -68,7 +141,7 @@ static void test_p99_and_bias(void)
     for (int i = 0; i < N; i++)
         v_tech[i] = (float)i / 100.0f;
     struct metrics m = {0};
-    metrics_compute(v_tech, v_gt, NULL, scored, dist, W, H, &m);
+    metrics_compute(v_tech, &gt, scored, dist, &m);
     CHECK_NEAR(m.p99_abs, 0.98, 1e-6, "nearest-rank 99th percentile");
     CHECK_NEAR(m.bias, 0.495, 1e-6, "mean signed error");
     CHECK_NEAR(m.max_abs, 0.99, 1e-6, "max");
@@ -87,12 +160,12 @@ static void test_penumbra_band(void)
     for (int y = 0; y < H; y++)
         v_tech[y * W + 8] = 0.8f;
     struct metrics m = {0};
-    metrics_compute(v_tech, v_gt, NULL, scored, dist, W, H, &m);
+    metrics_compute(v_tech, &gt, scored, dist, &m);
     CHECK(m.penumbra_pixels == 50, "band of column 5 dilated by 2: %ld pixels", m.penumbra_pixels);
     CHECK_NEAR(m.penumbra_rmse, 0.0, 1e-9, "error outside the band");
     for (int y = 0; y < H; y++)
         v_tech[y * W + 8] = 1.0f, v_tech[y * W + 3] = 0.2f;
-    metrics_compute(v_tech, v_gt, NULL, scored, dist, W, H, &m);
+    metrics_compute(v_tech, &gt, scored, dist, &m);
     CHECK_NEAR(m.penumbra_rmse, sqrt(10 * 0.04 / 50.0), 1e-6, "error inside the band");
 }
 
@@ -111,7 +184,7 @@ static void test_leak_dark_nonfinite(void)
         v_tech[i] = 0.7f;
     v_tech[99] = NAN;
     struct metrics m = {0};
-    metrics_compute(v_tech, v_gt, NULL, scored, dist, W, H, &m);
+    metrics_compute(v_tech, &gt, scored, dist, &m);
     CHECK_NEAR(m.leak_fraction, 4.0 / N, 1e-9, "leak share of scored pixels");
     CHECK_NEAR(m.dark_fraction, 3.0 / N, 1e-9, "dark share of scored pixels");
     CHECK(m.nonfinite == 1, "nonfinite %ld", m.nonfinite);
@@ -183,6 +256,8 @@ static void test_readme_table(void)
 int main(void)
 {
     test_basic_errors();
+    test_unscored();
+    test_shaded_and_terminator();
     test_noise_floor();
     test_p99_and_bias();
     test_penumbra_band();

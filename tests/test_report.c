@@ -103,14 +103,18 @@ int main(int argc, char **argv)
             CHECK(strstr(svg, "<svg") && strstr(svg, "timed on llvmpipe") && strstr(svg, ">pcss</text>"),
                   "%s: an SVG naming its device, with a legend", charts[i]);
             if (tradeoff)
-                CHECK(strstr(svg, "ms_total (ms per frame, median)") &&
+                CHECK(strstr(svg, "ms_total (ms per frame, median; bar: quartiles)") &&
                           strstr(svg, "rmse (visibility, lower is better)") &&
-                          count(svg, "class=\"pareto\"") == 2 && count(svg, "<circle") >= 2 * CONFIGS,
-                      "%s: axes with units, two panels with a front and a point per cell", charts[i]);
+                          count(svg, "class=\"pareto\"") == 2 && count(svg, "<circle") >= 2 * CONFIGS &&
+                          count(svg, "class=\"spread\"") == 2 * CONFIGS,
+                      "%s: axes with units, two panels with a front, a point and a time spread per "
+                      "cell", charts[i]);
             else
-                CHECK(count(svg, "class=\"bar\"") == 4 * CONFIGS &&
-                          strstr(svg, "leak_fraction (share of scored pixels)"),
-                      "%s: four metrics, a bar per cell", charts[i]);
+                CHECK(count(svg, "class=\"bar\"") == 5 * CONFIGS &&
+                          strstr(svg, "leak_fraction (share of scored pixels)") && strstr(svg, "shaded_rmse"),
+                      "%s: five metrics, a bar per cell", charts[i]);
+            CHECK(strstr(svg, "CPU rasteriser: ranks techniques for this device only"),
+                  "%s: says what llvmpipe times are worth", charts[i]);
         }
         free(svg), free(path);
     }

@@ -19,7 +19,7 @@ static int exr_failed(exr_context_t ctx, const char *path, const char *what, exr
 }
 
 int image_write_exr(const char *path, int width, int height, const struct exr_channel *channels,
-                    int channel_count)
+                    int channel_count, const char *comments)
 {
     exr_context_t ctx = NULL;
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
@@ -35,6 +35,8 @@ int image_write_exr(const char *path, int width, int height, const struct exr_ch
         if ((rc = exr_add_channel(ctx, part, channels[c].name, EXR_PIXEL_FLOAT,
                                   EXR_PERCEPTUALLY_LINEAR, 1, 1)))
             return exr_failed(ctx, path, "cannot add channel", rc);
+    if (comments && (rc = exr_attr_set_string(ctx, part, "comments", comments)))
+        return exr_failed(ctx, path, "cannot write header", rc);
     if ((rc = exr_write_header(ctx)))
         return exr_failed(ctx, path, "cannot write header", rc);
 
@@ -78,7 +80,7 @@ int image_write_exr(const char *path, int width, int height, const struct exr_ch
 }
 
 int image_read_exr(const char *path, int width, int height, struct exr_channel *channels,
-                   int channel_count)
+                   int channel_count, char **comments)
 {
     if (!util_file_exists(path))
         return -ENOENT;
@@ -95,6 +97,13 @@ int image_read_exr(const char *path, int width, int height, struct exr_channel *
                   dw.max.y - dw.min.y + 1, width, height);
         exr_finish(&ctx);
         return -1;
+    }
+    if (comments) {
+        const char *text = NULL;
+        int32_t length = 0;
+        *comments = exr_attr_get_string(ctx, 0, "comments", &length, &text) == EXR_ERR_SUCCESS
+                        ? util_printf("%.*s", (int)length, text)
+                        : NULL;
     }
     for (int c = 0; c < channel_count; c++)
         channels[c].data = xcalloc((size_t)width * (size_t)height, sizeof(float));
@@ -140,6 +149,8 @@ int image_read_exr(const char *path, int width, int height, struct exr_channel *
             free(channels[c].data);
             channels[c].data = NULL;
         }
+        if (comments)
+            free(*comments), *comments = NULL;
         if (rc)
             return exr_failed(ctx, path, "cannot read pixels", rc);
         log_error("%s: lacks a channel this version needs", path);

@@ -11,15 +11,18 @@ struct exr_channel {
     float *data;  /* width * height floats */
 };
 
-/* Writes float32 channels (ZIP compressed). Returns 0 or -1 (logged). */
+/* Writes float32 channels (ZIP compressed), and comments (may be NULL) as
+ * the header's standard "comments" attribute. Returns 0 or -1 (logged). */
 int image_write_exr(const char *path, int width, int height, const struct exr_channel *channels,
-                    int channel_count);
+                    int channel_count, const char *comments);
 
-/* Reads the named float channels into newly malloc'ed arrays (channels[i].data).
- * Returns 0, -ENOENT if the file does not exist (not logged), or -1 (logged)
- * if it is unreadable, has another size or lacks a channel. */
+/* Reads the named float channels into newly malloc'ed arrays (channels[i].data)
+ * and, where comments is not NULL, the "comments" attribute into a newly
+ * malloc'ed *comments (NULL when absent). Returns 0, -ENOENT if the file does
+ * not exist (not logged), or -1 (logged) if it is unreadable, has another
+ * size or lacks a channel. */
 int image_read_exr(const char *path, int width, int height, struct exr_channel *channels,
-                   int channel_count);
+                   int channel_count, char **comments);
 
 /* Writes 8-bit pixels (comps 1, 3 or 4), top row first. Returns 0 or -1. */
 int image_write_png(const char *path, int width, int height, int comps, const uint8_t *pixels);

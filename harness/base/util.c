@@ -196,10 +196,12 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-double util_median(double *values, int n)
+double util_quantile(double *values, int n, double q)
 {
     qsort(values, (size_t)n, sizeof *values, cmp_double);
-    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+    double at = q * (double)(n - 1);
+    int i = (int)at;
+    return i + 1 < n ? values[i] + (at - i) * (values[i + 1] - values[i]) : values[n - 1];
 }
 
 /* Room for `extra` more characters and the NUL. */

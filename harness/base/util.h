@@ -31,8 +31,9 @@ uint64_t util_hash(uint64_t h, const void *data, size_t size);
 
 double util_now_ms(void);
 
-/* Median of n values (n >= 1); sorts the array in place. */
-double util_median(double *values, int n);
+/* The q-quantile (0 <= q <= 1) of n values (n >= 1), interpolated linearly
+ * between order statistics (q = 0.5: the median); sorts the array in place. */
+double util_quantile(double *values, int n, double q);
 
 /* A growable NUL-terminated string. Zero-initialise; free with strbuf_free. */
 struct strbuf {

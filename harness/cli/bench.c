@@ -74,7 +74,6 @@ int bench_main(const struct run_options *o)
     struct scene_mesh mesh = {0};
     struct shadowmap sm = {0};
     struct receiver rcv = {0};
-    GLuint program = 0;
     if (gl_context_create() != 0)
         goto out_free_scene;
     if (shader_init(o->shader_dir) != 0 ||
@@ -85,61 +84,69 @@ int bench_main(const struct run_options *o)
     struct stage_timer timer = {.sm = &sm, .mesh = &mesh, .receiver = &rcv, .warmup = o->warmup,
                                 .frames = o->frames};
 
-    printf("scene %s, %dx%d, %d^2 shadow map, median of %d frames after %d warm-up, on %s\n",
+    /* The cells: every technique, then a fetch probe at the tap loops
+     * (PARAM_TAPS) of each technique that has any; all timed interleaved. */
+    const int n = o->technique_count;
+    struct stage_timer_cell cells[2 * RUN_MAX_TECHNIQUES] = {{0}};
+    struct probe_settings probes[RUN_MAX_TECHNIQUES];
+    int probe_of[RUN_MAX_TECHNIQUES], cell_count = n;  /* probe_of[i]: cell index or -1 */
+    for (int i = 0; i < n; i++) {
+        const struct technique *t = o->techniques[i];
+        cells[i] = (struct stage_timer_cell){t, run_settings(o, t), 0};
+        int loops[2] = {0, 0}, taps = params_taps(t, cells[i].settings, loops, 2);
+        if (taps > 2)
+            log_warn("%s: %d tap loops; the fetch probe counts the first two", t->name, taps);
+        probe_of[i] = taps ? cell_count : -1;
+        if (taps) {
+            probes[i] = (struct probe_settings){loops[0], loops[1]};
+            cells[cell_count++] = (struct stage_timer_cell){&fetch_probe, &probes[i], 0};
+        }
+    }
+    struct stage_times times[2 * RUN_MAX_TECHNIQUES];
+    for (int i = 0; i < cell_count; i++)
+        if (!(cells[i].program = receiver_program(cells[i].technique, cells[i].settings, s.light.shape)))
+            goto out_free_programs;
+    printf("scene %s, %dx%d, %d^2 shadow map, median of %d frames after %d warm-up, interleaved, on %s\n",
            s.name, o->width, o->height, sm.desc.size_texels, o->frames, o->warmup,
            gl_context_renderer());
-    printf("%-11s %12s %12s %12s %10s  %s\n", "technique", "shadow map", "filter prep", "receiver",
-           "total", "(ms)  parameters");
-    double receiver_ms[RUN_MAX_TECHNIQUES];
-    for (int i = 0; i < o->technique_count; i++) {
-        const struct technique *t = o->techniques[i];
-        void *settings = run_settings(o, t);
-        struct stage_times times;
-        if (!(program = receiver_program(t, settings, s.light.shape)) ||
-            stage_timer_cell(&timer, t, settings, program, &times) != 0)
-            goto out_free_gl;
-        glDeleteProgram(program);
-        program = 0;
-        receiver_ms[i] = times.receiver_ms;
+    if (stage_timer_run(&timer, cells, cell_count, times) != 0)
+        goto out_free_programs;
+
+    printf("%-11s %12s %12s %12s %10s %15s  %s\n", "technique", "shadow map", "filter prep",
+           "receiver", "total", "total q1-q3", "(ms)  parameters");
+    for (int i = 0; i < n; i++) {
         struct strbuf text = {0};
-        params_summary(t, settings, &text);
-        printf("%-11s %12.2f %12.2f %12.2f %10.2f  %s\n", t->name, times.shadowmap_ms,
-               times.filter_prep_ms, times.receiver_ms, times.total_ms, text.data ? text.data : "");
-        fflush(stdout);
+        params_summary(cells[i].technique, cells[i].settings, &text);
+        printf("%-11s %12.2f %12.2f %12.2f %10.2f %7.2f-%-7.2f  %s\n", cells[i].technique->name,
+               times[i].shadowmap_ms, times[i].filter_prep_ms, times[i].receiver_ms,
+               times[i].total_ms, times[i].total_q1_ms, times[i].total_q3_ms,
+               text.data ? text.data : "");
         strbuf_free(&text);
     }
 
-    /* The fetch limit, at the tap loops (PARAM_TAPS) of each technique that has any. */
     int covered = covered_pixels(&rcv);
     bool heading = false;
-    for (int i = 0; i < o->technique_count; i++) {
-        int loops[2] = {0, 0};
-        int n = params_taps(o->techniques[i], run_settings(o, o->techniques[i]), loops, 2);
-        if (n == 0)
+    for (int i = 0; i < n; i++) {
+        if (probe_of[i] < 0)
             continue;
         if (!heading)
             printf("\nfetch limit: a receiver pass doing only N depth fetches per pixel (%d covered "
                    "pixels)\n", covered);
         heading = true;
-        if (n > 2)
-            log_warn("%s: %d tap loops; the fetch probe counts the first two", o->techniques[i]->name, n);
-        struct probe_settings ps = {loops[0], loops[1]};
-        int taps = ps.first_taps + ps.second_taps;
-        if (!(program = receiver_program(&fetch_probe, &ps, s.light.shape)))
-            goto out_free_gl;
-        double probe_ms = stage_timer_receiver_ms(&timer, program);
-        glDeleteProgram(program);
-        program = 0;
+        int taps = probes[i].first_taps + probes[i].second_taps;
+        double probe_ms = times[probe_of[i]].receiver_ms, receiver_ms = times[i].receiver_ms;
         printf("  %-10s %3d fetches: probe %.2f ms (%.2f G fetches/s); %s receiver %.2f ms = %.2fx "
-               "the probe\n", o->techniques[i]->name, taps, probe_ms,
-               (double)covered * taps / (probe_ms * 1e6), o->techniques[i]->name, receiver_ms[i],
-               receiver_ms[i] / probe_ms);
+               "the probe\n", cells[i].technique->name, taps, probe_ms,
+               (double)covered * taps / (probe_ms * 1e6), cells[i].technique->name, receiver_ms,
+               receiver_ms / probe_ms);
     }
     status = EXIT_OK;
 
+out_free_programs:
+    for (int i = 0; i < cell_count; i++)
+        if (cells[i].program)
+            glDeleteProgram(cells[i].program);
 out_free_gl:
-    if (program)
-        glDeleteProgram(program);
     receiver_destroy(&rcv);
     shadowmap_destroy(&sm);
     scene_mesh_destroy(&mesh);

@@ -112,12 +112,12 @@ struct scene_run {
 /* The cell's scores against the scene's ground truth (DESIGN.md §6, §7). */
 static void score_cell(struct scene_run *sr, const struct stage_times *times, struct metrics *m)
 {
-    const int w = sr->o->width, h = sr->o->height;
     *m = (struct metrics){.ms_shadowmap = times->shadowmap_ms, .ms_filter_prep = times->filter_prep_ms,
-                          .ms_receiver = times->receiver_ms, .ms_total = times->total_ms};
-    m->mismatch_pixels = metrics_score_mask(sr->gt.mask, sr->gt.distance, sr->distance, w * h,
-                                            sr->scored);
-    metrics_compute(sr->v, sr->gt.v, sr->gt.v_alt, sr->scored, sr->distance, w, h, m);
+                          .ms_receiver = times->receiver_ms, .ms_total = times->total_ms,
+                          .ms_total_q1 = times->total_q1_ms, .ms_total_q3 = times->total_q3_ms};
+    m->mismatch_pixels = metrics_score_mask(sr->gt.mask, sr->gt.distance, sr->distance,
+                                            sr->o->width * sr->o->height, sr->scored);
+    metrics_compute(sr->v, &sr->gt, sr->scored, sr->distance, m);
 }
 
 /* What a cell is: its scene, technique, name and parameter values. */
@@ -133,14 +133,14 @@ static void describe_cell(const struct scene_run *sr, const struct run_config *c
     c->params_text = text.data ? text.data : xstrdup("");
 }
 
-static int run_cell(struct scene_run *sr, const struct run_config *config, GLuint program,
-                    struct cell *c)
+/* Renders the cell once more (untimed), scores it and writes its files. */
+static int run_cell(struct scene_run *sr, const struct stage_timer_cell *tc,
+                    const struct run_config *config, const struct stage_times *times, struct cell *c)
 {
-    struct stage_times times;
-    if (stage_timer_cell(&sr->timer, config->technique, config->settings, program, &times) != 0)
+    if (stage_timer_render(&sr->timer, tc) != 0)
         return -1;
     receiver_read(&sr->receiver, sr->v, sr->distance);
-    score_cell(sr, &times, &c->m);
+    score_cell(sr, times, &c->m);
     describe_cell(sr, config, c);
 
     char *dir = util_printf("%s/%s", sr->dir, config->label);
@@ -148,11 +148,26 @@ static int run_cell(struct scene_run *sr, const struct run_config *config, GLuin
                                    sr->scored};
     int rc = output_cell(dir, c, &im);
     free(dir);
-    log_info("  [%d/%d] %-*s rmse %.4f  penumbra_rmse %.4f  leak %.4f  dark %.4f  %7.2f ms%s",
-             ++*sr->cells_done, sr->cells_total, sr->label_width, config->label, c->m.rmse,
-             c->m.penumbra_rmse, c->m.leak_fraction, c->m.dark_fraction, c->m.ms_total,
-             c->m.nonfinite ? "  NON-FINITE VALUES" : "");
+    ++*sr->cells_done;
+    if (!metrics_scored(&c->m))
+        log_info("  [%d/%d] %-*s UNSCORED: no pixel to score (%ld GL/ray-tracer mismatches)",
+                 *sr->cells_done, sr->cells_total, sr->label_width, config->label,
+                 c->m.mismatch_pixels);
+    else
+        log_info("  [%d/%d] %-*s rmse %.4f  penumbra_rmse %.4f  leak %.4f  dark %.4f  %7.2f ms%s",
+                 *sr->cells_done, sr->cells_total, sr->label_width, config->label, c->m.rmse,
+                 c->m.penumbra_rmse, c->m.leak_fraction, c->m.dark_fraction, c->m.ms_total,
+                 c->m.nonfinite ? "  NON-FINITE VALUES" : "");
     return rc;
+}
+
+/* Progress of the interleaved timing, on one line while stderr is a terminal. */
+static void timing_progress(void *user, int round, int rounds)
+{
+    const struct scene_run *sr = user;
+    if (isatty(STDERR_FILENO) && log_get_level() >= LOG_INFO)
+        fprintf(stderr, "\r  timing %s: round %d/%d%s", sr->scene->name, round, rounds,
+                round == rounds ? "\n" : "");
 }
 
 static int run_scene(struct scene_run *sr, GLuint (*programs)[LIGHT_SHAPE_COUNT], struct cell *cells,
@@ -170,23 +185,31 @@ static int run_scene(struct scene_run *sr, GLuint (*programs)[LIGHT_SHAPE_COUNT]
         receiver_create(&sr->receiver, sr->scene, w, h))
         return -1;
     sr->timer = (struct stage_timer){.sm = &sr->sm, .mesh = &sr->mesh, .receiver = &sr->receiver,
-                                     .warmup = o->warmup, .frames = o->frames};
+                                     .warmup = o->warmup, .frames = o->frames,
+                                     .on_round = timing_progress, .user = sr};
     if (gt_obtain(sr->scene, &sr->sm.frustum,
                   &(struct gt_desc){.width = w, .height = h, .samples = o->gt_samples},
                   o->cache_dir, &sr->gt) != 0)
         return -1;
 
+    struct stage_timer_cell *tc = xcalloc((size_t)o->config_count, sizeof *tc);
+    struct stage_times *times = xcalloc((size_t)o->config_count, sizeof *times);
+    for (int i = 0; i < o->config_count; i++)
+        tc[i] = (struct stage_timer_cell){o->configs[i].technique, o->configs[i].settings,
+                                          programs[i][sr->scene->light.shape]};
+    int rc = stage_timer_run(&sr->timer, tc, o->config_count, times);
+
     sr->v = xmalloc(sizeof(float) * (size_t)count);
     sr->distance = xmalloc(sizeof(float) * (size_t)count);
     sr->scored = xmalloc(sizeof(float) * (size_t)count);
-    for (int i = 0; i < o->config_count; i++)
-        if (run_cell(sr, &o->configs[i], programs[i][sr->scene->light.shape],
-                     &cells[(*cell_count)++]) != 0)
-            return -1;
+    for (int i = 0; i < o->config_count && !rc; i++)
+        rc = run_cell(sr, &tc[i], &o->configs[i], &times[i], &cells[(*cell_count)++]);
+    free(tc);
+    free(times);
 
     /* The scored mask is the same for every cell of the scene (same camera,
      * same geometry): groundtruth.exr carries the last cell's. */
-    return output_groundtruth(sr->dir, &sr->gt, sr->scored);
+    return rc ? -1 : output_groundtruth(sr->dir, &sr->gt, sr->scored);
 }
 
 static void scene_run_free(struct scene_run *sr)
@@ -301,7 +324,7 @@ int run_main(const struct run_options *o)
         if ((int)strlen(o->configs[i].label) > label_width)
             label_width = (int)strlen(o->configs[i].label);
     log_info("run: %d scene(s) x %d technique configuration(s), %dx%d, %d GT samples, %d^2 shadow "
-             "map, median of %d frames after %d warm-up on %s", scene_count, o->config_count, o->width,
+             "map, median of %d frames after %d warm-up, cells interleaved, on %s", scene_count, o->config_count, o->width,
              o->height, o->gt_samples, o->shadow_map_size, o->frames, o->warmup, gl_context_renderer());
     cells = xcalloc((size_t)cells_total, sizeof *cells);
     int failed = 0;
@@ -324,12 +347,20 @@ int run_main(const struct run_options *o)
         cJSON_Delete(rep.run);
     }
     if (!failed) {
-        long bad = 0;
-        for (int i = 0; i < cell_count; i++)
+        long bad = 0, unscored = 0;
+        for (int i = 0; i < cell_count; i++) {
             bad += cells[i].m.nonfinite > 0;
-        status = bad ? EXIT_CHECK_FAILED : EXIT_OK;
+            unscored += !metrics_scored(&cells[i].m);
+        }
+        status = bad || unscored ? EXIT_CHECK_FAILED : EXIT_OK;
         if (bad)
             log_error("%ld cell(s) produced NaN or Inf visibility", bad);
+        for (int i = 0; i < cell_count; i++)
+            if (!metrics_scored(&cells[i].m))
+                log_error("%s/%s: unscored: no pixel where the camera sees a surface that the "
+                          "light's frustum holds, that sees the light above its horizon and that "
+                          "GL and the ray tracer agree on; its metrics are null", cells[i].scene,
+                          cells[i].label);
         printf("report: %s/report.html\nmatrix: %s/matrix.csv\n", o->out_dir, o->out_dir);
         log_info("run finished in %.1f s", (util_now_ms() - start) * 1e-3);
     }
@@ -377,7 +408,7 @@ int run_gt(const struct run_options *o)
                   o->cache_dir, &gt) == 0) {
         /* No GL pass here: the mask lacks run's silhouette check (DESIGN.md §6). */
         if (output_groundtruth(dir, &gt, gt.mask) == 0) {
-            double noise = gt_noise_floor(gt.v, gt.v_alt, gt.mask, (size_t)o->width * (size_t)o->height);
+            double noise = gt_noise_floor(gt.noise, gt.mask, (size_t)o->width * (size_t)o->height);
             printf("%s/groundtruth.exr\nnoise floor (rms error of V at %d samples): %.5f\n", dir,
                    o->gt_samples, noise);
             status = EXIT_OK;

@@ -23,9 +23,9 @@ enum run_command { RUN_CMD_RUN, RUN_CMD_GT, RUN_CMD_BENCH };
 #define BENCH_DEFAULT_SIZE 1024 /* bench: the receiver */
 #define RUN_MIN_SIZE 16
 #define RUN_MAX_SIZE 8192
-#define RUN_DEFAULT_FRAMES 5
+#define RUN_DEFAULT_FRAMES 9
 #define BENCH_DEFAULT_FRAMES 9
-#define RUN_DEFAULT_WARMUP 2
+#define RUN_DEFAULT_WARMUP 1
 #define BENCH_DEFAULT_WARMUP 3
 #define RUN_MAX_WARMUP 100
 #define RUN_DEFAULT_OUT "results/runs/latest"

@@ -31,8 +31,8 @@ int output_cell(const char *dir, const struct cell *c, const struct cell_images 
     picture_error_heatmap(im->v, im->v_gt, im->scored, w, h, &hm);
     cJSON *mj = report_cell_json(c);
     int rc = util_mkdirs(dir) ||
-             image_write_exr(vis_exr, w, h, &(struct exr_channel){"V", (float *)im->v}, 1) ||
-             image_write_exr(err_exr, w, h, &(struct exr_channel){"E", error}, 1) ||
+             image_write_exr(vis_exr, w, h, &(struct exr_channel){"V", (float *)im->v}, 1, NULL) ||
+             image_write_exr(err_exr, w, h, &(struct exr_channel){"E", error}, 1, NULL) ||
              write_visibility_png(dir, "visibility", im->v, im->distance, NULL, w, h) ||
              image_write_png(heat, hm.width, hm.height, 3, hm.rgb) || report_write_json(json, mj);
     cJSON_Delete(mj);
@@ -44,8 +44,9 @@ int output_cell(const char *dir, const struct cell *c, const struct cell_images 
 int output_groundtruth(const char *dir, const struct gt_image *gt, const float *mask)
 {
     char *path = util_printf("%s/groundtruth.exr", dir);
-    struct exr_channel ch[] = {{"V", gt->v}, {"V_weighted", gt->v_weighted}, {"mask", (float *)mask}};
-    int rc = image_write_exr(path, gt->width, gt->height, ch, 3) ||
+    struct exr_channel ch[] = {{"V", gt->v}, {"V_weighted", gt->v_weighted}, {"H", gt->h},
+                               {"E", gt->e}, {"mask", (float *)mask}};
+    int rc = image_write_exr(path, gt->width, gt->height, ch, 5, NULL) ||
              write_visibility_png(dir, "groundtruth", gt->v, gt->distance, mask, gt->width, gt->height);
     free(path);
     return rc ? -1 : 0;

@@ -113,24 +113,31 @@ int chart_pareto(const double *x, const double *y, int n, int *front)
 
 enum { PANEL_W = 470, PANEL_H = 380, PAD_L = 70, PAD_R = 24, PAD_T = 30, PAD_B = 50, TOP = 50 };
 
-static void tradeoff_panel(struct strbuf *o, int left, const struct chart_item *items, int n,
+static void tradeoff_panel(struct strbuf *o, int left, const struct chart_item *all_items, int all_n,
                            const struct chart_series *time, const struct chart_series *err)
 {
     const int x0 = left + PAD_L, y0 = TOP + PAD_T, w = PANEL_W - PAD_L - PAD_R,
               h = PANEL_H - PAD_T - PAD_B;
-    double *x = xmalloc(sizeof(double) * (size_t)n), *y = xmalloc(sizeof(double) * (size_t)n);
+    /* The items with both coordinates, compacted; i indexes them, src[i] the caller's. */
+    int *src = xmalloc(sizeof(int) * (size_t)(all_n ? all_n : 1)), n = 0;
+    double *x = xmalloc(sizeof(double) * (size_t)(all_n ? all_n : 1)),
+           *y = xmalloc(sizeof(double) * (size_t)(all_n ? all_n : 1));
     double x_max = 0, y_max = 0, x_step, y_step;
-    for (int i = 0; i < n; i++) {
-        x[i] = drawable(time->values[i]), y[i] = drawable(err->values[i]);
-        x_max = fmax(x_max, x[i]), y_max = fmax(y_max, y[i]);
+    for (int k = 0; k < all_n; k++) {
+        if (!isfinite(time->values[k]) || !isfinite(err->values[k]))
+            continue;
+        src[n] = k, x[n] = drawable(time->values[k]), y[n] = drawable(err->values[k]);
+        x_max = fmax(x_max, time->hi ? drawable(time->hi[k]) : x[n]), y_max = fmax(y_max, y[n]);
+        n++;
     }
     x_max = nice_axis(x_max, &x_step);
     y_max = nice_axis(y_max, &y_step);
 
     panel_title(o, x0, w, TOP + 16, err->name, " against time");
-    char y_label[128], x_label[128];
+    char y_label[128], x_label[160];
     snprintf(y_label, sizeof y_label, "%s (%s, lower is better)", err->name, err->unit);
-    snprintf(x_label, sizeof x_label, "%s (%s per frame, median)", time->name, time->unit);
+    snprintf(x_label, sizeof x_label, "%s (%s per frame, median%s)", time->name, time->unit,
+             time->lo ? "; bar: quartiles" : "");
     y_axis(o, x0, y0, w, h, y_max, y_step, y_label);
     for (double v = 0; v <= x_max + 1e-12; v += x_step) {
         double px = x0 + v / x_max * w;
@@ -142,31 +149,43 @@ static void tradeoff_panel(struct strbuf *o, int left, const struct chart_item *
     strbuf_xml(o, x_label);
     strbuf_printf(o, "</text>\n");
 
-#define PX(i) (x0 + x[i] / x_max * w)
+#define SX(v) (x0 + (v) / x_max * w)
+#define PX(i) SX(x[i])
 #define PY(i) (y0 + h - y[i] / y_max * h)
-    int *front = xmalloc(sizeof(int) * (size_t)n);
+    int *front = xmalloc(sizeof(int) * (size_t)(n ? n : 1));
     int m = chart_pareto(x, y, n, front);
     strbuf_printf(o, "<path class=\"pareto\" d=\"");
     for (int k = 0; k < m; k++)
         strbuf_printf(o, k ? " H%.1f V%.1f" : "M%.1f %.1f", PX(front[k]), PY(front[k]));
     strbuf_printf(o, "\" fill=\"none\" stroke=\"#888\" stroke-width=\"1.5\" stroke-dasharray=\"5 3\"/>\n");
     for (int i = 0; i < n; i++) {
+        const int k = src[i];
+        const char *c = colour(all_items[k].group);
+        if (time->lo && time->hi)  /* the time's spread: q1 to q3, with end caps */
+            strbuf_printf(o, "<path class=\"spread\" d=\"M%.1f %.1f H%.1f M%.1f %.1f V%.1f M%.1f %.1f "
+                             "V%.1f\" stroke=\"%s\" stroke-width=\"1.5\"/>\n",
+                          SX(drawable(time->lo[k])), PY(i), SX(drawable(time->hi[k])),
+                          SX(drawable(time->lo[k])), PY(i) - 4, PY(i) + 4, SX(drawable(time->hi[k])),
+                          PY(i) - 4, PY(i) + 4, c);
         strbuf_printf(o, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\" fill-opacity=\"0.85\" "
-                         "stroke=\"white\"><title>", PX(i), PY(i), colour(items[i].group));
-        strbuf_xml(o, items[i].label);
-        strbuf_printf(o, ": %s %.4g, %.3g %s</title></circle>\n", err->name, err->values[i],
-                      time->values[i], time->unit);
+                         "stroke=\"white\"><title>", PX(i), PY(i), c);
+        strbuf_xml(o, all_items[k].label);
+        strbuf_printf(o, ": %s %.4g, %.3g %s", err->name, err->values[k], time->values[k], time->unit);
+        if (time->lo && time->hi)
+            strbuf_printf(o, " (quartiles %.3g-%.3g)", time->lo[k], time->hi[k]);
+        strbuf_printf(o, "</title></circle>\n");
     }
-    for (int k = 0; k < m; k++) {  /* name the front, alternately above and below */
-        int i = front[k];
+    for (int j = 0; j < m; j++) {  /* name the front, alternately above and below */
+        int i = front[j];
         strbuf_printf(o, "<text class=\"front-label\" x=\"%.1f\" y=\"%.1f\" font-size=\"11\">",
-                      PX(i) + 7, PY(i) + (k % 2 ? 14 : -7));
-        strbuf_xml(o, items[i].label);
+                      PX(i) + 7, PY(i) + (j % 2 ? 14 : -7));
+        strbuf_xml(o, all_items[src[i]].label);
         strbuf_printf(o, "</text>\n");
     }
+#undef SX
 #undef PX
 #undef PY
-    free(front), free(x), free(y);
+    free(front), free(x), free(y), free(src);
 }
 
 void chart_tradeoff_svg(struct strbuf *out, const char *title, const char *subtitle,
@@ -212,12 +231,15 @@ void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
         const double slot = (double)w / n, bw = fmin(0.7 * slot, 40);
         for (int i = 0; i < n; i++) {
             double v = drawable(s->values[i]), bh = v / max * h, cx = x0 + (i + 0.5) * slot;
+            if (isnan(s->values[i]))  /* nothing scored: say so, never a bar of 0 */
+                strbuf_printf(out, "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\" font-size=\"10\" "
+                                   "fill=\"#a00\">unscored</text>\n", cx, y0 + h - 3);
             strbuf_printf(out, "<rect class=\"bar\" x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" "
                                "fill=\"%s\"><title>", cx - bw / 2, y0 + h - bh, bw, bh,
                           colour(items[i].group));
             strbuf_xml(out, items[i].label);
             strbuf_printf(out, ": %s %.4g</title></rect>\n", s->name, s->values[i]);
-            if (slot >= 48)  /* values over the bars while they fit */
+            if (slot >= 48 && !isnan(s->values[i]))  /* values over the bars while they fit */
                 strbuf_printf(out, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\" "
                                    "font-size=\"10\">%.3g</text>\n", cx, y0 + h - bh - 3, s->values[i]);
             strbuf_printf(out, "<text transform=\"translate(%.1f %d) rotate(-40)\" "

@@ -21,17 +21,22 @@ struct chart_item {
 struct chart_series {
     const char *name;      /* e.g. "rmse" */
     const char *unit;      /* e.g. "visibility", "ms", "share of scored pixels" */
-    const double *values;  /* one per item */
+    const double *values;  /* one per item; NAN: nothing to show (unscored) */
+    const double *lo, *hi; /* the spread behind each value (may be NULL): drawn as an error
+                              bar along the time axis */
 };
 
 /* Scatter panels side by side, one per error series, each against the same
- * time series (x): a point per item, the Pareto front (no other item is both
- * faster and more accurate) drawn as a staircase and its items named. */
+ * time series (x): a point per item (with its time spread where the series
+ * has one), the Pareto front (no other item is both faster and more
+ * accurate) drawn as a staircase and its items named. Items with a NAN
+ * coordinate are left out. */
 void chart_tradeoff_svg(struct strbuf *out, const char *title, const char *subtitle,
                         const struct chart_item *items, int n, const struct chart_series *time,
                         const struct chart_series *errors, int error_count);
 
-/* Bar panels in a grid of two columns, one per series, a bar per item. */
+/* Bar panels in a grid of two columns, one per series, a bar per item; a
+ * NAN value is written "unscored" instead of a bar. */
 void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
                     const struct chart_item *items, int n, const struct chart_series *series,
                     int series_count);

@@ -3,6 +3,7 @@
 #include "picture.h"
 #include "base/util.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,8 +15,14 @@ cJSON *report_cell_json(const struct cell *c)
     cJSON_AddStringToObject(o, "technique", c->technique->name);
     cJSON_AddStringToObject(o, "cell", c->label);
     cJSON_AddItemToObject(o, "params", cJSON_Duplicate(c->params, 1));
-    for (int k = 0; k < METRIC_COUNT; k++)
-        cJSON_AddNumberToObject(o, metric_info[k].key, metrics_value(&c->m, k));
+    cJSON_AddBoolToObject(o, "scored", metrics_scored(&c->m));
+    for (int k = 0; k < METRIC_COUNT; k++) {
+        double v = metrics_value(&c->m, k);
+        if (isnan(v))  /* nothing to score: null, never a perfect 0 (DESIGN.md §7) */
+            cJSON_AddNullToObject(o, metric_info[k].key);
+        else
+            cJSON_AddNumberToObject(o, metric_info[k].key, v);
+    }
     cJSON_AddStringToObject(o, "gl_renderer", c->gl_renderer);
     return o;
 }
@@ -45,7 +52,7 @@ static int write_matrix(const struct report *r)
     strbuf_printf(&csv, "scene,technique,params");
     for (int k = 0; k < METRIC_COUNT; k++)
         strbuf_printf(&csv, ",%s", metric_info[k].key);
-    strbuf_printf(&csv, ",gl_renderer,cell\n");
+    strbuf_printf(&csv, ",gl_renderer,cell,scored\n");
     cJSON *matrix = cJSON_CreateObject();
     cJSON *cells = cJSON_AddArrayToObject(matrix, "cells");
     for (int i = 0; i < r->cell_count; i++) {
@@ -55,13 +62,15 @@ static int write_matrix(const struct report *r)
         csv_field(&csv, r->cells[i].technique->name);
         strbuf_printf(&csv, ",");
         csv_field(&csv, r->cells[i].params_text);
-        for (int k = 0; k < METRIC_COUNT; k++)
-            strbuf_printf(&csv, ",%.9g", metrics_value(&r->cells[i].m, k));
+        for (int k = 0; k < METRIC_COUNT; k++) {
+            double v = metrics_value(&r->cells[i].m, k);
+            strbuf_printf(&csv, isnan(v) ? "," : ",%.9g", v);  /* null: an empty field */
+        }
         strbuf_printf(&csv, ",");
         csv_field(&csv, r->cells[i].gl_renderer);
         strbuf_printf(&csv, ",");
         csv_field(&csv, r->cells[i].label);
-        strbuf_printf(&csv, "\n");
+        strbuf_printf(&csv, ",%s\n", metrics_scored(&r->cells[i].m) ? "true" : "false");
         cJSON_AddItemToArray(cells, row);
     }
     char *csv_path = util_printf("%s/matrix.csv", r->out_dir);
@@ -107,23 +116,31 @@ static int emit_chart(const struct report *r, const char *name, struct strbuf *s
 struct chart_points {
     int n;
     struct chart_item *items;
-    double *ms, *rmse, *pen, *leak, *dark;
+    double *ms, *q1, *q3, *rmse, *pen, *shaded, *leak, *dark;
     int *count;
 };
 
 static void points_alloc(struct chart_points *p, int capacity)
 {
     size_t n = (size_t)capacity;
-    *p = (struct chart_points){.items = xcalloc(n, sizeof *p->items), .ms = xcalloc(n, sizeof(double)),
-                               .rmse = xcalloc(n, sizeof(double)), .pen = xcalloc(n, sizeof(double)),
-                               .leak = xcalloc(n, sizeof(double)), .dark = xcalloc(n, sizeof(double)),
-                               .count = xcalloc(n, sizeof(int))};
+    *p = (struct chart_points){.items = xcalloc(n, sizeof *p->items), .count = xcalloc(n, sizeof(int))};
+    double **arrays[] = {&p->ms, &p->q1, &p->q3, &p->rmse, &p->pen, &p->shaded, &p->leak, &p->dark};
+    for (size_t i = 0; i < ARRAY_SIZE(arrays); i++)
+        *arrays[i] = xcalloc(n, sizeof(double));
 }
 
 static void points_free(struct chart_points *p)
 {
-    free(p->items), free(p->ms), free(p->rmse), free(p->pen), free(p->leak), free(p->dark);
-    free(p->count);
+    free(p->items), free(p->ms), free(p->q1), free(p->q3), free(p->rmse), free(p->pen);
+    free(p->shaded), free(p->leak), free(p->dark), free(p->count);
+}
+
+/* The subtitle of a chart: its device, and what the times mean there. */
+static char *chart_subtitle(const char *device, const char *extra)
+{
+    bool cpu = device && strstr(device, "llvmpipe");
+    return util_printf("timed on %s%s%s", device ? device : "an unknown device",
+                       cpu ? " (CPU rasteriser: ranks techniques for this device only)" : "", extra);
 }
 
 /* Per scene: error against time, and the four failure metrics as bars. */
@@ -137,23 +154,25 @@ static int scene_charts(const struct report *r, const char *scene, const char *d
         if (strcmp(c->scene, scene) != 0)
             continue;
         p.items[p.n] = item_of(c);
-        p.ms[p.n] = c->m.ms_total, p.rmse[p.n] = c->m.rmse, p.pen[p.n] = c->m.penumbra_rmse;
+        p.ms[p.n] = c->m.ms_total, p.q1[p.n] = c->m.ms_total_q1, p.q3[p.n] = c->m.ms_total_q3;
+        p.rmse[p.n] = c->m.rmse, p.pen[p.n] = c->m.penumbra_rmse, p.shaded[p.n] = c->m.shaded_rmse;
         p.leak[p.n] = c->m.leak_fraction, p.dark[p.n] = c->m.dark_fraction;
         p.n++;
     }
-    const struct chart_series time = {"ms_total", "ms", p.ms};
-    const struct chart_series bars[] = {{"rmse", "visibility", p.rmse},  /* the first two: errors */
-                                        {"penumbra_rmse", "visibility", p.pen},
-                                        {"leak_fraction", "share of scored pixels", p.leak},
-                                        {"dark_fraction", "share of scored pixels", p.dark}};
-    char *title = util_printf("%s: error against time per frame", scene), *sub = util_printf("timed on %s", device);
+    const struct chart_series time = {"ms_total", "ms", p.ms, p.q1, p.q3};
+    const struct chart_series bars[] = {{"rmse", "visibility", p.rmse, NULL, NULL},  /* the first two: errors */
+                                        {"penumbra_rmse", "visibility", p.pen, NULL, NULL},
+                                        {"shaded_rmse", "share of mean irradiance", p.shaded, NULL, NULL},
+                                        {"leak_fraction", "share of scored pixels", p.leak, NULL, NULL},
+                                        {"dark_fraction", "share of scored pixels", p.dark, NULL, NULL}};
+    char *title = util_printf("%s: error against time per frame", scene), *sub = chart_subtitle(device, "");
     struct strbuf svg = {0};
     chart_tradeoff_svg(&svg, title, sub, p.items, p.n, &time, bars, 2);
     char *name = util_printf("%s_tradeoff", scene);
     int rc = emit_chart(r, name, &svg, html);
     free(title), free(name);
     title = util_printf("%s: error and failure metrics per technique", scene);
-    chart_bars_svg(&svg, title, sub, p.items, p.n, bars, 4);
+    chart_bars_svg(&svg, title, sub, p.items, p.n, bars, (int)ARRAY_SIZE(bars));
     name = util_printf("%s_metrics", scene);
     rc |= emit_chart(r, name, &svg, html);
     free(title), free(name), free(sub);
@@ -162,7 +181,8 @@ static int scene_charts(const struct report *r, const char *scene, const char *d
 }
 
 /* Over all scenes: each configuration's (by label, first-seen order) mean
- * error and mean time. */
+ * error and mean time; a configuration with an unscored cell has no mean
+ * error (NAN: left out of the chart). */
 static int overall_chart(const struct report *r, const char *device, struct strbuf *html)
 {
     struct chart_points p;
@@ -174,16 +194,20 @@ static int overall_chart(const struct report *r, const char *device, struct strb
             k++;
         if (k == p.n)
             p.items[p.n++] = item_of(c);
-        p.ms[k] += c->m.ms_total, p.rmse[k] += c->m.rmse, p.pen[k] += c->m.penumbra_rmse;
+        p.ms[k] += c->m.ms_total, p.q1[k] += c->m.ms_total_q1, p.q3[k] += c->m.ms_total_q3;
+        p.rmse[k] += c->m.rmse, p.pen[k] += c->m.penumbra_rmse;
         p.count[k]++;
     }
-    for (int k = 0; k < p.n; k++)
-        p.ms[k] /= p.count[k], p.rmse[k] /= p.count[k], p.pen[k] /= p.count[k];
-    const struct chart_series time = {"mean ms_total", "ms", p.ms};
-    const struct chart_series errors[] = {{"mean rmse", "visibility", p.rmse},
-                                          {"mean penumbra_rmse", "visibility", p.pen}};
+    for (int k = 0; k < p.n; k++) {
+        p.ms[k] /= p.count[k], p.q1[k] /= p.count[k], p.q3[k] /= p.count[k];
+        p.rmse[k] /= p.count[k], p.pen[k] /= p.count[k];
+    }
+    const struct chart_series time = {"mean ms_total", "ms", p.ms, p.q1, p.q3};
+    const struct chart_series errors[] = {{"mean rmse", "visibility", p.rmse, NULL, NULL},
+                                          {"mean penumbra_rmse", "visibility", p.pen, NULL, NULL}};
     char *title = util_printf("All %d scenes: mean error against mean time per frame", r->scene_count);
-    char *sub = util_printf("timed on %s; each point one technique configuration", device);
+    char *sub = chart_subtitle(device, "; each point one technique configuration, its bar the mean "
+                                       "quartiles");
     struct strbuf svg = {0};
     chart_tradeoff_svg(&svg, title, sub, p.items, p.n, &time, errors, 2);
     free(title), free(sub);
@@ -200,7 +224,7 @@ static const char style[] =
     "text-align:right;white-space:nowrap}th{background:#eee;cursor:pointer;user-select:none}"
     "th.asc::after{content:' \\25B2'}th.desc::after{content:' \\25BC'}td.l{text-align:left}"
     "td.p{text-align:left;font-size:11px;color:#555}.scroll{overflow-x:auto}\n"
-    "tr.fail td{background:#fdd}tr.front td.c{font-weight:bold}\n"
+    "tr.fail td,tr.unscored td{background:#fdd}tr.front td.c{font-weight:bold}td.none{color:#a00}\n"
     ".grid{display:flex;flex-wrap:wrap;gap:10px}.grid figure{margin:0;width:220px}"
     ".grid img{display:block;width:220px;image-rendering:pixelated}"
     ".grid figure>img,.crop{outline:1px solid #bbb;margin-bottom:4px}"
@@ -267,7 +291,7 @@ static void pareto_flags(const struct report *r, bool *front)
     for (int s = 0; s < r->scene_count; s++) {
         int n = 0;
         for (int i = 0; i < r->cell_count; i++)
-            if (strcmp(r->cells[i].scene, r->scenes[s].name) == 0) {
+            if (strcmp(r->cells[i].scene, r->scenes[s].name) == 0 && metrics_scored(&r->cells[i].m)) {
                 index[n] = i, x[n] = r->cells[i].m.ms_total, y[n] = r->cells[i].m.rmse;
                 n++;
             }
@@ -293,8 +317,8 @@ static void matrix_table(const struct report *r, struct strbuf *h)
     strbuf_printf(h, "<th data-k=\"params\">params</th></tr></thead>\n<tbody>\n");
     for (int i = 0; i < r->cell_count; i++) {
         const struct cell *c = &r->cells[i];
-        strbuf_printf(h, "<tr class=\"%s%s\"><td class=\"l\">", c->m.nonfinite ? "fail" : "",
-                      front[i] ? " front" : "");
+        strbuf_printf(h, "<tr class=\"%s%s%s\"><td class=\"l\">", c->m.nonfinite ? "fail" : "",
+                      front[i] ? " front" : "", metrics_scored(&c->m) ? "" : " unscored");
         strbuf_xml(h, c->scene);
         strbuf_printf(h, "</td><td class=\"l c\"><a href=\"#");
         scene_anchor(h, c->scene);
@@ -305,6 +329,10 @@ static void matrix_table(const struct report *r, struct strbuf *h)
             if (!metric_info[k].in_report)
                 continue;
             double v = metrics_value(&c->m, k);
+            if (isnan(v)) {  /* nothing to score; sorts last */
+                strbuf_printf(h, "<td data-v=\"Infinity\" class=\"none\">unscored</td>");
+                continue;
+            }
             strbuf_printf(h, "<td data-v=\"%.9g\">", v);
             strbuf_printf(h, metric_info[k].format, v);
             strbuf_printf(h, "</td>");
@@ -354,9 +382,14 @@ static void scene_grid(const struct report *r, const struct report_scene *sc, st
         picture(h, sc->name, c->label, "heatmap.png", "error heatmap");
         strbuf_printf(h, "</div><figcaption><b>");
         strbuf_xml(h, c->label);
-        strbuf_printf(h, "</b><br>rmse %.4f, penumbra %.4f<br>leak %.4f, dark %.4f, %.2f ms"
-                         "</figcaption></figure>\n", c->m.rmse, c->m.penumbra_rmse, c->m.leak_fraction,
-                      c->m.dark_fraction, c->m.ms_total);
+        if (metrics_scored(&c->m))
+            strbuf_printf(h, "</b><br>rmse %.4f, penumbra %.4f<br>shaded %.4f, leak %.4f, dark %.4f"
+                             "<br>%.2f ms (%.2f&ndash;%.2f)</figcaption></figure>\n", c->m.rmse,
+                          c->m.penumbra_rmse, c->m.shaded_rmse, c->m.leak_fraction, c->m.dark_fraction,
+                          c->m.ms_total, c->m.ms_total_q1, c->m.ms_total_q3);
+        else
+            strbuf_printf(h, "</b><br>unscored: no pixel to score<br>%.2f ms</figcaption></figure>\n",
+                          c->m.ms_total);
     }
     strbuf_printf(h, "</div>\n");
 }
@@ -369,12 +402,19 @@ static int write_html(const struct report *r)
                       "<title>shadowbench report</title>\n<style>\n%s</style></head><body>\n"
                       "<h1>shadowbench report</h1>\n<p>%d scene(s) &times; %d technique configuration(s) "
                       "at %d&times;%d. The error is <i>e</i> = V<sub>tech</sub> &minus; V<sub>gt</sub> over "
-                      "the scored pixels, V<sub>gt</sub> the ray-traced fraction of the area light each "
-                      "point sees. Times are medians per frame in milliseconds on <b>",
+                      "the scored pixels, V<sub>gt</sub> the ray-traced fraction of the area light above "
+                      "each point's horizon that no other geometry hides (shadowing, not N&middot;L). "
+                      "Times are medians per frame in milliseconds, the cells of a scene timed "
+                      "interleaved, with their quartiles, on <b>",
                   style, r->scene_count, r->scene_count ? r->cell_count / r->scene_count : 0,
                   r->width, r->height);
     strbuf_xml(&h, device ? device : "unknown");
-    strbuf_printf(&h, "</b>. Scenes:");
+    strbuf_printf(&h, "</b>%s. Scenes:",
+                  device && strstr(device, "llvmpipe")
+                      ? ", a CPU rasteriser: there a full-map pass (a blur, mipmaps, a summed-area "
+                        "table) costs far more against a texture fetch than on a GPU, so these times "
+                        "rank techniques for this device only"
+                      : "");
     for (int s = 0; s < r->scene_count; s++) {
         strbuf_printf(&h, " <a href=\"#");
         scene_anchor(&h, r->scenes[s].name);
@@ -384,7 +424,8 @@ static int write_html(const struct report *r)
     }
     strbuf_printf(&h, ".</p>\n<h2 id=\"matrix-title\">Matrix</h2>\n<p>Click a column to sort it (again: "
                       "descending). Bold cells are on their scene's Pareto front of rmse against "
-                      "ms_total.</p>\n");
+                      "ms_total. A red row is a failed cell: NaN/Inf output, or <i>unscored</i> (no "
+                      "pixel to score: its metrics are null, not 0).</p>\n");
     matrix_table(r, &h);
 
     int rc = 0;

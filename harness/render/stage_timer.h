@@ -1,8 +1,10 @@
-/* Median wall time of the GL stages of a frame (DESIGN.md §7): warm-up
- * frames, then the median of K, each bracketed by glFinish. On llvmpipe GL
- * timer queries do not measure the work, so the wall clock does. Products
- * are timed once per distinct request options and shared by the cells that
- * ask for the same. */
+/* Wall time of the GL stages of a frame (DESIGN.md §7). The cells of a scene
+ * are timed interleaved: warm-up rounds, then K rounds, each round one frame
+ * of every cell in turn, so a slow spell of the machine is shared by the
+ * cells rather than landing on one. A cell's frame is the whole of its work:
+ * its shadow-map products rendered afresh, then its receiver pass; each
+ * stage is bracketed by glFinish, since on llvmpipe GL timer queries do not
+ * measure the work. */
 #ifndef SB_STAGE_TIMER_H
 #define SB_STAGE_TIMER_H
 
@@ -10,14 +12,21 @@
 #include "techniques/shadowmap.h"
 
 #define STAGE_TIMER_MAX_FRAMES 1000
-#define STAGE_TIMER_MAX_PRODUCTS 96
 
-/* Median milliseconds per frame of each stage of one cell. */
+/* One cell to time: a technique at its settings, drawn with program. */
+struct stage_timer_cell {
+    const struct technique *technique;
+    const void *settings;
+    GLuint program;
+};
+
+/* Milliseconds per frame of one cell: the median of each stage over the K
+ * frames, and the median and quartiles of the frames' totals. */
 struct stage_times {
     double shadowmap_ms;    /* the depth pass */
     double filter_prep_ms;  /* the products derived from it that the technique samples */
     double receiver_ms;     /* the receiver pass */
-    double total_ms;        /* their sum */
+    double total_ms, total_q1_ms, total_q3_ms;
 };
 
 struct stage_timer {
@@ -25,22 +34,17 @@ struct stage_timer {
     const struct scene_mesh *mesh;
     const struct receiver *receiver;
     int warmup, frames;  /* frames in [1, STAGE_TIMER_MAX_FRAMES] */
-    struct {
-        int product;  /* SM_PRODUCT_* */
-        struct shadowmap_request request;
-        double ms;
-    } products[STAGE_TIMER_MAX_PRODUCTS];
-    int product_count;
+    /* Called after each round (may be NULL): progress on long work. */
+    void (*on_round)(void *user, int round, int rounds);
+    void *user;
 };
 
-/* The timing sequence of one cell, the same for run and bench: technique
- * t's request at these settings, its products (each timed the first time a
- * request asks for it), made current, then the receiver pass with program,
- * which leaves V_tech in the receiver's targets. Returns 0 or -1 (logged). */
-int stage_timer_cell(struct stage_timer *timer, const struct technique *t, const void *settings,
-                     GLuint program, struct stage_times *out);
+/* Times the n cells interleaved; out[i] is cell i's. Returns 0 or -1 (logged). */
+int stage_timer_run(const struct stage_timer *timer, const struct stage_timer_cell *cells, int n,
+                    struct stage_times *out);
 
-/* Median ms of one receiver pass with this program. */
-double stage_timer_receiver_ms(struct stage_timer *timer, GLuint program);
+/* One untimed frame of a cell, which leaves its V_tech in the receiver's
+ * targets. Returns 0 or -1 (logged). */
+int stage_timer_render(const struct stage_timer *timer, const struct stage_timer_cell *cell);
 
 #endif

@@ -57,17 +57,18 @@ static int cmp_float(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-void metrics_compute(const float *v_tech, const float *v_gt, const float *v_gt_alt,
-                     const float *scored, const float *gl_distance, int width, int height,
-                     struct metrics *m)
+void metrics_compute(const float *v_tech, const struct gt_image *gt, const float *scored,
+                     const float *gl_distance, struct metrics *m)
 {
+    const int width = gt->width, height = gt->height;
+    const float *v_gt = gt->v;
     size_t count = (size_t)width * (size_t)height;
     float *band = xmalloc(count * sizeof(float));
     penumbra_mask(v_gt, scored, width, height, band);
     float *abs_err = xmalloc(count * sizeof(float));
 
-    double sum2 = 0, sum_abs = 0, sum = 0, max_abs = 0, pen2 = 0;
-    long n = 0, pen = 0, leak = 0, dark = 0, nonfinite = 0, scored_n = 0;
+    double sum2 = 0, sum_abs = 0, sum = 0, max_abs = 0, pen2 = 0, shaded2 = 0, sum_e = 0;
+    long n = 0, pen = 0, leak = 0, dark = 0, nonfinite = 0, scored_n = 0, terminator = 0;
     for (size_t i = 0; i < count; i++) {
         bool finite = isfinite(v_tech[i]);
         if (!finite && gl_distance[i] >= 0.0f)
@@ -75,6 +76,7 @@ void metrics_compute(const float *v_tech, const float *v_gt, const float *v_gt_a
         if (scored[i] < 0.5f)
             continue;
         scored_n++;
+        terminator += gt->h[i] < 1.0f;
         if (!finite)
             continue;
         double e = (double)v_tech[i] - (double)v_gt[i], a = fabs(e);
@@ -85,36 +87,42 @@ void metrics_compute(const float *v_tech, const float *v_gt, const float *v_gt_a
             pen2 += e * e, pen++;
         leak += v_gt[i] < 0.05f && v_tech[i] > 0.25f;
         dark += v_gt[i] > 0.95f && v_tech[i] < 0.75f;
+        double shaded = ((double)v_tech[i] - (double)gt->v_weighted[i]) * gt->e[i];
+        shaded2 += shaded * shaded, sum_e += gt->e[i];
     }
-    double p99 = 0;
+    double p99 = NAN;
     if (n > 0) {  /* nearest rank: the smallest value >= 99% of the errors */
         qsort(abs_err, (size_t)n, sizeof(float), cmp_float);
         long rank = (long)ceil(0.99 * (double)n);
         p99 = abs_err[rank > 0 ? rank - 1 : 0];
     }
-    struct metrics r = {
-        .rmse = n ? sqrt(sum2 / n) : 0,
-        .mae = n ? sum_abs / n : 0,
-        .bias = n ? sum / n : 0,
-        .max_abs = max_abs,
-        .p99_abs = p99,
-        .penumbra_rmse = pen ? sqrt(pen2 / pen) : 0,
-        .leak_fraction = scored_n ? (double)leak / scored_n : 0,
-        .dark_fraction = scored_n ? (double)dark / scored_n : 0,
-        .nonfinite = nonfinite,
-        .scored_pixels = scored_n,
-        .mismatch_pixels = m->mismatch_pixels,
-        .penumbra_pixels = pen,
-        .ms_shadowmap = m->ms_shadowmap,
-        .ms_filter_prep = m->ms_filter_prep,
-        .ms_receiver = m->ms_receiver,
-        .ms_total = m->ms_total,
-        .gt_noise_rmse = v_gt_alt ? gt_noise_floor(v_gt, v_gt_alt, scored, count) : 0,
-        .gt_noise_penumbra_rmse = v_gt_alt ? gt_noise_floor(v_gt, v_gt_alt, band, count) : 0,
-    };
+    const double none = NAN;
+    struct metrics r = *m;  /* the timings and mismatch_pixels stay */
+    r.rmse = n ? sqrt(sum2 / n) : none;
+    r.mae = n ? sum_abs / n : none;
+    r.bias = n ? sum / n : none;
+    r.max_abs = n ? max_abs : none;
+    r.p99_abs = p99;
+    r.penumbra_rmse = pen ? sqrt(pen2 / pen) : none;
+    r.leak_fraction = n ? (double)leak / scored_n : none;
+    r.dark_fraction = n ? (double)dark / scored_n : none;
+    /* (V_tech - V_gt_weighted) E over mean E: the shaded image's error
+     * relative to its mean brightness (DESIGN.md §7). */
+    r.shaded_rmse = n && sum_e > 0 ? sqrt(shaded2 / n) / (sum_e / n) : none;
+    r.nonfinite = nonfinite;
+    r.scored_pixels = scored_n;
+    r.terminator_pixels = terminator;
+    r.penumbra_pixels = pen;
+    r.gt_noise_rmse = n ? gt_noise_floor(gt->noise, scored, count) : none;
+    r.gt_noise_penumbra_rmse = pen ? gt_noise_floor(gt->noise, band, count) : none;
     *m = r;
     free(abs_err);
     free(band);
+}
+
+bool metrics_scored(const struct metrics *m)
+{
+    return !isnan(m->rmse);
 }
 
 const struct metric_info metric_info[METRIC_COUNT] = {

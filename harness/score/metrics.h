@@ -1,7 +1,10 @@
 /* Error metrics of DESIGN.md §7 (contract), over the scored mask, with
- * e = V_tech - V_gt. */
+ * e = V_tech - V_gt. A metric with nothing to score (no scored pixel, an
+ * empty penumbra band) is NAN, written as null: unscored is not perfect. */
 #ifndef SB_METRICS_H
 #define SB_METRICS_H
+
+#include "truth/groundtruth.h"
 
 #include <stdbool.h>
 #include <stddef.h>
@@ -31,14 +34,18 @@
     X(penumbra_rmse, double, "%.4f", true, "rmse over the penumbra band")                        \
     X(leak_fraction, double, "%.4f", true, "share of scored pixels with V_gt < 0.05, V_tech > 0.25") \
     X(dark_fraction, double, "%.4f", true, "share of scored pixels with V_gt > 0.95, V_tech < 0.75") \
+    X(shaded_rmse, double, "%.4f", true, "rms of (V_tech - V_gt_weighted) E / mean E: the error seen in the shaded image") \
     X(nonfinite, long, "%.0f", true, "NaN/Inf values of V_tech where GL drew geometry")          \
     X(scored_pixels, long, "%.0f", false, "pixels scored")                                       \
     X(mismatch_pixels, long, "%.0f", false, "pixels where GL and the ray tracer see different surfaces") \
+    X(terminator_pixels, long, "%.0f", false, "scored pixels that see part of the light below their horizon (H < 1)") \
     X(penumbra_pixels, long, "%.0f", false, "pixels in the penumbra band")                       \
     X(ms_shadowmap, double, "%.2f", true, "median ms per frame: the depth pass")                 \
     X(ms_filter_prep, double, "%.2f", true, "median ms per frame: the products filtered from it") \
     X(ms_receiver, double, "%.2f", true, "median ms per frame: the receiver pass")                \
-    X(ms_total, double, "%.2f", true, "median ms per frame: the sum of the stages")              \
+    X(ms_total, double, "%.2f", true, "median ms of a whole frame (all its stages)")             \
+    X(ms_total_q1, double, "%.2f", false, "first quartile of the frames' ms_total")              \
+    X(ms_total_q3, double, "%.2f", false, "third quartile of the frames' ms_total")               \
     X(gt_noise_rmse, double, "%.4f", false, "the ground truth's own rms error over the scored pixels") \
     X(gt_noise_penumbra_rmse, double, "%.4f", true, "the ground truth's own rms error over the band")
 
@@ -72,12 +79,13 @@ double metrics_value(const struct metrics *m, int k);
 long metrics_score_mask(const float *gt_mask, const float *gt_distance, const float *gl_distance,
                         int count, float *scored);
 
-/* Fills every error metric (not the timings, not mismatch_pixels). Pixels
- * whose V_tech is not finite are counted in nonfinite and left out of the
- * error sums. v_gt_alt (may be NULL) is the ground truth with an independent
- * seed, for the noise floor (gt_noise_floor). */
-void metrics_compute(const float *v_tech, const float *v_gt, const float *v_gt_alt,
-                     const float *scored, const float *gl_distance, int width, int height,
-                     struct metrics *m);
+/* Fills every error metric of V_tech against gt over scored (not the
+ * timings, not mismatch_pixels). Pixels whose V_tech is not finite are
+ * counted in nonfinite and left out of the error sums. */
+void metrics_compute(const float *v_tech, const struct gt_image *gt, const float *scored,
+                     const float *gl_distance, struct metrics *m);
+
+/* Whether the cell had anything to score (its error metrics are numbers). */
+bool metrics_scored(const struct metrics *m);
 
 #endif

@@ -3,9 +3,14 @@
  * Primary rays through pixel centres; at the hit p, geometric normal n
  * flipped towards the camera; N = n*n stratified light samples, jittered per
  * pixel (every pixel draws its own jitter in every stratum, so the pattern is
- * scrambled per pixel). A sample counts as visible when it lies in front of
- * the one-sided light, above p's tangent plane, and the shadow ray from
- * p + eps*n reaches it unblocked.
+ * scrambled per pixel). A sample is above the horizon when it lies in front
+ * of the one-sided light and above p's tangent plane; H counts those, V is
+ * the share of them that the shadow ray from p + eps*n reaches unblocked.
+ *
+ * Noise floor without a second trace: the strata split into two halves in
+ * a checkerboard, each a stratified estimate on its own with independent
+ * jitter. V is their average (weighted by their samples above), so the
+ * halves' difference, scaled, is a sample of V's error (see noise below).
  *
  * Speed: shadow rays go in packets of 16 (rtcOccluded16) over 4x4 pixel
  * tiles; the 16 pixels of a tile visit the same stratum together, so their
@@ -174,7 +179,8 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
         lane_seed[i] = 0;
         if (valid[i]) {
             out->distance[pixel[i]] = -1.0f;
-            out->v[pixel[i]] = out->v_weighted[pixel[i]] = out->mask[pixel[i]] = 0.0f;
+            int j = pixel[i];
+            out->v[j] = out->v_weighted[j] = out->h[j] = out->e[j] = out->noise[j] = out->mask[j] = 0.0f;
         }
         if (live[i]) {
             struct vec3 d = v3(prim.ray.dir_x[i], prim.ray.dir_y[i], prim.ray.dir_z[i]);
@@ -203,19 +209,21 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
     /* Locals, not L->z: the compiler cannot prove L does not alias `ray`
      * (whose address goes to Embree), and would not vectorise. */
     const float lzx = L->z.x, lzy = L->z.y, lzz = L->z.z;
-    int visible[16] = {0};
+    /* Per lane: samples above the horizon and unblocked ones, in all and in
+     * the checkerboard half A; the cos cos / r^2 weights of both. */
+    int above[16] = {0}, visible[16] = {0}, above_a[16] = {0}, visible_a[16] = {0};
     float weight_vis[16] = {0}, weight_all[16] = {0};
     long long rays = 0;
     for (int k = 0; k < n * n; k++) {
-        const float su = (float)(k % n), sv = (float)(k / n);
+        const int su = k % n, sv = k / n, half_a = !((su + sv) & 1);
         float u[16], v[16], qx[16], qy[16], qz[16], w_sample[16];
         _Alignas(64) int active[16];
         /* Branch-free passes over the lanes, so the compiler vectorises them. */
 #pragma omp simd
         for (int i = 0; i < 16; i++) {
             uint32_t h = lane_seed[i] + 2u * (uint32_t)k * 0x9e3779b9u;
-            u[i] = (su + hash_unit(h)) * inv_n;
-            v[i] = (sv + hash_unit(h ^ 0x85ebca6bu)) * inv_n;
+            u[i] = ((float)su + hash_unit(h)) * inv_n;
+            v[i] = ((float)sv + hash_unit(h ^ 0x85ebca6bu)) * inv_n;
         }
         light_points(L, u, v, qx, qy, qz);
         int any = 0;
@@ -225,11 +233,13 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
             float dist2 = dx * dx + dy * dy + dz * dz;
             float n_d = nx[i] * dx + ny[i] * dy + nz[i] * dz;  /* |d| cos(theta_p) */
             float l_d = lzx * dx + lzy * dy + lzz * dz;        /* |d| cos(theta_light) */
-            /* Below p's horizon, or behind the one-sided light: not visible. */
+            /* Above p's horizon and in front of the one-sided light. */
             int ok = live[i] & (n_d > 0.0f) & (l_d > 0.0f);
             float w = n_d * l_d / (dist2 * dist2);  /* cos cos / r^2, no sqrt needed */
             w_sample[i] = ok ? w : 0.0f;
             weight_all[i] += w_sample[i];
+            above[i] += ok;
+            above_a[i] += ok & half_a;
             ray.dir_x[i] = dx, ray.dir_y[i] = dy, ray.dir_z[i] = dz;
             ray.tfar[i] = 1.0f;  /* the light itself is not geometry; rtcOccluded16 resets it */
             active[i] = -ok;
@@ -243,15 +253,28 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
         for (int i = 0; i < 16; i++) {
             int seen = active[i] & (ray.tfar[i] >= 0.0f);  /* tfar = -inf when occluded */
             visible[i] += seen;
+            visible_a[i] += seen & half_a;
             weight_vis[i] += seen ? w_sample[i] : 0.0f;
         }
     }
+    const float area = L->shape == LIGHT_RECT ? L->width * L->height
+                                              : (float)M_PI * L->radius * L->radius;
     for (int i = 0; i < 16; i++) {
         if (!live[i])
             continue;
-        out->v[pixel[i]] = (float)visible[i] / (float)(n * n);
-        out->v_weighted[pixel[i]] = weight_all[i] > 0 ? weight_vis[i] / weight_all[i] : 0.0f;
-        out->mask[pixel[i]] = weight_all[i] > 0 ? 1.0f : 0.0f;  /* faces the light at all */
+        const int j = pixel[i], na = above_a[i], nb = above[i] - above_a[i];
+        out->h[j] = (float)above[i] / (float)(n * n);
+        out->e[j] = weight_all[i] * area / (float)(n * n);
+        out->v[j] = above[i] ? (float)visible[i] / (float)above[i] : 0.0f;
+        out->v_weighted[j] = weight_all[i] > 0 ? weight_vis[i] / weight_all[i] : 0.0f;
+        /* V = (na V_a + nb V_b) / (na + nb). With the halves' errors
+         * independent, of variance ~ 1/n_x, Var(V) / Var(V_a - V_b) =
+         * na nb / (na + nb)^2: with equal halves, (V_a - V_b) / 2. */
+        if (na && nb) {
+            float va = (float)visible_a[i] / (float)na, vb = (float)(visible[i] - visible_a[i]) / (float)nb;
+            out->noise[j] = (va - vb) * sqrtf((float)na * (float)nb) / (float)above[i];
+        }
+        out->mask[j] = out->h[j] >= GT_MIN_H ? 1.0f : 0.0f;
     }
     return rays;
 }
@@ -314,10 +337,10 @@ int gt_render(const struct scene *s, const struct light_frustum *f, const struct
     out->width = w;
     out->height = h;
     size_t count = (size_t)w * (size_t)h;
-    out->v = xmalloc(count * sizeof(float));
-    out->v_weighted = xmalloc(count * sizeof(float));
-    out->distance = xmalloc(count * sizeof(float));
-    out->mask = xmalloc(count * sizeof(float));
+    float **planes[] = {&out->v, &out->v_weighted, &out->h, &out->e, &out->noise, &out->distance,
+                        &out->mask};
+    for (size_t i = 0; i < sizeof planes / sizeof *planes; i++)
+        *planes[i] = xmalloc(count * sizeof(float));
 
     const int tiles_x = (w + TILE - 1) / TILE, tiles_y = (h + TILE - 1) / TILE;
     const long long tiles = (long long)tiles_x * tiles_y;
@@ -352,36 +375,67 @@ int gt_render(const struct scene *s, const struct light_frustum *f, const struct
 
 void gt_image_free(struct gt_image *g)
 {
-    free(g->v);
-    free(g->v_weighted);
-    free(g->distance);
-    free(g->mask);
-    free(g->v_alt);
+    free(g->v), free(g->v_weighted), free(g->h), free(g->e), free(g->noise);
+    free(g->distance), free(g->mask);
     memset(g, 0, sizeof *g);
 }
 
-double gt_noise_floor(const float *v, const float *v_alt, const float *mask, size_t count)
+double gt_noise_floor(const float *noise, const float *mask, size_t count)
 {
     double sum = 0;
     long n = 0;
     for (size_t i = 0; i < count; i++)
         if (mask[i] > 0.5f) {
-            double d = (double)v[i] - (double)v_alt[i];
-            sum += d * d;
+            sum += (double)noise[i] * noise[i];
             n++;
         }
-    return n ? sqrt(sum / (2.0 * (double)n)) : 0.0;
+    return n ? sqrt(sum / (double)n) : NAN;
 }
 
-static char *cache_path(const char *dir, const struct scene *s, const struct light_frustum *f,
-                        const struct gt_desc *d)
+/* The cache key (DESIGN.md §6) in words: what the entry's pixels depend
+ * on. Its hash names the file; the entry also records the words, so a file
+ * copied over another entry is refused rather than used. */
+static char *cache_key(const struct scene *s, const struct light_frustum *f, const struct gt_desc *d)
 {
-    const int version = GT_VERSION;
-    uint64_t h = util_hash(UTIL_HASH_INIT, &s->hash, sizeof s->hash);
-    h = util_hash(h, d, sizeof *d);
-    h = util_hash(h, f, sizeof *f);
-    h = util_hash(h, &version, sizeof version);
-    return util_printf("%s/%s-%016llx.exr", dir, s->name, (unsigned long long)h);
+    uint64_t frustum = util_hash(UTIL_HASH_INIT, f, sizeof *f);
+    return util_printf("shadowbench ground truth v%d: scene %s (bytes %016llx), %dx%d, %d samples, "
+                       "seed %u, frustum %016llx", GT_VERSION, s->name, (unsigned long long)s->hash,
+                       d->width, d->height, d->samples, d->seed, (unsigned long long)frustum);
+}
+
+/* The channels of a cache entry, bound to g's planes. */
+#define GT_CACHE_CHANNELS 7
+static void cache_channels(struct gt_image *g, struct exr_channel ch[GT_CACHE_CHANNELS])
+{
+    const struct exr_channel c[GT_CACHE_CHANNELS] = {
+        {"V", g->v}, {"V_weighted", g->v_weighted}, {"H", g->h}, {"E", g->e},
+        {"noise", g->noise}, {"distance", g->distance}, {"mask", g->mask}};
+    memcpy(ch, c, sizeof c);
+}
+
+/* Reads the entry at path into out when it records key. Returns 0, -ENOENT
+ * when there is none, -1 when it is unusable (logged). */
+static int cache_read(const char *path, const char *key, const struct gt_desc *d, struct gt_image *out)
+{
+    struct exr_channel ch[GT_CACHE_CHANNELS];
+    char *recorded = NULL;
+    cache_channels(out, ch);
+    int rc = image_read_exr(path, d->width, d->height, ch, GT_CACHE_CHANNELS, &recorded);
+    if (rc == 0 && (!recorded || strcmp(recorded, key) != 0)) {
+        log_warn("%s: records another key (%s), not this one (%s)", path,
+                 recorded ? recorded : "none", key);
+        for (int i = 0; i < GT_CACHE_CHANNELS; i++)
+            free(ch[i].data);
+        rc = -1;
+    }
+    free(recorded);
+    if (rc == 0) {
+        *out = (struct gt_image){.width = d->width, .height = d->height, .v = ch[0].data,
+                                 .v_weighted = ch[1].data, .h = ch[2].data, .e = ch[3].data,
+                                 .noise = ch[4].data, .distance = ch[5].data, .mask = ch[6].data,
+                                 .cached = true};
+    }
+    return rc;
 }
 
 int gt_obtain(const struct scene *s, const struct light_frustum *f, const struct gt_desc *desc,
@@ -389,52 +443,31 @@ int gt_obtain(const struct scene *s, const struct light_frustum *f, const struct
 {
     struct gt_desc d = *desc;
     desc_defaults(&d);
-    char *path = cache_dir ? cache_path(cache_dir, s, f, &d) : NULL;
+    char *key = cache_key(s, f, &d), *path = NULL;
+    if (cache_dir)
+        path = util_printf("%s/%s-%016llx.exr", cache_dir, s->name,
+                           (unsigned long long)util_hash(UTIL_HASH_INIT, key, strlen(key)));
     memset(out, 0, sizeof *out);
-    if (path) {
-        struct exr_channel ch[] = {{"V", NULL}, {"V_weighted", NULL}, {"mask", NULL},
-                                   {"distance", NULL}, {"V_alt", NULL}};
-        int rc = image_read_exr(path, d.width, d.height, ch, 5);
-        if (rc == 0) {
-            *out = (struct gt_image){.width = d.width, .height = d.height, .v = ch[0].data,
-                                     .v_weighted = ch[1].data, .mask = ch[2].data,
-                                     .distance = ch[3].data, .v_alt = ch[4].data, .cached = true};
-            log_info("ground truth %s: from cache %s", s->name, path);
-            free(path);
-            return 0;
-        }
+    int rc = path ? cache_read(path, key, &d, out) : -ENOENT;
+    if (rc == 0) {
+        log_info("ground truth %s: from cache %s", s->name, path);
+    } else {
         if (rc != -ENOENT)
             log_warn("%s: unusable cache entry, rendering again", path);
+        log_info("ground truth %s: %dx%d, %d light samples per pixel", s->name, d.width, d.height,
+                 d.samples);
+        rc = gt_render(s, f, &d, out);
+        if (rc == 0) {
+            log_info("ground truth %s: %.1f M shadow rays in %.2f s = %.1f Mrays/s", s->name,
+                     (double)out->shadow_rays * 1e-6, out->seconds, out->mrays_per_second);
+            struct exr_channel ch[GT_CACHE_CHANNELS];
+            cache_channels(out, ch);
+            if (path && (util_mkdirs(cache_dir) != 0 ||
+                         image_write_exr(path, d.width, d.height, ch, GT_CACHE_CHANNELS, key) != 0))
+                log_warn("ground truth %s: not cached", s->name);
+        }
     }
-
-    struct gt_image alt;
-    struct gt_desc d_alt = d;
-    d_alt.seed = d.seed + 1;
-    log_info("ground truth %s: %dx%d, %d light samples per pixel, twice (the second seed "
-             "estimates the noise floor)", s->name, d.width, d.height, d.samples);
-    if (gt_render(s, f, &d, out) != 0 || gt_render(s, f, &d_alt, &alt) != 0) {
-        gt_image_free(out);
-        free(path);
-        return -1;
-    }
-    out->v_alt = alt.v;
-    alt.v = NULL;
-    double seconds = out->seconds + alt.seconds;
-    long long rays = out->shadow_rays + alt.shadow_rays;
-    out->seconds = seconds;
-    out->shadow_rays = rays;
-    out->mrays_per_second = seconds > 0 ? (double)rays / seconds * 1e-6 : 0;
-    gt_image_free(&alt);
-    log_info("ground truth %s: %.1f M shadow rays in %.2f s = %.1f Mrays/s", s->name,
-             (double)rays * 1e-6, seconds, out->mrays_per_second);
-
-    if (path && util_mkdirs(cache_dir) == 0) {
-        struct exr_channel ch[] = {{"V", out->v}, {"V_weighted", out->v_weighted},
-                                   {"mask", out->mask}, {"distance", out->distance},
-                                   {"V_alt", out->v_alt}};
-        if (image_write_exr(path, d.width, d.height, ch, 5) != 0)
-            log_warn("ground truth %s: not cached", s->name);
-    }
+    free(key);
     free(path);
-    return 0;
+    return rc;
 }

@@ -1,5 +1,8 @@
-/* The ground truth (DESIGN.md §6, contract): the visible fraction of the
- * area light at each camera-ray hit, ray traced with Embree 3. */
+/* The ground truth (DESIGN.md §6, contract): at each camera-ray hit p, the
+ * fraction of the area light above p's tangent plane that other geometry
+ * does not hide, ray traced with Embree 3. The receiver's own horizon is
+ * shading's business (N.L, the area-light integral), not shadowing's, so it
+ * is reported apart (H, E) and left out of V. */
 #ifndef SB_GROUNDTRUTH_H
 #define SB_GROUNDTRUTH_H
 
@@ -11,7 +14,7 @@
 
 /* Bump whenever anything that changes the ground truth's pixels changes:
  * it is part of the cache key. */
-#define GT_VERSION 1
+#define GT_VERSION 2
 
 /* Shadow-ray origins are offset along the normal by this fraction of the
  * scene's bounding-box diagonal. */
@@ -27,13 +30,22 @@ struct gt_desc {
     uint32_t seed;      /* default 1 */
 };
 
+/* A scored pixel sees at least this fraction of the light above its
+ * tangent plane: enough samples for a stable ratio (DESIGN.md §6). */
+#define GT_MIN_H 0.05f
+
 struct gt_image {
     int width, height;
-    float *v;           /* V_gt: unweighted visible fraction of the light's area */
-    float *v_weighted;  /* V_gt_weighted: cos*cos/r^2 weighted visibility ratio */
+    float *v;           /* V_gt: of the light samples above p's tangent plane, the fraction
+                           unblocked (0 where none is above) */
+    float *v_weighted;  /* V_gt_weighted: the same samples weighted by cos*cos/r^2 */
+    float *h;           /* H: fraction of the light's area above the tangent plane */
+    float *e;           /* E: unshadowed irradiance from a light of unit radiance */
+    float *noise;       /* a sample of V's error: the two halves of the samples disagree by
+                           this much, scaled so its rms over a region estimates V's rms
+                           error there (gt_noise_floor) */
     float *distance;    /* camera-ray hit distance, -1 where the ray misses */
-    float *mask;        /* 1: hit, faces the light, inside the shadow-map frustum; else 0 */
-    float *v_alt;       /* V_gt again with seed + 1 (gt_obtain only): the noise floor */
+    float *mask;        /* 1: hit, H >= GT_MIN_H, inside the shadow-map frustum; else 0 */
     bool cached;        /* gt_obtain found it in the cache */
     double seconds, mrays_per_second;
     long long shadow_rays;
@@ -45,9 +57,9 @@ int gt_render(const struct scene *s, const struct light_frustum *f, const struct
               struct gt_image *out);
 
 /* The ground truth of a run: read from cache_dir when an entry with the same
- * key exists (scene hash, size, N, seed, frustum, GT_VERSION), else rendered
- * twice (seed and seed + 1, the second for the noise floor) and stored there.
- * cache_dir NULL: no cache. Returns 0 or -1 (logged). */
+ * key exists (scene hash, size, N, seed, frustum, GT_VERSION) and records
+ * that key itself, else rendered and stored there. cache_dir NULL: no
+ * cache. Returns 0 or -1 (logged). */
 int gt_obtain(const struct scene *s, const struct light_frustum *f, const struct gt_desc *d,
               const char *cache_dir, struct gt_image *out);
 
@@ -56,9 +68,8 @@ void gt_image_free(struct gt_image *g);
 /* Releases the process's Embree device (made by the first gt_render). */
 void gt_shutdown(void);
 
-/* The noise floor (DESIGN.md §6): the rms error of one ground-truth image
- * over mask (1 = counted), estimated from two renderings with independent
- * seeds as rms(v - v_alt) / sqrt(2). */
-double gt_noise_floor(const float *v, const float *v_alt, const float *mask, size_t count);
+/* The noise floor (DESIGN.md §6): the rms error of V over mask (1 =
+ * counted), estimated as the rms of gt_image.noise; NAN over an empty mask. */
+double gt_noise_floor(const float *noise, const float *mask, size_t count);
 
 #endif
