@@ -1,7 +1,8 @@
 #version 450 core
 // Moments product: one direction of a separable Gaussian of (d, d²), taps
-// -radius..radius clamped at the map's edge, normalised weights from the
-// harness (sigma = radius / 2; radius 0: the conversion alone).
+// -radius..radius clamped at the map's edge (the edge policy,
+// techniques/shadowmap.h), normalised weights from the harness (sigma =
+// radius / 2; radius 0: the conversion alone).
 // BLUR_FROM_DEPTH: the rows pass reads the depth map and converts each tap
 // (one full-map pass fewer: on llvmpipe each costs ~40 ms at 2048^2). Filtering moments is what makes
 // VSM filterable (Donnelly and Lauritzen 2006).

@@ -26,7 +26,7 @@ void main()
     if (dot(n, to_camera) < 0.0)
         n = -n;
     ShadowInput s = sm_make_input(p, n);
-    // Outside the map counts as lit (those pixels are not scored).
+    // Outside the frustum counts as lit (those pixels are not scored).
     out_visibility = sm_inside(s) ? shadow_visibility(s) : 1.0;
     out_camera_distance = length(to_camera);
 }

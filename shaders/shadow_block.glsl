@@ -15,5 +15,5 @@ layout(std140, binding = SM_BINDING_BLOCK) uniform ShadowMapBlock {
     float map_size_texels;
     int sat_format;           // SM_SAT_* of the current summed-area table
     float sat_scale;          // SM_SAT_INT32: fixed-point units per 1.0 of depth
-    float sat_max_box_texels; // SM_SAT_INT32: boxes are clipped to this side (no overflow)
+    float sat_max_box_texels; // SM_SAT_INT32: boxes are capped at this side (no overflow)
 } sm;

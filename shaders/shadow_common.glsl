@@ -12,8 +12,11 @@
 
 #include "depth.glsl"
 
-// The products, at the bindings the layer gives them (SM_BINDING_*).
-layout(binding = SM_BINDING_DEPTH) uniform sampler2D sm_depth;                  // D32F, nearest, border = far
+// The products, at the bindings the layer gives them (SM_BINDING_*). Past
+// the map's edge each continues as its edge texels (the edge policy,
+// techniques/shadowmap.h): texture reads get it from the wrap mode, a
+// texelFetch must clamp its coordinate to the map.
+layout(binding = SM_BINDING_DEPTH) uniform sampler2D sm_depth;                  // D32F, nearest, clamp-to-edge
 layout(binding = SM_BINDING_DEPTH_COMPARE) uniform sampler2DShadow sm_depth_compare; // same texture: linear, GEQUAL
 layout(binding = SM_BINDING_MOMENTS) uniform sampler2D sm_moments;              // RG32F (d, d²), filtered, mipmapped
 

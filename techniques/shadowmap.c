@@ -15,7 +15,6 @@ enum { BLOCK_BINDING = 0, PASS_SOURCE_BINDING = 0 };
 struct product_kind {
     GLenum format;         /* a texture product's internal format; 0: a storage buffer */
     bool mipmapped;        /* texture: a full mip chain, sampled trilinearly */
-    float border[4];       /* texture: what is read outside the map */
     int binding;           /* texture unit or storage-buffer binding (GLSL: SM_BINDING_<ID>) */
     int compare_binding;   /* texture: also bound at this unit through the comparison sampler
                               (GLSL: SM_BINDING_<ID>_COMPARE); 0: not */
@@ -74,7 +73,7 @@ static void fill_block(struct shadowmap *sm, const struct scene *s)
     b->map_size_texels = (float)sm->desc.size_texels;
 }
 
-static GLuint map_texture(GLenum format, int levels, int n, const float border[4])
+static GLuint map_texture(GLenum format, int levels, int n)
 {
     GLuint t;
     glGenTextures(1, &t);
@@ -82,9 +81,8 @@ static GLuint map_texture(GLenum format, int levels, int n, const float border[4
     glTexStorage2D(GL_TEXTURE_2D, levels, format, n, n);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, levels > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_NEAREST);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, levels > 1 ? GL_LINEAR : GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
-    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
-    glTexParameterfv(GL_TEXTURE_2D, GL_TEXTURE_BORDER_COLOR, border);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);  /* edge policy, shadowmap.h */
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     return t;
 }
 
@@ -175,8 +173,7 @@ static void depth_render(struct shadowmap *sm, struct shadowmap_product *p,
 
 static int moments_create(struct shadowmap *sm, struct shadowmap_product *p)
 {
-    p->temp_texture = map_texture(kinds[SM_PRODUCT_MOMENTS].format, 1, sm->desc.size_texels,
-                                  kinds[SM_PRODUCT_MOMENTS].border);
+    p->temp_texture = map_texture(kinds[SM_PRODUCT_MOMENTS].format, 1, sm->desc.size_texels);
     gl_label(GL_TEXTURE, p->temp_texture, "shadow map: moments blur temporary");
     p->framebuffers[0] = framebuffer(p->texture, GL_COLOR_ATTACHMENT0, "moments pass");
     p->framebuffers[1] = framebuffer(p->temp_texture, GL_COLOR_ATTACHMENT0, "moments blur, rows");
@@ -309,16 +306,16 @@ static void sat_render(struct shadowmap *sm, struct shadowmap_product *p,
 
 /* ---- the table ------------------------------------------------------------ */
 
-/* Outside the map is the far plane, so nothing there occludes (lit), as
- * engines do: hardware depth 0 (reversed Z), moments (1, 1). */
+/* No row chooses what a read past the map returns: the edge policy
+ * (shadowmap.h) is every product's. */
 static const struct product_kind kinds[SM_PRODUCT_COUNT] = {
     [SM_PRODUCT_DEPTH] = {
-        .format = GL_DEPTH_COMPONENT32F, .border = {0, 0, 0, 0},
+        .format = GL_DEPTH_COMPONENT32F,
         .binding = 0, .compare_binding = 1,
         .create = depth_create, .render = depth_render,
     },
     [SM_PRODUCT_MOMENTS] = {
-        .format = GL_RG32F, .mipmapped = true, .border = {1, 1, 0, 0},
+        .format = GL_RG32F, .mipmapped = true,
         .binding = 2,
         .create = moments_create, .render = moments_render, .same = moments_same,
         .check = moments_check,
@@ -388,13 +385,11 @@ int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct s
     gl_label(GL_BUFFER, sm->ubo, "ShadowMapBlock");
 
     /* Depth products through a comparison sampler: hardware 2x2 PCF. */
-    const float *border = kinds[SM_PRODUCT_DEPTH].border;
     glGenSamplers(1, &sm->compare_sampler);
     glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_BORDER);
-    glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_BORDER);
-    glSamplerParameterfv(sm->compare_sampler, GL_TEXTURE_BORDER_COLOR, border);
+    glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);  /* edge policy */
+    glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_COMPARE_MODE, GL_COMPARE_REF_TO_TEXTURE);
     glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_COMPARE_FUNC, GL_GEQUAL); /* reversed Z: lit */
     gl_label(GL_SAMPLER, sm->compare_sampler, "shadow map: depth comparison sampler");
@@ -416,7 +411,7 @@ int shadowmap_prepare(struct shadowmap *sm, const struct shadowmap_request *r)
         p->created = true;  /* even if create fails: shadowmap_destroy deletes what it made */
         if (k->format) {
             int n = sm->desc.size_texels;
-            p->texture = map_texture(k->format, k->mipmapped ? mip_levels(n) : 1, n, k->border);
+            p->texture = map_texture(k->format, k->mipmapped ? mip_levels(n) : 1, n);
             label_product(GL_TEXTURE, p->texture, i);
         }
         if (k->create(sm, p) != 0)

@@ -2,7 +2,19 @@
  * keyed by product, not by technique (STYLE.md item 5). A product is a row
  * of the table in shadowmap.c (its texture format or buffer, its binding,
  * its passes) plus its shaders; the layer renders each requested product
- * once per light pose and shares it with every technique of a run. */
+ * once per light pose and shares it with every technique of a run.
+ *
+ * Edge policy, one for every product and every read (DESIGN.md §5):
+ * clamp-to-edge, i.e. past the map's edge the map continues as its edge
+ * texels. The light frustum is fitted to all the geometry with a 1% margin
+ * (scene/light_frustum.c), so where everything fits the edge texels are
+ * empty (far) and a read past them is lit, which is right; where geometry
+ * crosses the edge (the frustum's half-angle is capped at 75 degrees, as in
+ * scenes/map_border), the edge texels carry on what crosses it, the best
+ * guess the map alone gives. And it is one definition that the texture
+ * unit gives texture() reads (GL_CLAMP_TO_EDGE), that a texelFetch gets by
+ * clamping its coordinate to [0, size - 1], and that SAT boxes reproduce
+ * exactly (shaders/sat.glsl). tests/test_edge_policy.c checks it. */
 #ifndef SB_SHADOWMAP_H
 #define SB_SHADOWMAP_H
 

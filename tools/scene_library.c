@@ -224,9 +224,9 @@ static int curved_receivers(struct mesh_builder *m, struct gltf_scene_desc *d)
 /* A light 3 above a ground that reaches far beyond the widest frustum the
  * shadow map takes (a 75-degree half-angle: 11.2 out at the ground), and a
  * plate 1.5 up that crosses the frustum's edge (5.6 out at its height).
- * Near the map's edge the blocker search and filter kernels read past it,
- * where the border says "lit", and part of the plate is not in the map at
- * all, though it shadows ground that is. */
+ * Near the map's edge the blocker search and filter kernels read past it
+ * (where the map continues its edge texels: the edge policy), and part of
+ * the plate is not in the map at all, though it shadows ground that is. */
 static int map_border(struct mesh_builder *m, struct gltf_scene_desc *d)
 {
     ground(m, -16, -16, 16, 16);

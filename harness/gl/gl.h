@@ -25,7 +25,6 @@
     X(PFNGLBINDTEXTUREPROC, glBindTexture) \
     X(PFNGLTEXSTORAGE2DPROC, glTexStorage2D) \
     X(PFNGLTEXPARAMETERIPROC, glTexParameteri) \
-    X(PFNGLTEXPARAMETERFVPROC, glTexParameterfv) \
     X(PFNGLBINDTEXTUREUNITPROC, glBindTextureUnit) \
     X(PFNGLGETTEXIMAGEPROC, glGetTexImage) \
     X(PFNGLGENERATEMIPMAPPROC, glGenerateMipmap) \
@@ -76,7 +75,6 @@
     X(PFNGLDELETESAMPLERSPROC, glDeleteSamplers) \
     X(PFNGLBINDSAMPLERPROC, glBindSampler) \
     X(PFNGLSAMPLERPARAMETERIPROC, glSamplerParameteri) \
-    X(PFNGLSAMPLERPARAMETERFVPROC, glSamplerParameterfv) \
     X(PFNGLUNIFORM2IPROC, glUniform2i) \
     X(PFNGLUNIFORM1FVPROC, glUniform1fv)
 
