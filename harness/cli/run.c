@@ -333,7 +333,7 @@ int run_main(const struct run_options *o)
                                .cells_total = cells_total, .label_width = label_width};
         failed |= run_scene(&sr, programs, cells, &cell_count);
         rs[s] = (struct report_scene){scenes[s].name, scenes[s].description, scenes[s].shows,
-                                      sr.gt.seconds, sr.gt.mrays_per_second, sr.gt.cached};
+                                      sr.gt.seconds, sr.gt.msamples_per_second, sr.gt.cached};
         scene_run_free(&sr);
         if (failed)
             break;

@@ -23,7 +23,7 @@ struct cell {
 
 struct report_scene {
     const char *name, *description, *shows;
-    double gt_seconds, gt_mrays_per_second;
+    double gt_seconds, gt_msamples_per_second;
     bool gt_cached;
 };
 

@@ -47,8 +47,9 @@ struct gt_image {
     float *distance;    /* camera-ray hit distance, -1 where the ray misses */
     float *mask;        /* 1: hit, H >= GT_MIN_H, inside the shadow-map frustum; else 0 */
     bool cached;        /* gt_obtain found it in the cache */
-    double seconds, mrays_per_second;
-    long long shadow_rays;
+    double seconds, msamples_per_second;
+    long long samples;      /* light samples resolved: above the horizon of a live pixel */
+    long long shadow_rays;  /* of them, traced (the rest were known clear) */
 };
 
 /* Renders on all cores, with progress on stderr when it is a terminal.
