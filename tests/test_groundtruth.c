@@ -10,8 +10,9 @@
  * Also: same seed -> same image; the error falls from N to 4N; the noise
  * floor from the two halves of the samples matches the true error; a lone
  * convex object is unshadowed on its whole lit side, terminator included
- * (V_gt counts only the light above the tangent plane); a cache entry copied
- * over another is refused. */
+ * (V_gt counts only the light above the tangent plane); samples decided
+ * without a ray give the same pixels as rays; a cache entry copied over
+ * another is refused. */
 #include "check.h"
 #include "parallel_planes.h"
 #include "base/util.h"
@@ -91,8 +92,8 @@ static void check_closed_form(bool disk)
     CHECK(scene_load(path, &s) == 0 && light_frustum_fit(&s, &f) == 0, "loading %s", path);
 
     struct gt_image lo, hi;
-    gt_render(&s, &f, &(struct gt_desc){IMG, IMG, 256, 1}, &lo);
-    gt_render(&s, &f, &(struct gt_desc){IMG, IMG, 1024, 1}, &hi);
+    gt_render(&s, &f, &(struct gt_desc){.width = IMG, .height = IMG, .samples = 256, .seed = 1}, &lo);
+    gt_render(&s, &f, &(struct gt_desc){.width = IMG, .height = IMG, .samples = 1024, .seed = 1}, &hi);
     static float in_profile[IMG * IMG];
     struct profile_error e_hi = profile_error(&s, &hi, disk, in_profile);
     struct profile_error e_lo = profile_error(&s, &lo, disk, in_profile);
@@ -131,9 +132,9 @@ static void check_determinism(void)
     struct light_frustum f;
     CHECK(scene_load(path, &s) == 0 && light_frustum_fit(&s, &f) == 0, "loading %s", path);
     struct gt_image a, b, c;
-    gt_render(&s, &f, &(struct gt_desc){64, 48, 64, 7}, &a);
-    gt_render(&s, &f, &(struct gt_desc){64, 48, 64, 7}, &b);
-    gt_render(&s, &f, &(struct gt_desc){64, 48, 64, 8}, &c);
+    gt_render(&s, &f, &(struct gt_desc){.width = 64, .height = 48, .samples = 64, .seed = 7}, &a);
+    gt_render(&s, &f, &(struct gt_desc){.width = 64, .height = 48, .samples = 64, .seed = 7}, &b);
+    gt_render(&s, &f, &(struct gt_desc){.width = 64, .height = 48, .samples = 64, .seed = 8}, &c);
     size_t bytes = sizeof(float) * 64 * 48;
     CHECK(memcmp(a.v, b.v, bytes) == 0 && memcmp(a.v_weighted, b.v_weighted, bytes) == 0 &&
               memcmp(a.mask, b.mask, bytes) == 0,
@@ -143,6 +144,15 @@ static void check_determinism(void)
     scene_free(&s);
     unlink(path);
     free(path);
+}
+
+/* Writes m (then freed) with d as <tmpdir>/<name>.gltf; returns the path. */
+static char *write_scene(const char *name, struct mesh_builder *m, const struct gltf_scene_desc *d)
+{
+    char *path = util_printf("%s/%s.gltf", tmpdir, name);
+    CHECK(gltf_write(path, m, d) == 0, "writing %s", path);
+    mesh_free(m);
+    return path;
 }
 
 /* A lone convex object under a light wider than itself: nothing can hide
@@ -162,14 +172,12 @@ static void check_convex_sphere(void)
         .light_pos = v3(0.0f, 2.5f, 0.0f), .light_target = v3(0, 0, 0),
         .light_width = 4.0f, .light_height = 4.0f,
     };
-    char *path = util_printf("%s/sphere.gltf", tmpdir);
-    CHECK(gltf_write(path, &m, &d) == 0, "writing %s", path);
-    mesh_free(&m);
+    char *path = write_scene("sphere", &m, &d);
     struct scene s;
     struct light_frustum f;
     CHECK(scene_load(path, &s) == 0 && light_frustum_fit(&s, &f) == 0, "loading %s", path);
     struct gt_image g;
-    CHECK(gt_render(&s, &f, &(struct gt_desc){IMG, IMG, 256, 1}, &g) == 0, "rendering the sphere");
+    CHECK(gt_render(&s, &f, &(struct gt_desc){.width = IMG, .height = IMG, .samples = 256, .seed = 1}, &g) == 0, "rendering the sphere");
     long scored = 0, terminator = 0, below_one = 0;
     float lowest = 1.0f, lowest_weighted = 1.0f;
     for (int i = 0; i < IMG * IMG; i++) {
@@ -196,6 +204,81 @@ static void check_convex_sphere(void)
     free(path);
 }
 
+/* Deciding samples without rays (cull.h) changes no pixel: every shipped
+ * scene and a hostile one (a tilted plate: oblique, not exactly coplanar in
+ * float, so its two triangles are two patches; plates whose planes pass
+ * through the light; a non-convex pair of coplanar triangles), rendered
+ * with and without it, bit for bit. And it is used: on parallel_planes (a plate over a floor) almost
+ * no sample needs a ray (0.04 % at 512^2; under 2 % here, where a pixel is
+ * 4x wider and more pixels straddle the plate's edge). */
+static void compare_decided(const char *path, double *traced_share)
+{
+    struct scene s;
+    struct light_frustum f;
+    CHECK(scene_load(path, &s) == 0 && light_frustum_fit(&s, &f) == 0, "loading %s", path);
+    struct gt_desc d = {.width = 96, .height = 96, .samples = 256, .seed = 3};
+    struct gt_image fast, all;
+    CHECK(gt_render(&s, &f, &d, &fast) == 0, "rendering %s", s.name);
+    d.trace_all = true;
+    CHECK(gt_render(&s, &f, &d, &all) == 0, "rendering %s, every sample traced", s.name);
+    const size_t bytes = sizeof(float) * 96 * 96;
+    CHECK(all.shadow_rays == all.samples, "%s: trace_all traced %lld of %lld samples", s.name,
+          all.shadow_rays, all.samples);
+    CHECK(memcmp(fast.v, all.v, bytes) == 0 && memcmp(fast.v_weighted, all.v_weighted, bytes) == 0 &&
+              memcmp(fast.noise, all.noise, bytes) == 0 && memcmp(fast.h, all.h, bytes) == 0 &&
+              memcmp(fast.e, all.e, bytes) == 0 && memcmp(fast.mask, all.mask, bytes) == 0,
+          "%s: deciding samples without rays changed pixels", s.name);
+    *traced_share = (double)fast.shadow_rays / (double)fast.samples;
+    printf("  %-22s %5.1f %% of %lld samples traced\n", s.name, 100.0 * *traced_share, fast.samples);
+    gt_image_free(&fast), gt_image_free(&all);
+    scene_free(&s);
+}
+
+static void check_decided_exactly(void)
+{
+    char **paths;
+    const int count = catalog_shipped(&paths);
+    CHECK(count > 0, "no shipped scenes");
+    printf("samples decided without a ray change no pixel:\n");
+    double share;
+    for (int i = 0; i < count; i++) {
+        compare_decided(paths[i], &share);
+        if (strstr(paths[i], "/parallel_planes.gltf"))
+            CHECK(share < 0.02, "parallel_planes: %.1f %% of samples traced (under 2 %% expected)",
+                  100.0 * share);
+    }
+    catalog_free(paths, count);
+
+    /* A floor; a plate tilted about an oblique axis; four plates hanging
+     * from just under the light whose planes cut off its corners (|x| +
+     * |z| = 0.9, the corners at |x| = |z| = 0.6 beyond them); a dart. */
+    struct mesh_builder m = {0};
+    mesh_add_quad(&m, v3(-4, 0, -4), v3(0, 0, 8), v3(8, 0, 0));
+    const struct vec3 u = v3_normalize(v3(0.9f, 0.35f, 0.2f)), w = v3_normalize(v3_cross(u, v3(0.1f, 0.2f, 1.0f)));
+    mesh_add_quad(&m, v3(-1.2f, 1.1f, -0.6f), v3_scale(u, 1.3f), v3_scale(w, 1.1f));
+    for (int sx = -1; sx <= 1; sx += 2)
+        for (int sz = -1; sz <= 1; sz += 2)
+            mesh_add_quad(&m, v3(1.95f * sx, 1.0f, -1.05f * sz), v3(0, 1.9f, 0), v3(-3.0f * sx, 0, 3.0f * sz));
+    /* A dart: two coplanar triangles sharing the edge b-d whose union is
+     * not convex (not one patch). */
+    const uint32_t a = mesh_add_vertex(&m, v3(-1.6f, 1.5f, -0.2f)), b = mesh_add_vertex(&m, v3(-0.2f, 1.5f, 0.5f)),
+                   c = mesh_add_vertex(&m, v3(-1.6f, 1.5f, 1.2f)), dd = mesh_add_vertex(&m, v3(-1.0f, 1.5f, 0.5f));
+    const uint32_t dart[6] = {a, b, dd, dd, b, c};
+    for (int i = 0; i < 6; i++)
+        mesh_add_index(&m, dart[i]);
+    const struct gltf_scene_desc d = {
+        .description = "a tilted plate, plates cutting the light's corners, a dart", .shows = "",
+        .camera_pos = v3(0.0f, 4.0f, 4.0f), .camera_target = v3(0, 0, 0),
+        .camera_yfov_rad = 0.9f, .camera_znear = 0.1f,
+        .light_pos = v3(0.0f, 3.0f, 0.0f), .light_target = v3(0, 0, 0),
+        .light_width = 1.2f, .light_height = 1.2f,
+    };
+    char *path = write_scene("cull_hostile", &m, &d);
+    compare_decided(path, &share);
+    unlink(path);
+    free(path);
+}
+
 /* A cache entry records its own key: a valid entry of another scene copied
  * over this scene's is refused and the ground truth rendered again, not
  * used (it would score against the wrong truth). */
@@ -209,7 +292,7 @@ static void check_cache_key(void)
     struct light_frustum fa, fb;
     CHECK(scene_load(a_path, &a) == 0 && light_frustum_fit(&a, &fa) == 0 && scene_load(b_path, &b) == 0 &&
               light_frustum_fit(&b, &fb) == 0, "loading the two scenes");
-    const struct gt_desc d = {32, 32, 16, 1};
+    const struct gt_desc d = {.width = 32, .height = 32, .samples = 16, .seed = 1};
     struct gt_image ga, gb, again;
     CHECK(gt_obtain(&a, &fa, &d, a_dir, &ga) == 0 && gt_obtain(&b, &fb, &d, b_dir, &gb) == 0,
           "rendering into the caches");
@@ -242,6 +325,7 @@ int main(void)
     check_closed_form(true);
     check_determinism();
     check_convex_sphere();
+    check_decided_exactly();
     check_cache_key();
     gt_shutdown();
     rmdir(tmpdir);

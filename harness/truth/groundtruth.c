@@ -12,17 +12,26 @@
  * jitter. V is their average (weighted by their samples above), so the
  * halves' difference, scaled, is a sample of V's error (see noise below).
  *
- * Speed: shadow rays go in packets of 16 (rtcOccluded16) over 4x4 pixel
- * tiles; the 16 pixels of a tile visit the same stratum together, so their
- * rays are coherent. */
+ * Speed: most samples need no ray. Per pixel, cull.h finds the few planar
+ * patches that can hide the light (none on most lit pixels, a plate in a
+ * plate's penumbra and umbra), and a sample is decided by whether its
+ * segment crosses one; only samples that no patch decides with a margin,
+ * and every sample of pixels with too much geometry in the way (the
+ * bunny's), are traced. The pixels are the same as with every sample
+ * traced (gt_desc.trace_all; test_groundtruth compares the two). Traced
+ * rays go in packets of 16 (rtcOccluded16) over 4x4 pixel tiles; the 16
+ * pixels of a tile visit the same stratum together, so their rays are
+ * coherent. */
 #include "groundtruth.h"
 #include "base/image.h"
 #include "base/log.h"
 #include "base/util.h"
+#include "cull.h"
 
 #include <embree3/rtcore.h>
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <omp.h>
 #include <stdatomic.h>
@@ -134,134 +143,19 @@ void gt_shutdown(void)
     device = NULL;
 }
 
-/* ---- Clear pixels: the ones no ray needs --------------------------------
- * Every shadow segment of a pixel lies in the pyramid from its ray origin o
- * to the light (a disk's bounding square), above o's tangent plane. A
- * triangle whose three corners lie outside one of that pyramid's six planes
- * blocks none of them; where every triangle does, V = 1 exactly and no ray
- * is traced (the samples still give H and E). The triangles are tested
- * through a tree of boxes over runs of consecutive triangles (meshes are
- * written in spatially coherent order), and the test stops at the first
- * triangle it cannot rule out, or when it has taken too long. Exact, and on the shipped scenes it spares
- * the rays of most lit pixels. */
-
-#define CULL_FANOUT 16
-#define CULL_MAX_LEVELS 8  /* 16^7 triangles */
-/* Node visits a pixel's test may take before it gives up and traces: about
- * the cost of a few of its rays, so the test never costs more than it saves. */
-#define CULL_BUDGET 256
-
-struct box { struct vec3 lo, hi; };
-
-struct cull_tree {
-    int levels;                          /* level 0 is the triangles */
-    size_t count[CULL_MAX_LEVELS];       /* nodes per level */
-    struct box *boxes[CULL_MAX_LEVELS];  /* levels >= 1: a box per node */
+/* Per lane (the inner index), the occluders of cull.h, structure of arrays. */
+struct lane_occluders {
+    float nx[CULL_MAX_OCCLUDERS][16], ny[CULL_MAX_OCCLUDERS][16], nz[CULL_MAX_OCCLUDERS][16];
+    float d[CULL_MAX_OCCLUDERS][16], so[CULL_MAX_OCCLUDERS][16], inv_so[CULL_MAX_OCCLUDERS][16];
+    float ex[4][CULL_MAX_OCCLUDERS][16], ey[4][CULL_MAX_OCCLUDERS][16], ez[4][CULL_MAX_OCCLUDERS][16];
 };
-
-struct halfspace { struct vec3 a; float b; };  /* inside: dot(a, x) <= b */
-
-static void cull_tree_build(const struct scene *s, struct cull_tree *t)
-{
-    memset(t, 0, sizeof *t);
-    t->count[0] = s->triangle_count;
-    t->levels = 1;
-    while (t->count[t->levels - 1] > CULL_FANOUT && t->levels < CULL_MAX_LEVELS) {
-        const int l = t->levels++;
-        t->count[l] = (t->count[l - 1] + CULL_FANOUT - 1) / CULL_FANOUT;
-        t->boxes[l] = xmalloc(t->count[l] * sizeof(struct box));
-        for (size_t i = 0; i < t->count[l]; i++) {
-            struct box b = {v3(INFINITY, INFINITY, INFINITY), v3(-INFINITY, -INFINITY, -INFINITY)};
-            for (size_t c = i * CULL_FANOUT; c < t->count[l - 1] && c < (i + 1) * CULL_FANOUT; c++) {
-                if (l > 1) {
-                    b.lo = v3_min(b.lo, t->boxes[l - 1][c].lo), b.hi = v3_max(b.hi, t->boxes[l - 1][c].hi);
-                    continue;
-                }
-                for (int k = 0; k < 3; k++) {
-                    const float *p = &s->positions[3 * s->indices[3 * c + k]];
-                    b.lo = v3_min(b.lo, v3(p[0], p[1], p[2])), b.hi = v3_max(b.hi, v3(p[0], p[1], p[2]));
-                }
-            }
-            t->boxes[l][i] = b;
-        }
-    }
-}
-
-static void cull_tree_free(struct cull_tree *t)
-{
-    for (int l = 1; l < t->levels; l++)
-        free(t->boxes[l]);
-}
-
-static bool box_outside(const struct halfspace *h, const struct box *b)
-{
-    /* the corner deepest inside h */
-    struct vec3 c = v3(h->a.x > 0 ? b->lo.x : b->hi.x, h->a.y > 0 ? b->lo.y : b->hi.y,
-                       h->a.z > 0 ? b->lo.z : b->hi.z);
-    return v3_dot(h->a, c) > h->b;
-}
-
-/* Whether a triangle under node may block, or the test ran out of *budget
- * node visits (then: may, and the rays decide). */
-static bool may_block(const struct cull_tree *t, const struct scene *s, const struct halfspace h[6],
-                      int level, size_t node, int *budget)
-{
-    if (--*budget < 0)
-        return true;
-    if (level == 0) {
-        for (int p = 0; p < 6; p++) {
-            int out = 0;
-            for (int k = 0; k < 3; k++) {
-                const float *v = &s->positions[3 * s->indices[3 * node + k]];
-                out += v3_dot(h[p].a, v3(v[0], v[1], v[2])) > h[p].b;
-            }
-            if (out == 3)
-                return false;
-        }
-        return true;
-    }
-    for (int p = 0; p < 6; p++)
-        if (box_outside(&h[p], &t->boxes[level][node]))
-            return false;
-    for (size_t c = node * CULL_FANOUT; c < t->count[level - 1] && c < (node + 1) * CULL_FANOUT; c++)
-        if (may_block(t, s, h, level - 1, c, budget))
-            return true;
-    return false;
-}
-
-/* Whether nothing can block a shadow ray from o (tangent-plane normal n). */
-static bool clear_of_geometry(const struct cull_tree *t, const struct scene *s, struct vec3 o, struct vec3 n)
-{
-    const struct scene_light *L = &s->light;
-    if (v3_dot(L->z, v3_sub(o, L->pos)) >= 0.0f)  /* behind the one-sided light: no sample */
-        return false;
-    const float hx = L->shape == LIGHT_RECT ? 0.5f * L->width : L->radius;
-    const float hy = L->shape == LIGHT_RECT ? 0.5f * L->height : L->radius;
-    struct vec3 c[4];
-    for (int i = 0; i < 4; i++)
-        c[i] = v3_add(L->pos, v3_add(v3_scale(L->x, (i == 1 || i == 2) ? hx : -hx),
-                                     v3_scale(L->y, i >= 2 ? hy : -hy)));
-    struct halfspace h[6] = {{v3_scale(n, -1.0f), -v3_dot(n, o)}, {L->z, v3_dot(L->z, L->pos)}};
-    for (int i = 0; i < 4; i++) {  /* the side through o and the light's edge c[i] c[i+1] */
-        struct vec3 m = v3_cross(v3_sub(c[i], o), v3_sub(c[(i + 1) % 4], o));
-        if (v3_dot(m, v3_sub(c[(i + 2) % 4], o)) < 0.0f)
-            m = v3_scale(m, -1.0f);  /* inward */
-        h[2 + i] = (struct halfspace){v3_scale(m, -1.0f), -v3_dot(m, o)};
-    }
-    const int top = t->levels - 1;
-    int budget = CULL_BUDGET;
-    for (size_t i = 0; i < t->count[top]; i++)
-        if (may_block(t, s, h, top, i, &budget))
-            return false;
-    return true;
-}
 
 struct tracer {
     const struct scene *scene;
     const struct light_frustum *frustum;
     struct gt_desc desc;
     RTCScene rtc;
-    struct cull_tree cull;
+    struct cull *cull;
     float eps;
     int strata;  /* n, with N = n * n */
 };
@@ -281,7 +175,7 @@ static struct vec3 camera_dir(const struct scene_camera *c, int x, int y, int w,
  * lane loops run 8 floats wide where the CPU can. */
 __attribute__((target_clones("avx2", "default")))
 /* Returns the shadow rays traced; *samples: the light samples resolved
- * (above the horizon of a live pixel), traced or known clear. */
+ * (above the horizon of a live pixel), traced or decided without a ray. */
 static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_image *out,
                            long long *samples)
 {
@@ -315,7 +209,7 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
     /* Per-lane constants of the packet, structure-of-arrays. */
     float ox[16], oy[16], oz[16], nx[16], ny[16], nz[16];
     uint32_t lane_seed[16];
-    int live[16], clear[16] = {0};
+    int live[16];
     struct RTCRay16 ray;
     for (int i = 0; i < 16; i++) {
         live[i] = valid[i] && prim.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
@@ -348,18 +242,29 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
         ray.flags[i] = 0;
     }
 
-    /* A ray to the light's centre first: a pixel it cannot reach is not
-     * clear, and is spared the test (which costs most where it fails). */
-    _Alignas(64) int probe[16];
+    /* Per lane, the patches that can block its samples (cull.h), as
+     * structure of arrays; a lane short of the tile's most gets patches
+     * that never cross a segment (every sample on their positive side). */
+    struct lane_occluders occ;
+    int slots = 0, decides[16];
     for (int i = 0; i < 16; i++) {
-        probe[i] = live[i] ? -1 : 0;
-        ray.dir_x[i] = L->pos.x - ox[i], ray.dir_y[i] = L->pos.y - oy[i], ray.dir_z[i] = L->pos.z - oz[i];
-        ray.tfar[i] = 1.0f;
+        struct cull_occluder o[CULL_MAX_OCCLUDERS];
+        const int count = live[i] && !tr->desc.trace_all ? cull_occluders(tr->cull, v3(ox[i], oy[i], oz[i]), v3(nx[i], ny[i], nz[i]), o) : -1;
+        decides[i] = count >= 0;
+        for (int j = 0; j < CULL_MAX_OCCLUDERS; j++) {
+            const bool real = j < count;
+            occ.nx[j][i] = real ? o[j].n.x : 0.0f, occ.ny[j][i] = real ? o[j].n.y : 0.0f;
+            occ.nz[j][i] = real ? o[j].n.z : 0.0f, occ.d[j][i] = real ? o[j].d : -FLT_MAX;
+            occ.so[j][i] = real ? o[j].so : 1.0f, occ.inv_so[j][i] = real ? 1.0f / o[j].so : 1.0f;
+            for (int k = 0; k < 4; k++) {
+                occ.ex[k][j][i] = real ? o[j].edge[k].x : 0.0f;
+                occ.ey[k][j][i] = real ? o[j].edge[k].y : 0.0f;
+                occ.ez[k][j][i] = real ? o[j].edge[k].z : 0.0f;
+            }
+        }
+        slots = count > slots ? count : slots;
     }
-    rtcOccluded16(probe, tr->rtc, &ctx, &ray);
-    for (int i = 0; i < 16; i++)
-        clear[i] = live[i] && ray.tfar[i] >= 0.0f &&
-                   clear_of_geometry(&tr->cull, tr->scene, v3(ox[i], oy[i], oz[i]), v3(nx[i], ny[i], nz[i]));
+    const float margin = cull_margin(tr->cull);
 
     const int n = tr->strata;
     const float inv_n = 1.0f / (float)n;
@@ -368,7 +273,7 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
     const float lzx = L->z.x, lzy = L->z.y, lzz = L->z.z;
     /* Per lane: samples above the horizon and unblocked ones, in all and in
      * the checkerboard half A; the cos cos / r^2 weights of both. */
-    int above[16] = {0}, visible[16] = {0}, above_a[16] = {0}, visible_a[16] = {0}, ok_now[16];
+    int above[16] = {0}, visible[16] = {0}, above_a[16] = {0}, visible_a[16] = {0}, decided[16], open[16];
     float weight_vis[16] = {0}, weight_all[16] = {0};
     long long rays = 0;
     for (int k = 0; k < n * n; k++) {
@@ -384,6 +289,29 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
             v[i] = ((float)sv + (float)(h & 0xffffu) * (1.0f / 65536.0f)) * inv_n;
         }
         light_points(L, u, v, qx, qy, qz);
+        /* The patches' verdict on each lane's segment (cull.h): blocked when
+         * it crosses one inside; open when it misses them all; else traced. */
+        int blocked[16] = {0}, unsure[16] = {0};
+        for (int j = 0; j < slots; j++) {
+#pragma omp simd
+            for (int i = 0; i < 16; i++) {
+                float dx = qx[i] - ox[i], dy = qy[i] - oy[i], dz = qz[i] - oz[i];
+                float sq = occ.nx[j][i] * qx[i] + occ.ny[j][i] * qy[i] + occ.nz[j][i] * qz[i] - occ.d[j][i];
+                float so = occ.so[j][i];
+                int across = (so > 0.0f ? sq < -margin : sq > margin);
+                int on_plane = fabsf(sq) <= margin;
+                /* t e > margin  <=>  e > margin / t, 1 / t = 1 - sq / so */
+                float limit = margin * (1.0f - sq * occ.inv_so[j][i]);
+                int inside = 1, outside = 0;
+                for (int k = 0; k < 4; k++) {
+                    float e = occ.ex[k][j][i] * dx + occ.ey[k][j][i] * dy + occ.ez[k][j][i] * dz;
+                    inside &= e > limit;
+                    outside |= e < -limit;
+                }
+                blocked[i] |= across & inside;
+                unsure[i] |= on_plane | (across & !inside & !outside);
+            }
+        }
         int any = 0;
 #pragma omp simd reduction(+ : any)
         for (int i = 0; i < 16; i++) {
@@ -400,9 +328,10 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
             above_a[i] += ok & half_a;
             ray.dir_x[i] = dx, ray.dir_y[i] = dy, ray.dir_z[i] = dz;
             ray.tfar[i] = 1.0f;  /* the light itself is not geometry; rtcOccluded16 resets it */
-            ok_now[i] = ok;
-            active[i] = -(ok & !clear[i]);
-            any += ok & !clear[i];
+            decided[i] = decides[i] & (blocked[i] | !unsure[i]);
+            open[i] = ok & !blocked[i];
+            active[i] = -(ok & !decided[i]);
+            any += ok & !decided[i];
         }
         if (any) {
             rtcOccluded16(active, tr->rtc, &ctx, &ray);
@@ -411,7 +340,7 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
 #pragma omp simd
         for (int i = 0; i < 16; i++) {
             /* tfar = -inf when occluded */
-            int seen = clear[i] ? ok_now[i] : active[i] & (ray.tfar[i] >= 0.0f);
+            int seen = decided[i] ? open[i] : active[i] & (ray.tfar[i] >= 0.0f);
             visible[i] += seen;
             visible_a[i] += seen & half_a;
             weight_vis[i] += seen ? w_sample[i] : 0.0f;
@@ -493,7 +422,10 @@ int gt_render(const struct scene *s, const struct light_frustum *f, const struct
     RTCDevice dev = embree_device();
     if (!dev || !(tr.rtc = build_scene(dev, s)))
         return -1;
-    cull_tree_build(s, &tr.cull);
+    if (!(tr.cull = cull_build(dev, s))) {
+        rtcReleaseScene(tr.rtc);
+        return -1;
+    }
 
     const int w = tr.desc.width, h = tr.desc.height;
     memset(out, 0, sizeof *out);
@@ -536,7 +468,7 @@ int gt_render(const struct scene *s, const struct light_frustum *f, const struct
     out->samples = atomic_load(&samples);
     out->msamples_per_second = out->seconds > 0 ? (double)out->samples / out->seconds * 1e-6 : 0;
     rtcReleaseScene(tr.rtc);
-    cull_tree_free(&tr.cull);
+    cull_free(tr.cull);
     return 0;
 }
 
@@ -625,8 +557,8 @@ int gt_obtain(const struct scene *s, const struct light_frustum *f, const struct
                  d.samples);
         rc = gt_render(s, f, &d, out);
         if (rc == 0) {
-            log_info("ground truth %s: %.1f M light samples (%.1f M rays traced, the rest known "
-                     "clear) in %.2f s = %.1f M samples/s", s->name, (double)out->samples * 1e-6,
+            log_info("ground truth %s: %.1f M light samples (%.1f M traced, the rest decided "
+                     "without a ray) in %.2f s = %.1f M samples/s", s->name, (double)out->samples * 1e-6,
                      (double)out->shadow_rays * 1e-6, out->seconds, out->msamples_per_second);
             struct exr_channel ch[GT_CACHE_CHANNELS];
             cache_channels(out, ch);

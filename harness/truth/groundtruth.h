@@ -28,6 +28,8 @@ struct gt_desc {
     int width, height;  /* pixels */
     int samples;        /* N light samples per pixel, a square n*n, default GT_DEFAULT_SAMPLES */
     uint32_t seed;      /* default 1 */
+    bool trace_all;     /* trace every sample, none decided by cull.h: the same pixels, slower
+                           (the tests compare the two) */
 };
 
 /* A scored pixel sees at least this fraction of the light above its
@@ -49,7 +51,7 @@ struct gt_image {
     bool cached;        /* gt_obtain found it in the cache */
     double seconds, msamples_per_second;
     long long samples;      /* light samples resolved: above the horizon of a live pixel */
-    long long shadow_rays;  /* of them, traced (the rest were known clear) */
+    long long shadow_rays;  /* of them, traced (the rest were decided without a ray, cull.h) */
 };
 
 /* Renders on all cores, with progress on stderr when it is a terminal.
