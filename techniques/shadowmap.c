@@ -24,8 +24,6 @@ struct product_kind {
     int (*create)(struct shadowmap *sm, struct shadowmap_product *p);
     void (*render)(struct shadowmap *sm, struct shadowmap_product *p, const struct scene_mesh *mesh,
                    const struct shadowmap_request *r);
-    /* Optional, for a product with options: do a and b ask for the same? */
-    bool (*same)(const struct shadowmap_request *a, const struct shadowmap_request *b);
     /* Optional: 0, or -1 (logged) when r's options are beyond the product. */
     int (*check)(const struct shadowmap_request *r);
 };
@@ -193,11 +191,6 @@ static int moments_check(const struct shadowmap_request *r)
     return -1;
 }
 
-static bool moments_same(const struct shadowmap_request *a, const struct shadowmap_request *b)
-{
-    return a->moments.blur_radius_texels == b->moments.blur_radius_texels;
-}
-
 static void blur_pass(struct shadowmap *sm, GLuint fbo, GLuint program, GLuint source,
                       int dx, int dy, int radius, const float *weights)
 {
@@ -248,13 +241,6 @@ static int sat_create(struct shadowmap *sm, struct shadowmap_product *p)
     p->programs[0] = pass_program("SAT rows", "#define SAT_PASS_ROWS 1\n", "sat_build.comp", NULL);
     p->programs[1] = pass_program("SAT columns", "#define SAT_PASS_ROWS 0\n", "sat_build.comp", NULL);
     return p->programs[0] && p->programs[1] ? 0 : -1;
-}
-
-static bool sat_same(const struct shadowmap_request *a, const struct shadowmap_request *b)
-{
-    return a->moments_sat.format == b->moments_sat.format &&
-           (a->moments_sat.format != SAT_INT32 ||
-            a->moments_sat.max_box_texels == b->moments_sat.max_box_texels);
 }
 
 /* The SAT_INT32 fixed-point scale (units per 1.0 of depth) and the widest
@@ -317,12 +303,12 @@ static const struct product_kind kinds[SM_PRODUCT_COUNT] = {
     [SM_PRODUCT_MOMENTS] = {
         .format = GL_RG32F, .mipmapped = true,
         .binding = 2,
-        .create = moments_create, .render = moments_render, .same = moments_same,
+        .create = moments_create, .render = moments_render,
         .check = moments_check,
     },
     [SM_PRODUCT_MOMENTS_SAT] = {
         .binding = 0,
-        .create = sat_create, .render = sat_render, .same = sat_same,
+        .create = sat_create, .render = sat_render,
     },
 };
 
@@ -424,23 +410,6 @@ void shadowmap_render_product(struct shadowmap *sm, const struct scene_mesh *mes
                               const struct shadowmap_request *r)
 {
     kinds[p].render(sm, &sm->products[p], mesh, r);
-    sm->products[p].current = true;
-    sm->products[p].made = *r;
-}
-
-bool shadowmap_same_product(int p, const struct shadowmap_request *a,
-                            const struct shadowmap_request *b)
-{
-    return !kinds[p].same || kinds[p].same(a, b);
-}
-
-void shadowmap_require(struct shadowmap *sm, const struct scene_mesh *mesh,
-                       const struct shadowmap_request *r)
-{
-    for (int p = 0; p < SM_PRODUCT_COUNT; p++)
-        if ((r->products & (1u << p)) &&
-            !(sm->products[p].current && shadowmap_same_product(p, &sm->products[p].made, r)))
-            shadowmap_render_product(sm, mesh, p, r);
 }
 
 void shadowmap_bind(const struct shadowmap *sm)

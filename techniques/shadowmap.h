@@ -67,8 +67,6 @@ struct shadowmap_product {
     GLuint framebuffers[2];
     GLuint programs[2];
     bool created;                   /* the objects above exist (shadowmap_prepare) */
-    bool current;                   /* rendered for this light pose ... */
-    struct shadowmap_request made;  /* ... with these options */
 };
 
 struct shadowmap {
@@ -101,15 +99,6 @@ int shadowmap_prepare(struct shadowmap *sm, const struct shadowmap_request *r);
  * harness times this call); the products past depth read the current depth. */
 void shadowmap_render_product(struct shadowmap *sm, const struct scene_mesh *mesh, int p,
                               const struct shadowmap_request *r);
-
-/* Do requests a and b ask for the same product p (the same options)? */
-bool shadowmap_same_product(int p, const struct shadowmap_request *a,
-                            const struct shadowmap_request *b);
-
-/* Makes every product of r current with r's options, rendering only what
- * is missing or was made with other options. Needs shadowmap_prepare(r). */
-void shadowmap_require(struct shadowmap *sm, const struct scene_mesh *mesh,
-                       const struct shadowmap_request *r);
 
 /* Binds the uniform block and every product to the bindings the shaders
  * name (SM_BINDING_*). */

@@ -53,7 +53,9 @@ static uint32_t *build_sat(struct shadowmap *sm, const struct scene_mesh *mesh, 
     struct shadowmap_request r = {.products = SM_DEPTH | SM_MOMENTS_SAT,
                                   .moments_sat = {.format = f, .max_box_texels = MAX_BOX}};
     CHECK(shadowmap_prepare(sm, &r) == 0, "SAT resources");
-    shadowmap_require(sm, mesh, &r);
+    for (int p = 0; p < SM_PRODUCT_COUNT; p++)
+        if (r.products & (1u << p))
+            shadowmap_render_product(sm, mesh, p, &r);
     uint32_t *sat = xmalloc(sizeof(uint32_t) * 2 * STRIDE * STRIDE);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, sm->products[SM_PRODUCT_MOMENTS_SAT].buffer);
     glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof(uint32_t) * 2 * STRIDE * STRIDE, sat);
