@@ -205,10 +205,11 @@ static void check_convex_sphere(void)
 }
 
 /* Deciding samples without rays (cull.h) changes no pixel: every shipped
- * scene and a hostile one (a tilted plate: oblique, not exactly coplanar in
+ * scene and hostile ones (a tilted plate: oblique, not exactly coplanar in
  * float, so its two triangles are two patches; plates whose planes pass
- * through the light; a non-convex pair of coplanar triangles), rendered
- * with and without it, bit for bit. And it is used: on parallel_planes (a plate over a floor) almost
+ * through the light; a non-convex pair of coplanar triangles; the same far
+ * from the origin; a dust of tiny triangles seen edge-on), rendered with and
+ * without it, bit for bit. And it is used: on parallel_planes (a plate over a floor) almost
  * no sample needs a ray (0.04 % at 512^2; under 2 % here, where a pixel is
  * 4x wider and more pixels straddle the plate's edge). */
 static void compare_decided(const char *path, double *traced_share)
@@ -234,6 +235,67 @@ static void compare_decided(const char *path, double *traced_share)
     scene_free(&s);
 }
 
+/* A floor; a plate tilted about an oblique axis; four plates hanging from
+ * just under the light whose planes cut off its corners (|x| + |z| = 0.9,
+ * the corners at |x| = |z| = 0.6 beyond them); a dart: two coplanar
+ * triangles sharing the edge b-d whose union is not convex (not one patch).
+ * Everything moved by `at`. */
+static char *write_hostile(const char *name, struct vec3 at)
+{
+    struct mesh_builder m = {0};
+    mesh_add_quad(&m, v3_add(at, v3(-4, 0, -4)), v3(0, 0, 8), v3(8, 0, 0));
+    const struct vec3 u = v3_normalize(v3(0.9f, 0.35f, 0.2f)), w = v3_normalize(v3_cross(u, v3(0.1f, 0.2f, 1.0f)));
+    mesh_add_quad(&m, v3_add(at, v3(-1.2f, 1.1f, -0.6f)), v3_scale(u, 1.3f), v3_scale(w, 1.1f));
+    for (int sx = -1; sx <= 1; sx += 2)
+        for (int sz = -1; sz <= 1; sz += 2)
+            mesh_add_quad(&m, v3_add(at, v3(1.95f * sx, 1.0f, -1.05f * sz)), v3(0, 1.9f, 0),
+                          v3(-3.0f * sx, 0, 3.0f * sz));
+    const uint32_t a = mesh_add_vertex(&m, v3_add(at, v3(-1.6f, 1.5f, -0.2f))),
+                   b = mesh_add_vertex(&m, v3_add(at, v3(-0.2f, 1.5f, 0.5f))),
+                   c = mesh_add_vertex(&m, v3_add(at, v3(-1.6f, 1.5f, 1.2f))),
+                   d = mesh_add_vertex(&m, v3_add(at, v3(-1.0f, 1.5f, 0.5f)));
+    const uint32_t dart[6] = {a, b, d, d, b, c};
+    for (int i = 0; i < 6; i++)
+        mesh_add_index(&m, dart[i]);
+    const struct gltf_scene_desc desc = {
+        .description = "a tilted plate, plates cutting the light's corners, a dart", .shows = "",
+        .camera_pos = v3_add(at, v3(0.0f, 4.0f, 4.0f)), .camera_target = at,
+        .camera_yfov_rad = 0.9f, .camera_znear = 0.1f,
+        .light_pos = v3_add(at, v3(0.0f, 3.0f, 0.0f)), .light_target = at,
+        .light_width = 1.2f, .light_height = 1.2f,
+    };
+    return write_scene(name, &m, &desc);
+}
+
+/* Dust: 400 randomly oriented triangles with 1 mm sides between a floor and
+ * a small light, many of them seen edge-on from the floor (their edge
+ * planes through a floor point are nearly degenerate). */
+static char *write_dust(void)
+{
+    struct mesh_builder m = {0};
+    mesh_add_quad(&m, v3(-0.5f, 0, -0.5f), v3(0, 0, 1), v3(1, 0, 0));
+    uint32_t state = 12345;
+    float r[9];
+    for (int i = 0; i < 400; i++) {
+        for (int k = 0; k < 9; k++) {  /* a small LCG: the same dust everywhere */
+            state = state * 1664525u + 1013904223u;
+            r[k] = (float)(state >> 8) / 16777216.0f - 0.5f;
+        }
+        const struct vec3 c = v3(r[0], 1.5f + 0.4f * r[1], r[2]);
+        const struct vec3 a = v3_normalize(v3(r[3], r[4], r[5]));
+        const struct vec3 b = v3_normalize(v3_cross(a, v3(r[6], r[7], r[8])));
+        mesh_add_triangle(&m, c, v3_add(c, v3_scale(a, 1e-3f)), v3_add(c, v3_scale(v3_add(a, b), 0.6e-3f)));
+    }
+    const struct gltf_scene_desc desc = {
+        .description = "dust", .shows = "",
+        .camera_pos = v3(0.0f, 2.0f, 0.001f), .camera_target = v3(0, 0, 0),
+        .camera_yfov_rad = 0.5f, .camera_znear = 0.01f,
+        .light_pos = v3(0.0f, 3.0f, 0.0f), .light_target = v3(0, 0, 0),
+        .light_width = 0.2f, .light_height = 0.2f,
+    };
+    return write_scene("cull_dust", &m, &desc);
+}
+
 static void check_decided_exactly(void)
 {
     char **paths;
@@ -248,35 +310,15 @@ static void check_decided_exactly(void)
                   100.0 * share);
     }
     catalog_free(paths, count);
-
-    /* A floor; a plate tilted about an oblique axis; four plates hanging
-     * from just under the light whose planes cut off its corners (|x| +
-     * |z| = 0.9, the corners at |x| = |z| = 0.6 beyond them); a dart. */
-    struct mesh_builder m = {0};
-    mesh_add_quad(&m, v3(-4, 0, -4), v3(0, 0, 8), v3(8, 0, 0));
-    const struct vec3 u = v3_normalize(v3(0.9f, 0.35f, 0.2f)), w = v3_normalize(v3_cross(u, v3(0.1f, 0.2f, 1.0f)));
-    mesh_add_quad(&m, v3(-1.2f, 1.1f, -0.6f), v3_scale(u, 1.3f), v3_scale(w, 1.1f));
-    for (int sx = -1; sx <= 1; sx += 2)
-        for (int sz = -1; sz <= 1; sz += 2)
-            mesh_add_quad(&m, v3(1.95f * sx, 1.0f, -1.05f * sz), v3(0, 1.9f, 0), v3(-3.0f * sx, 0, 3.0f * sz));
-    /* A dart: two coplanar triangles sharing the edge b-d whose union is
-     * not convex (not one patch). */
-    const uint32_t a = mesh_add_vertex(&m, v3(-1.6f, 1.5f, -0.2f)), b = mesh_add_vertex(&m, v3(-0.2f, 1.5f, 0.5f)),
-                   c = mesh_add_vertex(&m, v3(-1.6f, 1.5f, 1.2f)), dd = mesh_add_vertex(&m, v3(-1.0f, 1.5f, 0.5f));
-    const uint32_t dart[6] = {a, b, dd, dd, b, c};
-    for (int i = 0; i < 6; i++)
-        mesh_add_index(&m, dart[i]);
-    const struct gltf_scene_desc d = {
-        .description = "a tilted plate, plates cutting the light's corners, a dart", .shows = "",
-        .camera_pos = v3(0.0f, 4.0f, 4.0f), .camera_target = v3(0, 0, 0),
-        .camera_yfov_rad = 0.9f, .camera_znear = 0.1f,
-        .light_pos = v3(0.0f, 3.0f, 0.0f), .light_target = v3(0, 0, 0),
-        .light_width = 1.2f, .light_height = 1.2f,
-    };
-    char *path = write_scene("cull_hostile", &m, &d);
-    compare_decided(path, &share);
-    unlink(path);
-    free(path);
+    /* Hostile: the scene above, and moved 3000 units away from the origin
+     * (coordinates round 256x coarser there); the dust. */
+    char *hostile[3] = {write_hostile("cull_hostile", v3(0, 0, 0)),
+                        write_hostile("cull_far", v3(3000.0f, 3000.0f, 3000.0f)), write_dust()};
+    for (int i = 0; i < 3; i++) {
+        compare_decided(hostile[i], &share);
+        unlink(hostile[i]);
+        free(hostile[i]);
+    }
 }
 
 /* A cache entry records its own key: a valid entry of another scene copied

@@ -17,6 +17,7 @@
 #include "base/log.h"
 #include "base/util.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stdlib.h>
@@ -29,11 +30,13 @@
 #define CULL_LEAF_MAX 4
 #define CULL_WIDTH 4
 #define CULL_MAX_DEPTH 64
-/* Distances below this fraction of the scene's extent count as on the
- * plane: some 30 float roundings of a coordinate, and 1/25 of the shadow
- * rays' origin offset (GT_OFFSET_SCALE), so the surface under o is still
- * ruled out. */
+/* Distances below the margin count as on the plane: this fraction of the
+ * scene's extent (1/25 of the shadow rays' origin offset, GT_OFFSET_SCALE,
+ * so the surface under o is still ruled out), and at least CULL_ROUNDING
+ * times the largest coordinate: 32 roundings of it, above the error of the
+ * dot products and cross products the tests take. */
 #define CULL_MARGIN_SCALE 4e-6f
+#define CULL_ROUNDING (32.0f * FLT_EPSILON)
 
 struct box { struct vec3 lo, hi; };
 
@@ -58,13 +61,15 @@ struct triangle {
 
 /* A convex polygon, its corners in order round it. */
 struct patch {
-    int count;  /* 3 or 4; 0: a degenerate triangle */
+    int count;    /* 3 or 4; 0: a degenerate triangle */
+    int winding;  /* +1: the corners go anticlockwise about plane.n, -1: clockwise */
     struct plane plane;
     struct vec3 v[4];
 };
 
 struct cull {
     struct vec3 corner[4];  /* the light, or the square round the disk, in order */
+    int light_winding;      /* +1: the corners go anticlockwise about the light's z */
     struct plane light;     /* n = the light's z: the emitting side is negative */
     float margin;
     struct triangle *tris;
@@ -164,33 +169,33 @@ static int edge_order(const void *a, const void *b)
     return x->tri < y->tri ? -1 : x->tri > y->tri;
 }
 
-static struct patch make_patch(const struct vec3 *v, int count, struct plane plane)
+static struct patch make_patch(const struct vec3 *v, int count, int winding, struct plane plane)
 {
-    struct patch p = {.count = count, .plane = plane};
+    struct patch p = {.count = count, .winding = winding, .plane = plane};
     for (int i = 0; i < count; i++)
         p.v[i] = v[i];
     return p;
 }
 
-/* Whether the quad a b c d (in order round it) is strictly convex in the
- * plane with normal n: every corner turns the same way. */
-static bool convex_quad(const struct vec3 q[4], struct vec3 n)
+/* The winding about n of the quad q (corners in order round it) where it is
+ * strictly convex (every corner turns the same way): +1 or -1; else 0. */
+static int convex_quad(const struct vec3 q[4], struct vec3 n)
 {
     int positive = 0;
     for (int i = 0; i < 4; i++) {
         struct vec3 e0 = v3_sub(q[(i + 1) % 4], q[i]), e1 = v3_sub(q[(i + 2) % 4], q[(i + 1) % 4]);
         float turn = v3_dot(v3_cross(e0, e1), n);
         if (turn == 0.0f)
-            return false;
+            return 0;
         positive += turn > 0.0f;
     }
-    return positive == 0 || positive == 4;
+    return positive == 4 ? 1 : positive == 0 ? -1 : 0;
 }
 
 /* Two triangles sharing an edge merge into a quad where the quad is convex
- * and its fourth corner lies on the first triangle's plane to float
- * precision (signed distance exactly 0: axis-aligned plates and box faces),
- * so the patch is the union of the two, exactly. */
+ * and the fourth corner's computed distance from the first triangle's plane
+ * is 0 (axis-aligned plates and box faces): the patch is their union up to
+ * float rounding, which the margin covers. */
 static void build_patches(const struct scene *s, struct cull *c)
 {
     const size_t count = s->triangle_count;
@@ -198,7 +203,7 @@ static void build_patches(const struct scene *s, struct cull *c)
         c->patch_of[i] = (unsigned)i;
         c->patches[i] = c->tris[i].plane.n.x == 0 && c->tris[i].plane.n.y == 0 && c->tris[i].plane.n.z == 0
                             ? (struct patch){0}
-                            : make_patch(c->tris[i].v, 3, c->tris[i].plane);
+                            : make_patch(c->tris[i].v, 3, 1, c->tris[i].plane);
     }
 
     struct edge *edges = xmalloc(3 * count * sizeof *edges);
@@ -213,7 +218,7 @@ static void build_patches(const struct scene *s, struct cull *c)
     for (size_t e = 0; e + 1 < 3 * count; e++) {
         const struct edge *x = &edges[e], *y = &edges[e + 1];
         /* exactly two triangles on the edge, neither merged yet */
-        if (x->lo != y->lo || x->hi != y->hi || x->tri == y->tri || merged[x->tri] || merged[y->tri])
+        if (x->lo != y->lo || x->hi != y->hi || merged[x->tri] || merged[y->tri])
             continue;
         if (e + 2 < 3 * count && edges[e + 2].lo == x->lo && edges[e + 2].hi == x->hi)
             continue;
@@ -227,10 +232,11 @@ static void build_patches(const struct scene *s, struct cull *c)
                             v3(P[3 * x->lo], P[3 * x->lo + 1], P[3 * x->lo + 2]),
                             v3(P[3 * y->apex], P[3 * y->apex + 1], P[3 * y->apex + 2]),
                             v3(P[3 * x->hi], P[3 * x->hi + 1], P[3 * x->hi + 2])};
-        if (signed_distance(&px->plane, q[2]) != 0.0f || !convex_quad(q, px->plane.n))
+        const int winding = convex_quad(q, px->plane.n);
+        if (signed_distance(&px->plane, q[2]) != 0.0f || !winding)
             continue;
         const unsigned lo = x->tri < y->tri ? x->tri : y->tri;
-        c->patches[lo] = make_patch(q, 4, px->plane);
+        c->patches[lo] = make_patch(q, 4, winding, px->plane);
         c->patch_of[x->tri] = c->patch_of[y->tri] = lo;
         merged[x->tri] = merged[y->tri] = true;
     }
@@ -248,7 +254,16 @@ struct cull *cull_build(RTCDevice dev, const struct scene *s)
         c->corner[i] = v3_add(L->pos, v3_add(v3_scale(L->x, (i == 1 || i == 2) ? hx : -hx),
                                              v3_scale(L->y, i >= 2 ? hy : -hy)));
     c->light = plane_through(L->z, L->pos);
-    c->margin = CULL_MARGIN_SCALE * scene_extent(s);
+    c->light_winding = v3_dot(v3_cross(v3_sub(c->corner[1], c->corner[0]), v3_sub(c->corner[2], c->corner[1])),
+                              L->z) > 0.0f ? 1 : -1;
+    /* Above the rounding of the coordinates as they are (a scene far from
+     * the origin rounds coarser than its size suggests). */
+    float largest = 0.0f;
+    for (size_t i = 0; i < 3 * s->vertex_count; i++)
+        largest = fmaxf(largest, fabsf(s->positions[i]));
+    for (int i = 0; i < 4; i++)
+        largest = fmaxf(largest, fmaxf(fabsf(c->corner[i].x), fmaxf(fabsf(c->corner[i].y), fabsf(c->corner[i].z))));
+    c->margin = fmaxf(CULL_MARGIN_SCALE * scene_extent(s), CULL_ROUNDING * largest);
 
     const size_t count = s->triangle_count;
     c->tris = xmalloc(count * sizeof *c->tris);
@@ -331,20 +346,22 @@ static bool triangle_ruled_out(const struct cull *c, const struct pyramid *py, c
 }
 
 /* Patch p set up for segments from o; false where o lies within the margin
- * of its plane (too close to decide). */
+ * of its plane (too close to decide). Each edge plane contains the edge's
+ * own vector and is oriented by the patch's winding and o's side, never by a
+ * nearly-zero dot product (a patch seen edge-on). With d the edge and n the
+ * plane's normal, cross(d, o - v) . (inward in-plane direction) = -winding
+ * |d|^2 (n . (o - v)): the sign follows. */
 static bool make_occluder(const struct cull *c, const struct patch *p, struct vec3 o, struct cull_occluder *out)
 {
     const float so = signed_distance(&p->plane, o);
     if (fabsf(so) <= c->margin)
         return false;
     *out = (struct cull_occluder){.n = p->plane.n, .d = p->plane.d, .so = so};
-    struct vec3 centre = v3(0, 0, 0);
-    for (int k = 0; k < p->count; k++)
-        centre = v3_add(centre, v3_scale(p->v[k], 1.0f / (float)p->count));
+    const float sign = (float)-p->winding * (so > 0.0f ? 1.0f : -1.0f);
     for (int k = 0; k < 4; k++) {  /* a triangle's third edge twice */
         const int a = k < p->count ? k : p->count - 1;
-        struct vec3 e = v3_normalize(v3_cross(v3_sub(p->v[a], o), v3_sub(p->v[(a + 1) % p->count], o)));
-        out->edge[k] = v3_dot(e, v3_sub(centre, o)) < 0.0f ? v3_scale(e, -1.0f) : e;
+        const struct vec3 va = p->v[a], edge = v3_sub(p->v[(a + 1) % p->count], va);
+        out->edge[k] = v3_scale(v3_normalize(v3_cross(edge, v3_sub(o, va))), sign);
     }
     return true;
 }
@@ -358,11 +375,14 @@ int cull_occluders(const struct cull *c, struct vec3 o, struct vec3 n, struct cu
     struct pyramid py = {.o = o};
     py.side[0] = plane_through(v3_scale(n, -1.0f), o);  /* above the tangent plane */
     py.side[1] = c->light;
-    for (int i = 0; i < 4; i++) {  /* through o and the light's edge corner[i] corner[i+1] */
-        struct vec3 m = v3_normalize(v3_cross(v3_sub(c->corner[i], o), v3_sub(c->corner[(i + 1) % 4], o)));
-        if (v3_dot(m, v3_sub(c->corner[(i + 2) % 4], o)) > 0.0f)
-            m = v3_scale(m, -1.0f);  /* outward */
-        py.side[2 + i] = plane_through(m, o);
+    /* Through o and the light's edge corner[i] corner[i+1], outward: o is in
+     * front of the light (its signed distance negative), so by
+     * make_occluder's identity cross(edge, o - corner) points inwards where
+     * the corners go anticlockwise. */
+    for (int i = 0; i < 4; i++) {
+        const struct vec3 edge = v3_sub(c->corner[(i + 1) % 4], c->corner[i]);
+        const struct vec3 inward = v3_normalize(v3_cross(edge, v3_sub(o, c->corner[i])));
+        py.side[2 + i] = plane_through(v3_scale(inward, (float)-c->light_winding), o);
     }
 
     unsigned patch[CULL_MAX_OCCLUDERS];
@@ -397,8 +417,11 @@ int cull_occluders(const struct cull *c, struct vec3 o, struct vec3 n, struct cu
             bool outside = false;
             for (int p = 0; p < 6 && !outside; p++)
                 outside = box_outside(&py.side[p], &node->box[i], c->margin);
-            if (!outside)
-                stack[top++] = node->child[i];
+            if (outside)
+                continue;
+            if (top == CULL_MAX_DEPTH * CULL_WIDTH)  /* deeper than the builder was asked for */
+                return -1;
+            stack[top++] = node->child[i];
         }
     }
     return count;

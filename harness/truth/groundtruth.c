@@ -246,11 +246,13 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
      * structure of arrays; a lane short of the tile's most gets patches
      * that never cross a segment (every sample on their positive side). */
     struct lane_occluders occ;
-    int slots = 0, decides[16];
+    int slots = 0, known[16];
     for (int i = 0; i < 16; i++) {
         struct cull_occluder o[CULL_MAX_OCCLUDERS];
-        const int count = live[i] && !tr->desc.trace_all ? cull_occluders(tr->cull, v3(ox[i], oy[i], oz[i]), v3(nx[i], ny[i], nz[i]), o) : -1;
-        decides[i] = count >= 0;
+        const int count = live[i] && !tr->desc.trace_all
+                              ? cull_occluders(tr->cull, v3(ox[i], oy[i], oz[i]), v3(nx[i], ny[i], nz[i]), o)
+                              : -1;
+        known[i] = count >= 0;  /* its occluders are known: samples can be decided */
         for (int j = 0; j < CULL_MAX_OCCLUDERS; j++) {
             const bool real = j < count;
             occ.nx[j][i] = real ? o[j].n.x : 0.0f, occ.ny[j][i] = real ? o[j].n.y : 0.0f;
@@ -328,7 +330,7 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
             above_a[i] += ok & half_a;
             ray.dir_x[i] = dx, ray.dir_y[i] = dy, ray.dir_z[i] = dz;
             ray.tfar[i] = 1.0f;  /* the light itself is not geometry; rtcOccluded16 resets it */
-            decided[i] = decides[i] & (blocked[i] | !unsure[i]);
+            decided[i] = known[i] & (blocked[i] | !unsure[i]);
             open[i] = ok & !blocked[i];
             active[i] = -(ok & !decided[i]);
             any += ok & !decided[i];
