@@ -3,6 +3,7 @@
 #include "util.h"
 
 #include <OpenEXR/openexr.h>
+#include <png.h>
 #include <stb_image_write.h>
 
 #include <errno.h>
@@ -177,6 +178,50 @@ int image_write_png(const char *path, int width, int height, int comps, const ui
     int rc = util_write_file_atomic(path, png.data, png.len);
     strbuf_free(&png);
     return rc ? -1 : 0;
+}
+
+int image_write_png16(const char *path, int width, int height, const uint16_t *pixels)
+{
+    png_image im = {.version = PNG_IMAGE_VERSION, .width = (png_uint_32)width,
+                    .height = (png_uint_32)height, .format = PNG_FORMAT_LINEAR_Y};
+    png_alloc_size_t size = 0;
+    /* Twice: the size first, then the bytes. */
+    if (!png_image_write_to_memory(&im, NULL, &size, 0, pixels, 0, NULL)) {
+        log_error("%s: PNG encoding failed: %s", path, im.message);
+        return -1;
+    }
+    void *png = xmalloc(size);
+    int rc = png_image_write_to_memory(&im, png, &size, 0, pixels, 0, NULL)
+                 ? util_write_file_atomic(path, png, size)
+                 : (log_error("%s: PNG encoding failed: %s", path, im.message), -1);
+    free(png);
+    return rc ? -1 : 0;
+}
+
+int image_read_png16(const char *path, int width, int height, uint16_t **pixels)
+{
+    *pixels = NULL;
+    if (!util_file_exists(path))
+        return -ENOENT;
+    png_image im = {.version = PNG_IMAGE_VERSION};
+    if (!png_image_begin_read_from_file(&im, path)) {
+        log_error("%s: not a readable PNG: %s", path, im.message);
+        return -1;
+    }
+    if ((int)im.width != width || (int)im.height != height) {
+        log_error("%s: %ux%u pixels, expected %dx%d", path, im.width, im.height, width, height);
+        png_image_free(&im);
+        return -1;
+    }
+    im.format = PNG_FORMAT_LINEAR_Y;
+    *pixels = xmalloc((size_t)width * (size_t)height * sizeof **pixels);
+    if (!png_image_finish_read(&im, NULL, *pixels, 0, NULL)) {
+        log_error("%s: not a readable PNG: %s", path, im.message);
+        free(*pixels);
+        *pixels = NULL;
+        return -1;
+    }
+    return 0;
 }
 
 uint8_t image_srgb8(float v)

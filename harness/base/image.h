@@ -1,5 +1,5 @@
 /* Image files: float EXR through the OpenEXR C API, 8-bit PNG through
- * stb_image_write. Rows are top row first (DESIGN.md §8). Every write is
+ * stb_image_write, 16-bit grey PNG through libpng's simplified API. Rows are top row first (DESIGN.md §8). Every write is
  * atomic: a temporary file renamed into place. */
 #ifndef SB_IMAGE_H
 #define SB_IMAGE_H
@@ -26,6 +26,15 @@ int image_read_exr(const char *path, int width, int height, struct exr_channel *
 
 /* Writes 8-bit pixels (comps 1, 3 or 4), top row first. Returns 0 or -1. */
 int image_write_png(const char *path, int width, int height, int comps, const uint8_t *pixels);
+
+/* 16-bit grey PNG, linear (no transfer curve), top row first. Returns 0 or
+ * -1 (logged). */
+int image_write_png16(const char *path, int width, int height, const uint16_t *pixels);
+
+/* Reads a 16-bit grey PNG of exactly width x height into a newly malloc'ed
+ * *pixels. Returns 0, -ENOENT if the file does not exist (not logged), or
+ * -1 (logged) if it is unreadable or has another size. */
+int image_read_png16(const char *path, int width, int height, uint16_t **pixels);
 
 /* Linear [0,1] -> 8-bit sRGB. */
 uint8_t image_srgb8(float linear);

@@ -4,6 +4,9 @@
 #include <stdio.h>
 
 static enum log_level max_level = LOG_INFO;
+static const char *context;
+
+void log_set_context(const char *c) { context = c; }
 
 void log_set_level(enum log_level level) { max_level = level; }
 enum log_level log_get_level(void) { return max_level; }
@@ -22,5 +25,6 @@ void log_msg(enum log_level level, const char *fmt, ...)
     vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
     /* One fprintf per message so lines from OpenMP threads never interleave. */
-    fprintf(stderr, "shadowbench: %s%s\n", prefix[level], line);
+    fprintf(stderr, "shadowbench: %s%s%s%s\n", prefix[level], context ? context : "", context ? ": " : "",
+            line);
 }

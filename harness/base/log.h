@@ -11,6 +11,11 @@ void log_msg(enum log_level level, const char *fmt, ...)
 void log_set_level(enum log_level max_level);
 enum log_level log_get_level(void);
 
+/* While context is not NULL, every message starts with "<context>: " (e.g.
+ * the file whose contents are being checked by code that does not know
+ * it). The string must outlive its use; NULL ends it. */
+void log_set_context(const char *context);
+
 #define log_error(...) log_msg(LOG_ERROR, __VA_ARGS__)
 #define log_warn(...)  log_msg(LOG_WARN, __VA_ARGS__)
 #define log_info(...)  log_msg(LOG_INFO, __VA_ARGS__)

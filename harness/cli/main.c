@@ -1,6 +1,7 @@
 /* shadowbench: measures real-time shadow techniques against a ray-traced
  * area-light ground truth. This file is the command line only. */
 #include "bench.h"
+#include "check.h"
 #include "catalog.h"
 #include "run.h"
 #include "sweep.h"
@@ -34,6 +35,7 @@ static const char usage_main[] =
     "  run    every scene x technique: render, score, write the report (the main job)\n"
     "  gt     ray trace one scene's ground truth into an EXR\n"
     "  bench  median time of each stage of each technique on one scene\n"
+    "  check  the regression check: every baseline cell rendered again and compared\n"
     "  list   techniques with every parameter (default, range, meaning), and scenes\n"
     "\n"
     "'shadowbench <command> --help' explains each command's options.\n"
@@ -141,6 +143,40 @@ static const char usage_bench[] =
     "  --shaders DIR         GLSL folder, as for run\n"
     "  -q, --quiet, -v, --verbose\n";
 
+static const char usage_check[] =
+    "usage: shadowbench check [options]\n"
+    "\n"
+    "The regression check per technique. Renders every baseline cell again at the\n"
+    "settings it records (results/baselines/<scene>/<cell>.json and its V_tech,\n"
+    "<cell>.png: " RUN_STR(CHECK_SIZE) "x" RUN_STR(CHECK_SIZE) ", " RUN_STR(CHECK_GT_SAMPLES) " ground-truth samples, the default shadow map) and\n"
+    "compares: a metric worse than its recorded tolerance, or a picture that moved\n"
+    "(more than 0.15 % of its pixels by more than 0.002) with no metric better, is\n"
+    "REGRESSED; a metric better than its tolerance with none worse is 'improved'.\n"
+    "Cells: every technique at its defaults on every shipped scene, and a table of\n"
+    "cells that set each parameter away from its default (harness/cli/check.c).\n"
+    "For each of those, setting the parameter back must change the picture. One\n"
+    "line per cell; what moved under it. Under --out: check.html with a\n"
+    "V_now - V_baseline heatmap of each cell that moved.\n"
+    "\n"
+    "options:\n"
+    "  --scene S             check only this scene's cells (repeatable)\n"
+    "  --technique T[,T...]  check only these techniques' cells\n"
+    "  --baselines DIR       the baselines (default " CHECK_DEFAULT_BASELINES ")\n"
+    "  --update              record the selected cells anew (atomically), printing\n"
+    "                        what moved; tolerances from the metrics' spread over\n"
+    "                        " RUN_STR(CHECK_SEEDS) " ground-truth seeds. Commit them with the change that\n"
+    "                        moved them, after looking at the page\n"
+    "  --strict              an improvement fails too\n"
+    "  --out DIR             where check.html goes (default " CHECK_DEFAULT_OUT ")\n"
+    "  --cache DIR, --no-cache   ground-truth cache, as for run\n"
+    "  --shaders DIR         GLSL folder, as for run\n"
+    "  -q, --quiet, -v, --verbose\n"
+    "\n"
+    "exit status: 0 every cell passed; 1 a cell regressed, has no baseline or\n"
+    "records parameters its name no longer means, an improvement with --strict, or\n"
+    "a parameter that no cell sets or that changes nothing; 2 bad usage or an\n"
+    "unreadable baseline (one line naming the file and the problem).\n";
+
 static const char usage_list[] =
     "usage: shadowbench list\n"
     "\n"
@@ -150,6 +186,7 @@ static const char usage_list[] =
 enum {
     OPT_SCENE = 256, OPT_TECHNIQUE, OPT_SET, OPT_WIDTH, OPT_HEIGHT, OPT_GT_SAMPLES,
     OPT_SM_SIZE, OPT_FRAMES, OPT_WARMUP, OPT_OUT, OPT_CACHE, OPT_NO_CACHE, OPT_SHADERS, OPT_SWEEP,
+    OPT_BASELINES, OPT_UPDATE, OPT_STRICT,
 };
 
 static const struct option long_options[] = {
@@ -167,6 +204,9 @@ static const struct option long_options[] = {
     {"cache", required_argument, NULL, OPT_CACHE},
     {"no-cache", no_argument, NULL, OPT_NO_CACHE},
     {"shaders", required_argument, NULL, OPT_SHADERS},
+    {"baselines", required_argument, NULL, OPT_BASELINES},
+    {"update", no_argument, NULL, OPT_UPDATE},
+    {"strict", no_argument, NULL, OPT_STRICT},
     {"quiet", no_argument, NULL, 'q'},
     {"verbose", no_argument, NULL, 'v'},
     {"help", no_argument, NULL, 'h'},
@@ -242,12 +282,16 @@ static bool takes(enum run_command cmd, int c)
     bool gl = c == OPT_TECHNIQUE || c == OPT_SET || c == OPT_SM_SIZE || c == OPT_FRAMES ||
               c == OPT_WARMUP || c == OPT_SHADERS;
     bool gt = c == OPT_GT_SAMPLES || c == OPT_OUT || c == OPT_CACHE || c == OPT_NO_CACHE;
+    bool check = c == OPT_BASELINES || c == OPT_UPDATE || c == OPT_STRICT;
     if (c == OPT_SWEEP)
         return cmd == RUN_CMD_RUN;
     switch (cmd) {
-    case RUN_CMD_RUN: return true;
-    case RUN_CMD_GT: return !gl;
-    case RUN_CMD_BENCH: return !gt;
+    case RUN_CMD_RUN: return !check;
+    case RUN_CMD_GT: return !gl && !check;
+    case RUN_CMD_BENCH: return !gt && !check;
+    case RUN_CMD_CHECK:  /* the settings are the baselines' */
+        return check || c == OPT_SCENE || c == OPT_TECHNIQUE || c == OPT_OUT || c == OPT_CACHE ||
+               c == OPT_NO_CACHE || c == OPT_SHADERS;
     }
     return false;
 }
@@ -266,7 +310,7 @@ static int parse_gt_samples(const char *text, int *out)
     return 0;
 }
 
-static const char *const command_names[] = {"run", "gt", "bench"};
+static const char *const command_names[] = {"run", "gt", "bench", "check"};
 
 /* Every technique selected when none is, every setting at its default
  * unless --set, and the rules across parameters checked. */
@@ -317,9 +361,10 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
         int rc = 0;
         switch (c) {
         case OPT_SCENE:
-            if (o->scene_count == RUN_MAX_SCENES || (cmd != RUN_CMD_RUN && o->scene_count == 1)) {
-                log_error("--scene: %s", cmd != RUN_CMD_RUN ? "gt and bench take one scene"
-                                                         : "too many scenes");
+            if (o->scene_count == RUN_MAX_SCENES ||
+                ((cmd == RUN_CMD_GT || cmd == RUN_CMD_BENCH) && o->scene_count == 1)) {
+                log_error("--scene: %s", o->scene_count == RUN_MAX_SCENES ? "too many scenes"
+                                                                          : "gt and bench take one scene");
                 return -1;
             }
             o->scenes[o->scene_count++] = optarg;
@@ -346,6 +391,9 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
         case OPT_CACHE: o->cache_dir = optarg; break;
         case OPT_NO_CACHE: o->cache_dir = NULL; break;
         case OPT_SHADERS: o->shader_dir = optarg; break;
+        case OPT_BASELINES: o->baselines_dir = optarg; break;
+        case OPT_UPDATE: o->update = true; break;
+        case OPT_STRICT: o->strict = true; break;
         case 'q': log_set_level(LOG_ERROR); break;
         case 'v': log_set_level(LOG_DEBUG); break;
         case 'h': fputs(usage, stdout); return 1;
@@ -416,13 +464,13 @@ int main(int argc, char **argv)
     }
     if (strcmp(cmd, "list") == 0)
         return cmd_list(argc - 1, argv + 1);
-    static const char *const usages[] = {usage_run, usage_gt, usage_bench};
-    static int (*const mains[])(const struct run_options *) = {run_main, run_gt, bench_main};
+    static const char *const usages[] = {usage_run, usage_gt, usage_bench, usage_check};
+    static int (*const mains[])(const struct run_options *) = {run_main, run_gt, bench_main, check_main};
     int k = 0;
-    while (k < 3 && strcmp(cmd, command_names[k]) != 0)
+    while (k < 4 && strcmp(cmd, command_names[k]) != 0)
         k++;
-    if (k == 3) {
-        log_error("unknown command '%s' (commands: run, gt, bench, list; see --help)", cmd);
+    if (k == 4) {
+        log_error("unknown command '%s' (commands: run, gt, bench, check, list; see --help)", cmd);
         return EXIT_USAGE;
     }
     struct run_options o = {.argc = argc, .argv = argv};

@@ -33,8 +33,9 @@ void run_options_defaults(struct run_options *o, enum run_command cmd)
     o->shadow_map_size = SHADOWMAP_DEFAULT_SIZE;
     o->frames = bench ? BENCH_DEFAULT_FRAMES : RUN_DEFAULT_FRAMES;
     o->warmup = bench ? BENCH_DEFAULT_WARMUP : RUN_DEFAULT_WARMUP;
-    o->out_dir = cmd == RUN_CMD_GT ? GT_DEFAULT_OUT : RUN_DEFAULT_OUT;
+    o->out_dir = cmd == RUN_CMD_GT ? GT_DEFAULT_OUT : cmd == RUN_CMD_CHECK ? CHECK_DEFAULT_OUT : RUN_DEFAULT_OUT;
     o->cache_dir = RUN_DEFAULT_CACHE;
+    o->baselines_dir = CHECK_DEFAULT_BASELINES;
 }
 
 void *run_settings(const struct run_options *o, const struct technique *t)
@@ -45,9 +46,7 @@ void *run_settings(const struct run_options *o, const struct technique *t)
     return o->settings[i];
 }
 
-/* Loads every scene named on the command line (or every shipped one) before
- * any heavy work, so bad input fails fast with status 2. */
-static int load_scenes(const struct run_options *o, struct scene *scenes, int *count)
+int run_load_scenes(const struct run_options *o, struct scene *scenes, int *count)
 {
     char **paths = NULL;
     int n = o->scene_count;
@@ -84,7 +83,7 @@ static int load_scenes(const struct run_options *o, struct scene *scenes, int *c
     return rc;
 }
 
-static int prepare_out_dir(const char *dir)
+int run_prepare_out_dir(const char *dir)
 {
     if (util_mkdirs(dir) != 0)
         return -1;
@@ -95,35 +94,60 @@ static int prepare_out_dir(const char *dir)
     return 0;
 }
 
-/* Everything of one scene that the cells share. */
+int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct scene_setup_desc *d)
+{
+    memset(ss, 0, sizeof *ss);
+    ss->scene = s;
+    ss->width = d->width, ss->height = d->height;
+    scene_mesh_upload(s, &ss->mesh);
+    if (shadowmap_create(&ss->sm, s, &(struct shadowmap_desc){.size_texels = d->shadow_map_size}) ||
+        receiver_create(&ss->receiver, s, d->width, d->height) ||
+        gt_obtain(s, &ss->sm.frustum,
+                  &(struct gt_desc){.width = d->width, .height = d->height, .samples = d->gt_samples,
+                                    .seed = d->gt_seed},
+                  d->cache_dir, &ss->gt) != 0)
+        return -1;
+    const size_t count = (size_t)d->width * (size_t)d->height;
+    ss->v = xmalloc(sizeof(float) * count);
+    ss->distance = xmalloc(sizeof(float) * count);
+    ss->scored = xmalloc(sizeof(float) * count);
+    ss->timer = (struct stage_timer){.sm = &ss->sm, .mesh = &ss->mesh, .receiver = &ss->receiver};
+    return 0;
+}
+
+int scene_setup_cell(struct scene_setup *ss, const struct stage_timer_cell *cell, struct metrics *m)
+{
+    if (stage_timer_render(&ss->timer, cell) != 0)
+        return -1;
+    receiver_read(&ss->receiver, ss->v, ss->distance);
+    m->mismatch_pixels = metrics_score_mask(ss->gt.mask, ss->gt.distance, ss->distance,
+                                            ss->width * ss->height, ss->scored);
+    metrics_compute(ss->v, &ss->gt, ss->scored, ss->distance, m);
+    return 0;
+}
+
+void scene_setup_free(struct scene_setup *ss)
+{
+    gt_image_free(&ss->gt);
+    receiver_destroy(&ss->receiver);
+    shadowmap_destroy(&ss->sm);
+    scene_mesh_destroy(&ss->mesh);
+    free(ss->v), free(ss->distance), free(ss->scored);
+    memset(ss, 0, sizeof *ss);
+}
+
+/* A scene of the run: its shared set-up, timing and progress. */
 struct scene_run {
     const struct run_options *o;
-    const struct scene *scene;
-    struct gt_image gt;
-    struct scene_mesh mesh;
-    struct shadowmap sm;
-    struct receiver receiver;
-    struct stage_timer timer;
-    float *v, *distance, *scored;  /* the current cell's V_tech, GL distance, scored mask */
+    struct scene_setup ss;
     char *dir;
     int *cells_done, cells_total, label_width;  /* progress */
 };
 
-/* The cell's scores against the scene's ground truth (DESIGN.md §6, §7). */
-static void score_cell(struct scene_run *sr, const struct stage_times *times, struct metrics *m)
-{
-    *m = (struct metrics){.ms_shadowmap = times->shadowmap_ms, .ms_filter_prep = times->filter_prep_ms,
-                          .ms_receiver = times->receiver_ms, .ms_total = times->total_ms,
-                          .ms_total_q1 = times->total_q1_ms, .ms_total_q3 = times->total_q3_ms};
-    m->mismatch_pixels = metrics_score_mask(sr->gt.mask, sr->gt.distance, sr->distance,
-                                            sr->o->width * sr->o->height, sr->scored);
-    metrics_compute(sr->v, &sr->gt, sr->scored, sr->distance, m);
-}
-
 /* What a cell is: its scene, technique, name and parameter values. */
 static void describe_cell(const struct scene_run *sr, const struct run_config *config, struct cell *c)
 {
-    c->scene = sr->scene->name;
+    c->scene = sr->ss.scene->name;
     c->technique = config->technique;
     c->label = config->label;
     c->gl_renderer = gl_context_renderer();
@@ -137,15 +161,16 @@ static void describe_cell(const struct scene_run *sr, const struct run_config *c
 static int run_cell(struct scene_run *sr, const struct stage_timer_cell *tc,
                     const struct run_config *config, const struct stage_times *times, struct cell *c)
 {
-    if (stage_timer_render(&sr->timer, tc) != 0)
+    struct scene_setup *ss = &sr->ss;
+    c->m = (struct metrics){.ms_shadowmap = times->shadowmap_ms, .ms_filter_prep = times->filter_prep_ms,
+                            .ms_receiver = times->receiver_ms, .ms_total = times->total_ms,
+                            .ms_total_q1 = times->total_q1_ms, .ms_total_q3 = times->total_q3_ms};
+    if (scene_setup_cell(ss, tc, &c->m) != 0)
         return -1;
-    receiver_read(&sr->receiver, sr->v, sr->distance);
-    score_cell(sr, times, &c->m);
     describe_cell(sr, config, c);
 
     char *dir = util_printf("%s/%s", sr->dir, config->label);
-    const struct cell_images im = {sr->o->width, sr->o->height, sr->v, sr->distance, sr->gt.v,
-                                   sr->scored};
+    const struct cell_images im = {ss->width, ss->height, ss->v, ss->distance, ss->gt.v, ss->scored};
     int rc = output_cell(dir, c, &im);
     free(dir);
     ++*sr->cells_done;
@@ -166,42 +191,31 @@ static void timing_progress(void *user, int round, int rounds)
 {
     const struct scene_run *sr = user;
     if (isatty(STDERR_FILENO) && log_get_level() >= LOG_INFO)
-        fprintf(stderr, "\r  timing %s: round %d/%d%s", sr->scene->name, round, rounds,
+        fprintf(stderr, "\r  timing %s: round %d/%d%s", sr->ss.scene->name, round, rounds,
                 round == rounds ? "\n" : "");
 }
 
-static int run_scene(struct scene_run *sr, GLuint (*programs)[LIGHT_SHAPE_COUNT], struct cell *cells,
-                     int *cell_count)
+static int run_scene(struct scene_run *sr, const struct scene *scene, GLuint (*programs)[LIGHT_SHAPE_COUNT],
+                     struct cell *cells, int *cell_count)
 {
     const struct run_options *o = sr->o;
-    const int w = o->width, h = o->height, count = w * h;
-    log_info("scene %s: %zu triangles", sr->scene->name, sr->scene->triangle_count);
-    sr->dir = util_printf("%s/%s", o->out_dir, sr->scene->name);
-    if (util_mkdirs(sr->dir) != 0)
+    log_info("scene %s: %zu triangles", scene->name, scene->triangle_count);
+    sr->dir = util_printf("%s/%s", o->out_dir, scene->name);
+    if (util_mkdirs(sr->dir) != 0 ||
+        scene_setup_open(&sr->ss, scene,
+                         &(struct scene_setup_desc){o->width, o->height, o->shadow_map_size,
+                                                    o->gt_samples, 0, o->cache_dir}) != 0)
         return -1;
-
-    scene_mesh_upload(sr->scene, &sr->mesh);
-    if (shadowmap_create(&sr->sm, sr->scene, &(struct shadowmap_desc){.size_texels = o->shadow_map_size}) ||
-        receiver_create(&sr->receiver, sr->scene, w, h))
-        return -1;
-    sr->timer = (struct stage_timer){.sm = &sr->sm, .mesh = &sr->mesh, .receiver = &sr->receiver,
-                                     .warmup = o->warmup, .frames = o->frames,
-                                     .on_round = timing_progress, .user = sr};
-    if (gt_obtain(sr->scene, &sr->sm.frustum,
-                  &(struct gt_desc){.width = w, .height = h, .samples = o->gt_samples},
-                  o->cache_dir, &sr->gt) != 0)
-        return -1;
+    struct stage_timer timer = sr->ss.timer;
+    timer.warmup = o->warmup, timer.frames = o->frames;
+    timer.on_round = timing_progress, timer.user = sr;
 
     struct stage_timer_cell *tc = xcalloc((size_t)o->config_count, sizeof *tc);
     struct stage_times *times = xcalloc((size_t)o->config_count, sizeof *times);
     for (int i = 0; i < o->config_count; i++)
         tc[i] = (struct stage_timer_cell){o->configs[i].technique, o->configs[i].settings,
-                                          programs[i][sr->scene->light.shape]};
-    int rc = stage_timer_run(&sr->timer, tc, o->config_count, times);
-
-    sr->v = xmalloc(sizeof(float) * (size_t)count);
-    sr->distance = xmalloc(sizeof(float) * (size_t)count);
-    sr->scored = xmalloc(sizeof(float) * (size_t)count);
+                                          programs[i][scene->light.shape]};
+    int rc = stage_timer_run(&timer, tc, o->config_count, times);
     for (int i = 0; i < o->config_count && !rc; i++)
         rc = run_cell(sr, &tc[i], &o->configs[i], &times[i], &cells[(*cell_count)++]);
     free(tc);
@@ -209,20 +223,17 @@ static int run_scene(struct scene_run *sr, GLuint (*programs)[LIGHT_SHAPE_COUNT]
 
     /* The scored mask is the same for every cell of the scene (same camera,
      * same geometry): groundtruth.exr carries the last cell's. */
-    return rc ? -1 : output_groundtruth(sr->dir, &sr->gt, sr->scored);
+    return rc ? -1 : output_groundtruth(sr->dir, &sr->ss.gt, sr->ss.scored);
 }
 
 static void scene_run_free(struct scene_run *sr)
 {
-    gt_image_free(&sr->gt);
-    receiver_destroy(&sr->receiver);
-    shadowmap_destroy(&sr->sm);
-    scene_mesh_destroy(&sr->mesh);
-    free(sr->v), free(sr->distance), free(sr->scored), free(sr->dir);
-    memset(sr, 0, sizeof *sr);
+    scene_setup_free(&sr->ss);
+    free(sr->dir);
+    sr->dir = NULL;
 }
 
-static char *git_describe(void)
+char *run_git_describe(void)
 {
     char buf[128] = "unknown";
     char *cmd = util_printf("git -C '%s' describe --always --dirty 2>/dev/null", SB_SOURCE_DIR);
@@ -261,7 +272,7 @@ static cJSON *run_json(const struct run_options *o, double seconds)
         strbuf_list_printf(&cmd, " ", "%s", o->argv[i]);
     cJSON_AddStringToObject(r, "command_line", cmd.data ? cmd.data : "");
     strbuf_free(&cmd);
-    char *git = git_describe(), *cpu = cpu_model();
+    char *git = run_git_describe(), *cpu = cpu_model();
     cJSON_AddStringToObject(r, "shadowbench_version", SB_VERSION);
     cJSON_AddStringToObject(r, "git_describe", git);
     cJSON_AddStringToObject(r, "gl_renderer", gl_context_renderer());
@@ -297,7 +308,7 @@ int run_main(const struct run_options *o)
     GLuint (*programs)[LIGHT_SHAPE_COUNT] = xcalloc((size_t)o->config_count, sizeof *programs);  /* by light shape */
     struct report_scene rs[RUN_MAX_SCENES] = {0};
 
-    if (load_scenes(o, scenes, &scene_count) != 0 || prepare_out_dir(o->out_dir) != 0) {
+    if (run_load_scenes(o, scenes, &scene_count) != 0 || run_prepare_out_dir(o->out_dir) != 0) {
         status = EXIT_USAGE;
         goto out_free_scenes;
     }
@@ -329,11 +340,11 @@ int run_main(const struct run_options *o)
     cells = xcalloc((size_t)cells_total, sizeof *cells);
     int failed = 0;
     for (int s = 0; s < scene_count; s++) {
-        struct scene_run sr = {.o = o, .scene = &scenes[s], .cells_done = &cells_done,
-                               .cells_total = cells_total, .label_width = label_width};
-        failed |= run_scene(&sr, programs, cells, &cell_count);
+        struct scene_run sr = {.o = o, .cells_done = &cells_done, .cells_total = cells_total,
+                               .label_width = label_width};
+        failed |= run_scene(&sr, &scenes[s], programs, cells, &cell_count);
         rs[s] = (struct report_scene){scenes[s].name, scenes[s].description, scenes[s].shows,
-                                      sr.gt.seconds, sr.gt.msamples_per_second, sr.gt.cached};
+                                      sr.ss.gt.seconds, sr.ss.gt.msamples_per_second, sr.ss.gt.cached};
         scene_run_free(&sr);
         if (failed)
             break;
@@ -397,7 +408,7 @@ int run_gt(const struct run_options *o)
         return EXIT_USAGE;
     }
     char *dir = util_printf("%s/%s", o->out_dir, s.name);
-    if (prepare_out_dir(dir) != 0) {
+    if (run_prepare_out_dir(dir) != 0) {
         free(dir);
         scene_free(&s);
         return EXIT_USAGE;

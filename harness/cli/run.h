@@ -2,7 +2,13 @@
 #ifndef SB_RUN_H
 #define SB_RUN_H
 
+#include "gl/scene_mesh.h"
+#include "render/receiver.h"
+#include "render/stage_timer.h"
+#include "score/metrics.h"
+#include "techniques/shadowmap.h"
 #include "techniques/technique.h"
+#include "truth/groundtruth.h"
 
 /* Exit statuses (DESIGN.md §10). */
 enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_USAGE = 2 };
@@ -13,7 +19,7 @@ enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_USAGE = 2 };
 #define RUN_MAX_CONFIGS 256
 
 /* The commands that render: they share struct run_options. */
-enum run_command { RUN_CMD_RUN, RUN_CMD_GT, RUN_CMD_BENCH };
+enum run_command { RUN_CMD_RUN, RUN_CMD_GT, RUN_CMD_BENCH, RUN_CMD_CHECK };
 
 /* Option defaults and ranges, one definition each: run_options_defaults()
  * and the option parser use them, and --help prints them (as text, through
@@ -31,6 +37,8 @@ enum run_command { RUN_CMD_RUN, RUN_CMD_GT, RUN_CMD_BENCH };
 #define RUN_DEFAULT_OUT "results/runs/latest"
 #define GT_DEFAULT_OUT "results/gt"
 #define RUN_DEFAULT_CACHE "results/cache"
+#define CHECK_DEFAULT_OUT "results/check"
+#define CHECK_DEFAULT_BASELINES "results/baselines"
 #define RUN_STR_(x) #x
 #define RUN_STR(x) RUN_STR_(x)  /* a default as text, for --help: plain literals only */
 
@@ -60,6 +68,9 @@ struct run_options {
     const char *out_dir;
     const char *cache_dir;               /* NULL: no ground-truth cache */
     const char *shader_dir;              /* NULL: found automatically */
+    const char *baselines_dir;           /* check: the baselines read (and written by update) */
+    bool update;                         /* check: record the selected baselines anew */
+    bool strict;                         /* check: an improvement fails too */
     int argc;                            /* the command line, for run.json */
     char **argv;
 };
@@ -70,6 +81,45 @@ void run_options_defaults(struct run_options *o, enum run_command cmd);
 
 int run_main(const struct run_options *o);
 int run_gt(const struct run_options *o);
+
+/* What the cells of one scene share (run and check): the ground truth, the
+ * scene's mesh, the shadow map, the receiver, and the last cell's images. */
+struct scene_setup_desc {
+    int width, height, shadow_map_size, gt_samples;
+    uint32_t gt_seed;       /* 0: the ground truth's default */
+    const char *cache_dir;  /* NULL: no ground-truth cache */
+};
+
+struct scene_setup {
+    const struct scene *scene;
+    int width, height;
+    struct gt_image gt;
+    struct scene_mesh mesh;
+    struct shadowmap sm;
+    struct receiver receiver;
+    struct stage_timer timer;      /* untimed: frames and warm-up unset */
+    float *v, *distance, *scored;  /* the last cell's V_tech, GL distance, scored mask */
+};
+
+/* Returns 0 or -1 (logged); scene_setup_free either way. */
+int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct scene_setup_desc *d);
+
+/* Renders a cell once, untimed, reads it back (ss->v, ss->distance) and
+ * scores it into m (the accuracy metrics; its timing fields are left as
+ * they are). Returns 0 or -1 (logged). */
+int scene_setup_cell(struct scene_setup *ss, const struct stage_timer_cell *cell, struct metrics *m);
+
+void scene_setup_free(struct scene_setup *ss);
+
+/* Loads every scene named in o (or every shipped one) before any heavy
+ * work, so bad input fails fast. Returns 0 or -1 (logged). */
+int run_load_scenes(const struct run_options *o, struct scene *scenes, int *count);
+
+/* Creates dir and checks it is writable. Returns 0 or -1 (logged). */
+int run_prepare_out_dir(const char *dir);
+
+/* `git describe --always --dirty` of the source tree, or "unknown"; malloc'ed. */
+char *run_git_describe(void);
 
 /* The settings of technique t in o. */
 void *run_settings(const struct run_options *o, const struct technique *t);

@@ -79,23 +79,32 @@ static int text_width(const char *s, int scale) { return stb_easy_font_width((ch
 void picture_error_heatmap(const float *v_tech, const float *v_gt, const float *scored, int width,
                            int height, struct picture *out)
 {
+    picture_difference(v_tech, v_gt, scored, width, height,
+                       &(struct picture_legend){PICTURE_ERROR_SCALE, "too dark", "too bright",
+                                                "V_tech - V_gt   grey: not scored"},
+                       out);
+}
+
+void picture_difference(const float *a, const float *b, const float *shown, int width, int height,
+                        const struct picture_legend *legend, struct picture *out)
+{
     const int scale = width >= 360 ? 2 : 1;
-    const int legend = 26 * scale + 8;
+    const int legend_h = 26 * scale + 8;
     out->width = width;
-    out->height = height + legend;
+    out->height = height + legend_h;
     out->rgb = xmalloc((size_t)out->width * out->height * 3);
     memset(out->rgb, 255, (size_t)out->width * out->height * 3);
     for (int i = 0; i < width * height; i++) {
         uint8_t c[3];
-        if (scored[i] > 0.5f && isfinite(v_tech[i]))
-            picture_diverging((v_tech[i] - v_gt[i]) / PICTURE_ERROR_SCALE, c);
+        if (shown[i] > 0.5f && isfinite(a[i]))
+            picture_diverging((a[i] - b[i]) / legend->scale, c);
         else
-            memcpy(c, scored[i] > 0.5f ? (const uint8_t[3]){0, 255, 0} : not_scored, 3);
+            memcpy(c, shown[i] > 0.5f ? (const uint8_t[3]){0, 255, 0} : not_scored, 3);
         memcpy(&out->rgb[(size_t)i * 3], c, 3);
     }
 
     /* Legend: a colour bar with its scale, what each end means, and the
-     * colour of unscored pixels. */
+     * colour of pixels not shown. */
     const uint8_t ink[3] = {20, 20, 20};
     int bar_x0 = width / 5, bar_x1 = width - width / 5, bar_y = height + 4, bar_h = 8 * scale;
     for (int x = bar_x0; x < bar_x1; x++) {
@@ -104,17 +113,22 @@ void picture_error_heatmap(const float *v_tech, const float *v_gt, const float *
         for (int y = bar_y; y < bar_y + bar_h; y++)
             put(out, x, y, c);
     }
-    char lo[32], hi[32];
-    snprintf(lo, sizeof lo, "-%.2g", (double)PICTURE_ERROR_SCALE);
-    snprintf(hi, sizeof hi, "+%.2g", (double)PICTURE_ERROR_SCALE);
+    char lo[32], hi[32], words[2][32];
+    snprintf(lo, sizeof lo, "-%.2g", (double)legend->scale);
+    snprintf(hi, sizeof hi, "+%.2g", (double)legend->scale);
     int ty = bar_y + bar_h + 2;
     text(out, bar_x0, ty, scale, lo, ink);
     text(out, (bar_x0 + bar_x1) / 2 - text_width("0", scale) / 2, ty, scale, "0", ink);
     text(out, bar_x1 - text_width(hi, scale), ty, scale, hi, ink);
-    text(out, 2, bar_y, scale, "too", ink);
-    text(out, 2, bar_y + 8 * scale, scale, "dark", ink);
-    text(out, bar_x1 + 4, bar_y, scale, "too", ink);
-    text(out, bar_x1 + 4, bar_y + 8 * scale, scale, "bright", ink);
-    const char *caption = "V_tech - V_gt   grey: not scored";
-    text(out, (width - text_width(caption, scale)) / 2, ty + 9 * scale, scale, caption, ink);
+    /* Each end's words on two lines: "too" / "dark". */
+    const char *ends[2] = {legend->negative, legend->positive};
+    for (int e = 0; e < 2; e++) {
+        const char *space = strchr(ends[e], ' ');
+        snprintf(words[0], sizeof words[0], "%.*s", space ? (int)(space - ends[e]) : (int)strlen(ends[e]), ends[e]);
+        snprintf(words[1], sizeof words[1], "%s", space ? space + 1 : "");
+        int x = e ? bar_x1 + 4 : 2;
+        text(out, x, bar_y, scale, words[0], ink);
+        text(out, x, bar_y + 8 * scale, scale, words[1], ink);
+    }
+    text(out, (width - text_width(legend->caption, scale)) / 2, ty + 9 * scale, scale, legend->caption, ink);
 }

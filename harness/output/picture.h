@@ -25,6 +25,20 @@ void picture_visibility(const float *v, const float *distance, const float *scor
 void picture_error_heatmap(const float *v_tech, const float *v_gt, const float *scored, int width,
                            int height, struct picture *out);
 
+/* A difference heatmap's legend: the colour bar spans -scale..+scale;
+ * the words at its ends (up to two words each, e.g. "too dark"); the
+ * caption under it. */
+struct picture_legend {
+    float scale;
+    const char *negative, *positive, *caption;
+};
+
+/* a - b where shown[i] is set (a diverging map, saturating beyond the
+ * legend's scale), grey elsewhere, green where a is not finite; the legend
+ * drawn below the image. */
+void picture_difference(const float *a, const float *b, const float *shown, int width, int height,
+                        const struct picture_legend *legend, struct picture *out);
+
 /* Diverging colormap: t in [-1, 1] -> RGB. */
 void picture_diverging(float t, uint8_t rgb[3]);
 

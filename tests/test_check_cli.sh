@@ -1,0 +1,91 @@
+#!/bin/sh
+# Protects `shadowbench check` as a user meets it (README, Regression check):
+# recording, passing, each kind of failure with its exit status and the line
+# that says it, the page of moved cells, and bad baselines refused with one
+# line naming the file. On one scene and one technique, in a scratch folder.
+# Usage: test_check_cli.sh <shadowbench>
+set -u
+sb=$1
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+B=$tmp/baselines
+cell=$B/parallel_planes/hard.json
+failed=0
+
+# expect STATUS PATTERN ARGS...: check ARGS exits STATUS and prints PATTERN.
+expect() {
+    want=$1 pattern=$2
+    shift 2
+    out=$("$sb" check -q --scene parallel_planes --baselines "$B" --out "$tmp/out" --cache "$tmp/cache" "$@" 2>&1)
+    rc=$?
+    if [ "$rc" != "$want" ] || ! printf '%s\n' "$out" | grep -q -- "$pattern"; then
+        echo "FAILED: check $* -> exit $rc (expected $want and '$pattern'):"
+        printf '%s\n' "$out" | sed 's/^/    /'
+        failed=$((failed + 1))
+    else
+        echo "ok: check $* -> $rc, '$pattern'"
+    fi
+}
+record() { "$sb" check -q --update --scene parallel_planes --technique hard,pcf --baselines "$B" \
+               --out "$tmp/out" --cache "$tmp/cache" >/dev/null 2>&1 || { echo "FAILED: --update"; failed=$((failed + 1)); }; }
+# edit SED-EXPRESSION: rewrites the hard cell's JSON in place.
+edit() { sed -i -e "$1" "$cell"; }
+
+expect 1 "no baseline .*hard" --technique hard
+record
+[ -f "$cell" ] && [ -f "${cell%.json}.png" ] || { echo "FAILED: --update wrote no files"; failed=$((failed + 1)); }
+expect 0 "pass .*hard" --technique hard
+expect 0 "0 REGRESSED" --technique hard,pcf
+
+# A metric worse than recorded (the file says it was far lower): REGRESSED,
+# with the metric's line. Better than recorded: improved, not a failure
+# unless --strict, with the command that records it.
+edit '0,/"rmse":\t[0-9]/s/"rmse":\t[-0-9.e]*/"rmse":\t0.0001/'
+expect 1 "rmse .*worse" --technique hard
+record
+edit '0,/"rmse":\t[0-9]/s/"rmse":\t[-0-9.e]*/"rmse":\t0.9/'
+expect 0 "record it: shadowbench check --update" --technique hard
+expect 1 "improved .*hard" --technique hard --strict
+
+# The picture moved with no metric better: another cell's picture.
+record
+cp "$B/parallel_planes/pcf.png" "${cell%.json}.png"
+expect 1 "pixels moved" --technique hard
+[ -f "$tmp/out/check.html" ] && grep -q "hard" "$tmp/out/check.html" && [ -f "$tmp/out/parallel_planes/hard.png" ] ||
+    { echo "FAILED: no page or heatmap of the moved cell"; failed=$((failed + 1)); }
+
+# Recorded parameters that the cell's name no longer means (a default changed).
+record
+edit 's/"constant_bias":\t"[0-9.e-]*"/"constant_bias":\t"0.001"/'
+expect 1 "no longer what 'hard' means" --technique hard
+
+# Unreadable baselines: exit 2, one line naming the file and the problem.
+record
+edit 's/"constant_bias":/"no_such":\t"1",\n\t\t\t"constant_bias":/'
+expect 2 "hard.json: hard.no_such: unknown parameter" --technique hard
+record
+edit 's/"constant_bias":\t"[0-9.e-]*"/"constant_bias":\t"5"/'
+expect 2 "hard.json: hard.constant_bias: 5 is out of range" --technique hard
+record
+edit 's/"gt_version":\t[0-9]*/"gt_version":\t1/'
+expect 2 "hard.json: recorded with ground-truth version 1" --technique hard
+record
+printf '{"cell": ' > "$cell"
+expect 2 "hard.json: not a JSON object" --technique hard
+record
+rm "${cell%.json}.png"
+expect 2 "hard.json: its picture .* is missing" --technique hard
+record
+printf '{}' > "$B/parallel_planes/nosuch.json"
+expect 2 "nosuch.json: cell 'nosuch': unknown technique 'nosuch'" --technique hard
+rm "$B/parallel_planes/nosuch.json"
+
+# Options that are not check's.
+expect 2 "unknown option for check" --set hard.slope_bias=2
+expect 2 "unknown option for check" --width 64
+out=$("$sb" run --baselines "$B" 2>&1)
+[ $? = 2 ] && printf '%s' "$out" | grep -q "unknown option for run" ||
+    { echo "FAILED: run --baselines: $out"; failed=$((failed + 1)); }
+
+[ "$failed" = 0 ] && echo "all passed" || echo "$failed failed"
+[ "$failed" = 0 ]
