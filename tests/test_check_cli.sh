@@ -47,12 +47,20 @@ edit '0,/"rmse":\t[0-9]/s/"rmse":\t[-0-9.e]*/"rmse":\t0.9/'
 expect 0 "record it: shadowbench check --update" --technique hard
 expect 1 "improved .*hard" --technique hard --strict
 
-# The picture moved with no metric better: another cell's picture.
+# A change that moves the picture: recorded with pcf's kernel 1.5 times
+# wider than its radius says, checked with the real one.
+cp -r "$(dirname "$0")/../shaders" "$tmp/shaders"
+sed -i 's/PCF_RADIUS_TEXELS \*/1.5 * PCF_RADIUS_TEXELS */' "$tmp/shaders/pcf.glsl"
+"$sb" check -q --update --scene parallel_planes --technique pcf --baselines "$B" --out "$tmp/out" \
+    --cache "$tmp/cache" --shaders "$tmp/shaders" >/dev/null 2>&1
+expect 1 "pixels moved" --technique pcf
+[ -f "$tmp/out/check.html" ] && grep -q "pcf" "$tmp/out/check.html" && [ -f "$tmp/out/parallel_planes/pcf.png" ] ||
+    { echo "FAILED: no page or heatmap of the moved cell"; failed=$((failed + 1)); }
+
+# Another cell's picture (or an interrupted --update): its fingerprint.
 record
 cp "$B/parallel_planes/pcf.png" "${cell%.json}.png"
-expect 1 "pixels moved" --technique hard
-[ -f "$tmp/out/check.html" ] && grep -q "hard" "$tmp/out/check.html" && [ -f "$tmp/out/parallel_planes/hard.png" ] ||
-    { echo "FAILED: no page or heatmap of the moved cell"; failed=$((failed + 1)); }
+expect 2 "hard.json: its picture is not the one it recorded" --technique hard
 
 # Recorded parameters that the cell's name no longer means (a default changed).
 record
@@ -71,7 +79,7 @@ edit 's/"gt_version":\t[0-9]*/"gt_version":\t1/'
 expect 2 "hard.json: recorded with ground-truth version 1" --technique hard
 record
 printf '{"cell": ' > "$cell"
-expect 2 "hard.json: not a JSON object" --technique hard
+expect 2 "hard.json: not valid JSON (at byte 8)" --technique hard
 record
 rm "${cell%.json}.png"
 expect 2 "hard.json: its picture .* is missing" --technique hard
@@ -79,8 +87,34 @@ record
 printf '{}' > "$B/parallel_planes/nosuch.json"
 expect 2 "nosuch.json: cell 'nosuch': unknown technique 'nosuch'" --technique hard
 rm "$B/parallel_planes/nosuch.json"
+record
+edit 's/"rmse":\t[-0-9.e]*,/"rmse":\t"abc",/'
+expect 2 "hard.json: metric rmse: needs a number" --technique hard
+record
+edit '0,/"value":/s/"value":\t[-0-9.e]*/"value":\t-1/'
+expect 2 "hard.json: metric rmse: needs a number (or null: unscored) and a tolerance" --technique hard
+record
+edit 's/"scene":\t"parallel_planes"/"scene":\t"map_border"/'
+expect 2 "hard.json: its \"scene\" is not its folder's" --technique hard
+record
+printf 'x' >> "$cell"
+expect 2 "hard.json: not valid JSON" --technique hard
+record
+rm "$cell" && mkfifo "$cell"
+expect 2 "hard.json: cannot read: not a regular file" --technique hard
+rm "$cell"
+record
+printf '{}' > "$B/parallel_planes/hard@slope_bias=2,slope_bias=3.json"
+expect 2 "slope_bias is given twice" --technique hard
+rm "$B/parallel_planes/hard@slope_bias=2,slope_bias=3.json"
 
-# Options that are not check's.
+# Folders: the page inside the baselines; baselines that are a file.
+expect 2 "inside the baselines folder" --technique hard --out "$B/page"
+expect 2 "not a folder" --technique hard --baselines "$cell"
+
+# Options that are not check's, or that cannot go together.
+expect 2 "has no effect with --update" --update --strict
+expect 2 "an empty folder name" --baselines ""
 expect 2 "unknown option for check" --set hard.slope_bias=2
 expect 2 "unknown option for check" --width 64
 out=$("$sb" run --baselines "$B" 2>&1)

@@ -198,19 +198,60 @@ int image_write_png16(const char *path, int width, int height, const uint16_t *p
     return rc ? -1 : 0;
 }
 
+static uint32_t be32(const unsigned char *p)
+{
+    return (uint32_t)p[0] << 24 | (uint32_t)p[1] << 16 | (uint32_t)p[2] << 8 | p[3];
+}
+
+/* Whether the PNG in bytes is 16-bit grey with linear samples (no sRGB or
+ * ICC profile, gamma absent or 1.0), so that its samples are read as
+ * written; else why not. */
+static const char *png16_problem(const unsigned char *bytes, size_t size)
+{
+    static const unsigned char signature[8] = {137, 80, 78, 71, 13, 10, 26, 10};
+    if (size < 33 || memcmp(bytes, signature, 8) != 0 || memcmp(bytes + 12, "IHDR", 4) != 0)
+        return "not a PNG";
+    if (bytes[24] != 16 || bytes[25] != 0)
+        return "not a 16-bit grey PNG";
+    for (size_t at = 8; at + 12 <= size;) {
+        const uint32_t length = be32(bytes + at);
+        const unsigned char *type = bytes + at + 4, *data = bytes + at + 8;
+        if (length > size - at - 12)
+            return "a chunk runs past the end of the file";
+        if (memcmp(type, "sRGB", 4) == 0 || memcmp(type, "iCCP", 4) == 0)
+            return "its samples are not linear (an sRGB or ICC chunk)";
+        if (memcmp(type, "gAMA", 4) == 0 && (length != 4 || be32(data) != 100000))
+            return "its samples are not linear (a gamma other than 1.0)";
+        if (memcmp(type, "IEND", 4) == 0)
+            return NULL;
+        at += 12 + (size_t)length;
+    }
+    return "no IEND chunk: the file is cut short";
+}
+
 int image_read_png16(const char *path, int width, int height, uint16_t **pixels)
 {
     *pixels = NULL;
-    if (!util_file_exists(path))
+    char *bytes;
+    size_t size;
+    int err = util_read_file(path, &bytes, &size);
+    if (err == -ENOENT)
         return -ENOENT;
+    if (err) {
+        log_error("%s: cannot read: %s", path, util_read_error(err));
+        return -1;
+    }
+    const char *problem = png16_problem((const unsigned char *)bytes, size);
     png_image im = {.version = PNG_IMAGE_VERSION};
-    if (!png_image_begin_read_from_file(&im, path)) {
-        log_error("%s: not a readable PNG: %s", path, im.message);
+    if (problem || !png_image_begin_read_from_memory(&im, bytes, size)) {
+        log_error("%s: %s", path, problem ? problem : im.message);
+        free(bytes);
         return -1;
     }
     if ((int)im.width != width || (int)im.height != height) {
         log_error("%s: %ux%u pixels, expected %dx%d", path, im.width, im.height, width, height);
         png_image_free(&im);
+        free(bytes);
         return -1;
     }
     im.format = PNG_FORMAT_LINEAR_Y;
@@ -219,8 +260,10 @@ int image_read_png16(const char *path, int width, int height, uint16_t **pixels)
         log_error("%s: not a readable PNG: %s", path, im.message);
         free(*pixels);
         *pixels = NULL;
+        free(bytes);
         return -1;
     }
+    free(bytes);
     return 0;
 }
 

@@ -31,9 +31,11 @@ int image_write_png(const char *path, int width, int height, int comps, const ui
  * -1 (logged). */
 int image_write_png16(const char *path, int width, int height, const uint16_t *pixels);
 
-/* Reads a 16-bit grey PNG of exactly width x height into a newly malloc'ed
- * *pixels. Returns 0, -ENOENT if the file does not exist (not logged), or
- * -1 (logged) if it is unreadable or has another size. */
+/* Reads a 16-bit grey PNG with linear samples (as image_write_png16 writes
+ * it) of exactly width x height into a newly malloc'ed *pixels. Returns 0,
+ * -ENOENT if the file does not exist (not logged), or -1 (logged) if it is
+ * unreadable, of another format (8-bit, colour, sRGB: refused, not
+ * converted) or another size. */
 int image_read_png16(const char *path, int width, int height, uint16_t **pixels);
 
 /* Linear [0,1] -> 8-bit sRGB. */

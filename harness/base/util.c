@@ -49,14 +49,21 @@ char *xstrdup(const char *s)
 
 int util_read_file(const char *path, char **data, size_t *size)
 {
-    FILE *f = fopen(path, "rb");
-    if (!f)
+    /* Non-blocking, so a FIFO does not wait for a writer: refused below. */
+    int fd = open(path, O_RDONLY | O_NONBLOCK);
+    if (fd < 0)
         return -errno;
     struct stat st;
-    if (fstat(fileno(f), &st) != 0 || !S_ISREG(st.st_mode)) {
-        int err = S_ISDIR(st.st_mode) ? -EISDIR : -errno;
-        fclose(f);
-        return err ? err : -EINVAL;
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        int err = S_ISDIR(st.st_mode) ? -EISDIR : -ENODEV;
+        close(fd);
+        return err;
+    }
+    FILE *f = fdopen(fd, "rb");
+    if (!f) {
+        int err = -errno;
+        close(fd);
+        return err;
     }
     char *buf = xmalloc((size_t)st.st_size + 1);
     size_t n = fread(buf, 1, (size_t)st.st_size, f);
@@ -70,6 +77,11 @@ int util_read_file(const char *path, char **data, size_t *size)
     *data = buf;
     *size = n;
     return 0;
+}
+
+const char *util_read_error(int err)
+{
+    return err == -ENODEV ? "not a regular file" : strerror(-err);
 }
 
 int util_write_file_atomic(const char *path, const void *data, size_t size)

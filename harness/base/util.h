@@ -10,8 +10,13 @@
 #define ARRAY_SIZE(a) (sizeof(a) / sizeof((a)[0]))
 
 /* Reads a whole file; *data is NUL-terminated (not counted in *size).
- * Returns 0 or -errno; logs nothing (the caller knows what the file is). */
+ * Returns 0 or -errno (-EISDIR for a folder, -ENODEV for anything else that
+ * is not a regular file: a FIFO, a device; neither blocks); logs nothing
+ * (the caller knows what the file is). */
 int util_read_file(const char *path, char **data, size_t *size);
+
+/* What util_read_file's error means, in words. */
+const char *util_read_error(int err);
 
 /* Writes to "<path>.tmp.<pid>" then renames over path, so a reader never sees
  * a half-written file. Returns 0 or a negative errno, and logs the failure. */

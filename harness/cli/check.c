@@ -35,9 +35,11 @@
 #include <dirent.h>
 #include <errno.h>
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 /* The share of the image's pixels that may move: twice the most that moved
@@ -112,10 +114,12 @@ struct cell {
     char *json_path, *png_path;
     cJSON *baseline;             /* NULL: none */
     uint16_t *picture;           /* the baseline's V_tech */
+    double pixel_threshold, max_moved;  /* its picture budget */
     /* results */
     struct metrics now;
     float *v;                    /* V_tech now */
     double moved_fraction;       /* of the pixels, against the baseline's picture */
+    bool compared;               /* moved_fraction and status are against the baseline */
     double spread[GUARDED_COUNT];  /* update: over the ground-truth seeds */
     enum status status;
 };
@@ -131,6 +135,11 @@ static void cell_free(struct cell *c)
  * plus the values). Returns 0 or -1 (logged). */
 static int parse_label(const char *label, const struct technique **t, void **settings)
 {
+    for (const char *p = label; *p; p++)
+        if ((unsigned char)*p < 32 || *p == '/' || *p == 127) {
+            log_error("not a cell name: it holds a control character or '/'");
+            return -1;
+        }
     const char *at = strchr(label, '@');
     char name[64];
     snprintf(name, sizeof name, "%.*s", at ? (int)(at - label) : (int)strlen(label), label);
@@ -139,8 +148,8 @@ static int parse_label(const char *label, const struct technique **t, void **set
         return -1;
     }
     *settings = params_defaults(*t);
-    char *list = xstrdup(at ? at + 1 : ""), *rest = list;
-    int rc = 0;
+    char *list = xstrdup(at ? at + 1 : ""), *rest = list, *names[64];
+    int rc = 0, given = 0;
     for (char *item = strsep(&rest, ","); at && item && !rc; item = strsep(&rest, ",")) {
         char *eq = strchr(item, '=');
         if (!eq) {
@@ -149,7 +158,16 @@ static int parse_label(const char *label, const struct technique **t, void **set
             break;
         }
         *eq = '\0';
-        rc = params_set(*t, *settings, item, eq + 1);
+        /* Each parameter once: "p=1,p=2" would be two cells in one name. */
+        for (int i = 0; i < given && !rc; i++)
+            if (strcmp(names[i], item) == 0) {
+                log_error("cell '%s': %s is given twice", label, item);
+                rc = -1;
+            }
+        if (given < (int)(sizeof names / sizeof *names))
+            names[given++] = item;
+        if (!rc)
+            rc = params_set(*t, *settings, item, eq + 1);
     }
     free(list);
     if (!rc)
@@ -182,6 +200,74 @@ static double baseline_tolerance(const struct cell *c, int k)
     return json_number(cJSON_GetObjectItemCaseSensitive(tol, metric_info[k].key), "value");
 }
 
+/* The fingerprint of a picture, recorded beside it: a JSON and a PNG from
+ * different recordings (an interrupted --update, a file copied over) are
+ * refused. */
+static char *picture_hash(const uint16_t *pixels, size_t count)
+{
+    return util_printf("%016llx", (unsigned long long)util_hash(UTIL_HASH_INIT, pixels, count * sizeof *pixels));
+}
+
+/* A number in [lo, hi] at key of o, or NAN. */
+static double json_in_range(const cJSON *o, const char *key, double lo, double hi)
+{
+    const double v = json_number(o, key);
+    return v >= lo && v <= hi ? v : NAN;
+}
+
+/* What is wrong with baseline b of cell c, or NULL; fills c->desc and the
+ * picture budget. buf holds a composed message. */
+static const char *baseline_problem(struct cell *c, const cJSON *b, char *buf, size_t size)
+{
+    const cJSON *settings = cJSON_GetObjectItemCaseSensitive(b, "settings");
+    const cJSON *metrics = cJSON_GetObjectItemCaseSensitive(b, "metrics");
+    const cJSON *tolerances = cJSON_GetObjectItemCaseSensitive(b, "tolerances");
+    const cJSON *picture = cJSON_GetObjectItemCaseSensitive(b, "picture");
+    const char *cell = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(b, "cell"));
+    const char *scene = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(b, "scene"));
+    const char *technique = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(b, "technique"));
+    if (!cell || strcmp(cell, c->label) != 0)
+        return "its \"cell\" is not its file name";
+    if (!scene || strcmp(scene, c->scene->name) != 0)
+        return "its \"scene\" is not its folder's";
+    if (!technique || strcmp(technique, c->t->name) != 0)
+        return "its \"technique\" is not its cell's";
+    if (!cJSON_IsObject(settings) || !cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(settings, "params")) ||
+        !cJSON_IsObject(metrics) || !cJSON_IsObject(tolerances) || !cJSON_IsObject(picture))
+        return "lacks \"settings\" (with \"params\"), \"metrics\", \"tolerances\" or \"picture\"";
+    const double version = json_number(b, "gt_version");
+    if (version != GT_VERSION) {
+        snprintf(buf, size, "recorded with ground-truth version %g, this build renders version %d (record "
+                 "it anew: shadowbench check --update)", version, GT_VERSION);
+        return buf;
+    }
+    const double w = json_in_range(settings, "width", RUN_MIN_SIZE, RUN_MAX_SIZE);
+    const double h = json_in_range(settings, "height", RUN_MIN_SIZE, RUN_MAX_SIZE);
+    const double n = json_in_range(settings, "gt_samples", 1, GT_MAX_SAMPLES);
+    const double seed = json_in_range(settings, "gt_seed", 1, UINT32_MAX);
+    const double map = json_in_range(settings, "shadow_map_size", SHADOWMAP_MIN_SIZE, SHADOWMAP_MAX_SIZE);
+    const double root = round(sqrt(n));
+    if (!(w == floor(w) && h == floor(h) && root * root == n && seed == floor(seed) && map == floor(map)))
+        return "its settings (width, height, gt_samples, gt_seed, shadow_map_size) are missing or out of range";
+    c->desc.width = (int)w, c->desc.height = (int)h, c->desc.gt_samples = (int)n;
+    c->desc.gt_seed = (uint32_t)seed, c->desc.shadow_map_size = (int)map;
+    for (int g = 0; g < GUARDED_COUNT; g++) {
+        const char *key = metric_info[guarded[g].metric].key;
+        const cJSON *m = cJSON_GetObjectItemCaseSensitive(metrics, key);
+        const double tol = json_in_range(cJSON_GetObjectItemCaseSensitive(tolerances, key), "value", 0, 1);
+        if (!(cJSON_IsNull(m) || (cJSON_IsNumber(m) && isfinite(m->valuedouble))) || isnan(tol)) {
+            snprintf(buf, size, "metric %s: needs a number (or null: unscored) and a tolerance in [0, 1]", key);
+            return buf;
+        }
+    }
+    c->pixel_threshold = json_in_range(picture, "pixel_threshold", 0, 1);
+    c->max_moved = json_in_range(picture, "max_moved_fraction", 0, 1);
+    if (isnan(c->pixel_threshold) || isnan(c->max_moved) ||
+        !cJSON_IsString(cJSON_GetObjectItemCaseSensitive(picture, "hash")))
+        return "its \"picture\" needs pixel_threshold and max_moved_fraction in [0, 1] and a hash";
+    return NULL;
+}
+
 /* Reads c's baseline if it has one. Returns 0, or -1 after one line naming
  * the file and the problem. */
 static int read_baseline(struct cell *c)
@@ -191,62 +277,42 @@ static int read_baseline(struct cell *c)
     int rc = util_read_file(c->json_path, &text, &size);
     if (rc == -ENOENT)
         return 0;
-    if (rc)
+    if (rc) {
+        log_error("%s: cannot read: %s", c->json_path, util_read_error(rc));
         return -1;
-    c->baseline = cJSON_ParseWithLength(text, size);
-    free(text);
-    const char *problem = NULL;
+    }
+    const char *end = NULL;
+    c->baseline = cJSON_ParseWithLengthOpts(text, size, &end, false);
+    while (c->baseline && end < text + size && strchr(" \t\r\n", *end))
+        end++;
     char buf[256];
-    const cJSON *b = c->baseline, *settings = cJSON_GetObjectItemCaseSensitive(b, "settings");
-    const cJSON *params = cJSON_GetObjectItemCaseSensitive(settings, "params");
-    const cJSON *cell = cJSON_GetObjectItemCaseSensitive(b, "cell");
-    const double version = json_number(b, "gt_version");
-    if (!cJSON_IsObject(b))
-        problem = "not a JSON object";
-    else if (!cJSON_IsString(cell) || strcmp(cell->valuestring, c->label) != 0)
-        problem = "its \"cell\" is not its file name";
-    else if (!cJSON_IsObject(settings) || !cJSON_IsObject(params) ||
-             !cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(b, "metrics")) ||
-             !cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(b, "tolerances")))
-        problem = "lacks \"settings\" (with \"params\"), \"metrics\" or \"tolerances\"";
-    else if (version != GT_VERSION) {
-        snprintf(buf, sizeof buf, "recorded with ground-truth version %g, this build renders version %d "
-                 "(record it anew: shadowbench check --update)", version, GT_VERSION);
+    const char *problem = NULL;
+    if (!c->baseline || end != text + size) {
+        snprintf(buf, sizeof buf, "not valid JSON (at byte %td)",
+                 c->baseline ? end - text : cJSON_GetErrorPtr() ? cJSON_GetErrorPtr() - text : (ptrdiff_t)0);
         problem = buf;
-    }
-    if (!problem) {
-        struct scene_setup_desc *d = &c->desc;
-        const double w = json_number(settings, "width"), h = json_number(settings, "height");
-        const double n = json_number(settings, "gt_samples"), seed = json_number(settings, "gt_seed");
-        const double map = json_number(settings, "shadow_map_size");
-        const int root = (int)lround(sqrt(n));
-        if (!(w >= RUN_MIN_SIZE && w <= RUN_MAX_SIZE && h >= RUN_MIN_SIZE && h <= RUN_MAX_SIZE &&
-              n >= 1 && n <= GT_MAX_SAMPLES && root * root == n && seed >= 1 && seed <= UINT32_MAX &&
-              map >= SHADOWMAP_MIN_SIZE && map <= SHADOWMAP_MAX_SIZE) ||
-            w != floor(w) || h != floor(h) || seed != floor(seed) || map != floor(map))
-            problem = "its settings (width, height, gt_samples, gt_seed, shadow_map_size) are missing "
-                      "or out of range";
-        else {
-            d->width = (int)w, d->height = (int)h, d->gt_samples = (int)n, d->gt_seed = (uint32_t)seed;
-            d->shadow_map_size = (int)map;
-        }
-    }
+    } else if (!cJSON_IsObject(c->baseline))
+        problem = "not a JSON object";
+    else
+        problem = baseline_problem(c, c->baseline, buf, sizeof buf);
+    free(text);
+
     /* The parameters it was rendered with; a bad one is reported by
      * params_set, prefixed with the file. */
     log_set_context(c->json_path);
     if (problem)
         log_error("%s", problem);
+    const cJSON *params = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(c->baseline, "settings"),
+                                                           "params");
     const cJSON *p, *list = problem ? NULL : params;
     cJSON_ArrayForEach(p, list) {
         char value[64];
-        if (cJSON_IsString(p))
-            snprintf(value, sizeof value, "%s", p->valuestring);
-        else if (cJSON_IsNumber(p))
-            snprintf(value, sizeof value, "%.9g", p->valuedouble);
-        else if (cJSON_IsBool(p))
-            snprintf(value, sizeof value, "%s", cJSON_IsTrue(p) ? "true" : "false");
-        else {
-            log_error("parameter %s: not a value", p->string);
+        int length = cJSON_IsString(p) ? snprintf(value, sizeof value, "%s", p->valuestring)
+                   : cJSON_IsNumber(p)  ? snprintf(value, sizeof value, "%.9g", p->valuedouble)
+                   : cJSON_IsBool(p)    ? snprintf(value, sizeof value, "%s", cJSON_IsTrue(p) ? "true" : "false")
+                                        : -1;
+        if (length < 0 || length >= (int)sizeof value) {
+            log_error("parameter %s: not a value, or longer than %zu characters", p->string, sizeof value - 1);
             problem = "bad parameter";
             break;
         }
@@ -264,6 +330,16 @@ static int read_baseline(struct cell *c)
     rc = image_read_png16(c->png_path, c->desc.width, c->desc.height, &c->picture);
     if (rc == -ENOENT)
         log_error("%s: its picture %s is missing", c->json_path, c->png_path);
+    if (rc)
+        return -1;
+    char *hash = picture_hash(c->picture, (size_t)c->desc.width * (size_t)c->desc.height);
+    const char *recorded = cJSON_GetStringValue(
+        cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(c->baseline, "picture"), "hash"));
+    rc = strcmp(hash, recorded) != 0;
+    if (rc)
+        log_error("%s: its picture is not the one it recorded (an interrupted --update? record it anew)",
+                  c->json_path);
+    free(hash);
     return rc ? -1 : 0;
 }
 
@@ -320,7 +396,13 @@ static int write_baseline(const struct cell *c, const char *git, const char *dat
         }
         cJSON_AddStringToObject(t, "why", why);
     }
+    const size_t count = (size_t)c->desc.width * (size_t)c->desc.height;
+    uint16_t *pixels = xmalloc(count * sizeof *pixels);
+    quantize(c->v, count, pixels);
+    char *hash = picture_hash(pixels, count);
     cJSON *pic = cJSON_AddObjectToObject(b, "picture");
+    cJSON_AddStringToObject(pic, "hash", hash);
+    free(hash);
     cJSON_AddNumberToObject(pic, "pixel_threshold", CHECK_PIXEL_THRESHOLD);
     cJSON_AddNumberToObject(pic, "max_moved_fraction", CHECK_PIXEL_FRACTION);
     cJSON_AddStringToObject(pic, "why", "V_tech does not depend on the ground truth and is the same bit "
@@ -338,11 +420,10 @@ static int write_baseline(const struct cell *c, const char *git, const char *dat
     cJSON_Delete(b);
     char *dir = util_printf("%s", c->json_path);
     *strrchr(dir, '/') = '\0';
-    const size_t count = (size_t)c->desc.width * (size_t)c->desc.height;
-    uint16_t *pixels = xmalloc(count * sizeof *pixels);
-    quantize(c->v, count, pixels);
-    int rc = util_mkdirs(dir) || util_write_file_atomic(c->json_path, text, strlen(text)) ||
-             image_write_png16(c->png_path, c->desc.width, c->desc.height, pixels);
+    /* The picture first: a JSON is never newer than its picture, and the
+     * hash tells an interrupted pair apart. */
+    int rc = util_mkdirs(dir) || image_write_png16(c->png_path, c->desc.width, c->desc.height, pixels) ||
+             util_write_file_atomic(c->json_path, text, strlen(text));
     free(pixels);
     free(dir);
     free(text);
@@ -479,10 +560,11 @@ static void compare(struct cell *c, const struct run_options *o)
     quantize(c->v, count, now);
     size_t moved = 0;
     for (size_t i = 0; i < count; i++)
-        moved += fabs(((double)now[i] - (double)c->picture[i]) / 65535.0) > CHECK_PIXEL_THRESHOLD;
+        moved += fabs(((double)now[i] - (double)c->picture[i]) / 65535.0) > c->pixel_threshold;
     free(now);
     c->moved_fraction = (double)moved / (double)count;
-    const bool picture_moved = c->moved_fraction > CHECK_PIXEL_FRACTION;
+    c->compared = true;
+    const bool picture_moved = c->moved_fraction > c->max_moved;
 
     struct strbuf why = {0};
     int better = 0, poorer = 0;
@@ -510,7 +592,7 @@ static void compare(struct cell *c, const struct run_options *o)
     if (c->status != PASS || picture_moved) {
         fputs(why.data ? why.data : "", stdout);
         printf("      picture: %.2f %% of pixels moved by more than %g (allowed %.2f %%)%s\n",
-               100.0 * c->moved_fraction, CHECK_PIXEL_THRESHOLD, 100.0 * CHECK_PIXEL_FRACTION,
+               100.0 * c->moved_fraction, c->pixel_threshold, 100.0 * c->max_moved,
                picture_moved && !poorer && !better ? ", with no metric better" : "");
     }
     if (c->status == IMPROVED)
@@ -621,7 +703,7 @@ static int write_page(const struct check *ch, const char *out)
     int shown = 0;
     for (int i = 0; i < ch->count; i++) {
         const struct cell *c = &ch->cells[i];
-        if (!c->baseline || !c->v || (c->status == PASS && c->moved_fraction == 0.0))
+        if (!c->picture || !c->v || !c->compared || (c->status == PASS && c->moved_fraction == 0.0))
             continue;
         shown++;
         const size_t count = (size_t)c->desc.width * (size_t)c->desc.height;
@@ -658,7 +740,7 @@ static int write_page(const struct check *ch, const char *out)
         strbuf_printf(&html, "</h2>\n<p>%.2f %% of pixels moved by more than %g (allowed %.2f %%).</p>\n"
                              "<table><tr><th>metric</th><th>baseline</th><th>now</th><th>difference</th>"
                              "<th>tolerance</th></tr>\n",
-                      100.0 * c->moved_fraction, CHECK_PIXEL_THRESHOLD, 100.0 * CHECK_PIXEL_FRACTION);
+                      100.0 * c->moved_fraction, c->pixel_threshold, 100.0 * c->max_moved);
         for (int g = 0; g < GUARDED_COUNT; g++) {
             const int k = guarded[g].metric;
             const double b = baseline_metric(c, k), v = metrics_value(&c->now, k);
@@ -706,15 +788,20 @@ static int check_scene(struct check *ch, const struct scene *s, const char *git,
             continue;
         if (!c->baseline && !o->update) {
             c->status = NO_BASELINE;
-            printf("  %-11s %-22s %s   (record it: shadowbench check --update --scene %s --technique %s)\n",
-                   status_names[NO_BASELINE], s->name, c->label, s->name, c->t->name);
+            printf("  %-11s %-22s %s   (record it: shadowbench check --update --scene %s --technique %s "
+                   "--baselines %s)\n", status_names[NO_BASELINE], s->name, c->label, s->name, c->t->name,
+                   o->baselines_dir);
             failures++;
             continue;
         }
+        bool comparable = c->baseline != NULL;
         if (o->update) {  /* recorded anew: today's settings for its name */
+            const struct scene_setup_desc fresh = {CHECK_SIZE, CHECK_SIZE, SHADOWMAP_DEFAULT_SIZE,
+                                                   CHECK_GT_SAMPLES, CHECK_GT_SEED, o->cache_dir};
+            comparable = comparable && same_desc(&c->desc, &fresh) &&
+                         same_params(c->t, c->settings, c->label_settings);
             memcpy(c->settings, c->label_settings, c->t->settings_size);
-            c->desc = (struct scene_setup_desc){CHECK_SIZE, CHECK_SIZE, SHADOWMAP_DEFAULT_SIZE,
-                                                CHECK_GT_SAMPLES, CHECK_GT_SEED, o->cache_dir};
+            c->desc = fresh;
         }
         c->desc.cache_dir = o->cache_dir;
         if (!open || !same_desc(&current, &c->desc)) {
@@ -746,10 +833,11 @@ static int check_scene(struct check *ch, const struct scene *s, const char *git,
         c->v = memcpy(xmalloc(count * sizeof(float)), ss.v, count * sizeof(float));
         if (o->update) {
             seed_spread(c, &ss, extra);
-            if (c->baseline)
+            if (comparable)
                 compare(c, o);
             else
-                printf("  %-11s %-22s %s\n", "new", s->name, c->label);
+                printf("  %-11s %-22s %s%s\n", "new", s->name, c->label,
+                       c->baseline ? "   (its settings changed: not compared)" : "");
             if (write_baseline(c, git, date) != 0) {
                 failures = -1;
                 break;
@@ -768,6 +856,48 @@ static int check_scene(struct check *ch, const struct scene *s, const char *git,
     return failures;
 }
 
+/* path made absolute with its links resolved, as far as it exists (the rest
+ * appended as written); malloc'ed. */
+static char *absolute(const char *path)
+{
+    char *real = realpath(path, NULL);
+    if (real)
+        return real;
+    const char *slash = strrchr(path, '/');
+    if (!slash) {
+        char *cwd = realpath(".", NULL), *joined = util_printf("%s/%s", cwd ? cwd : ".", path);
+        free(cwd);
+        return joined;
+    }
+    char *parent = slash == path ? xstrdup("/") : util_printf("%.*s", (int)(slash - path), path);
+    char *head = absolute(parent);
+    char *joined = util_printf("%s%s%s", head, head[strlen(head) - 1] == '/' ? "" : "/", slash + 1);
+    free(parent), free(head);
+    return joined;
+}
+
+/* The baselines folder is a folder (made and writable for --update), and
+ * --out is not it or inside it: the page's pictures would overwrite the
+ * baselines'. Returns 0 or -1 (logged). */
+static int check_folders(const struct run_options *o)
+{
+    struct stat st;
+    if (stat(o->baselines_dir, &st) == 0 && !S_ISDIR(st.st_mode)) {
+        log_error("--baselines %s: not a folder", o->baselines_dir);
+        return -1;
+    }
+    char *out = absolute(o->out_dir), *base = absolute(o->baselines_dir);
+    const size_t n = strlen(base);
+    const bool inside = strncmp(out, base, n) == 0 && (out[n] == '\0' || out[n] == '/');
+    if (inside)
+        log_error("--out %s: inside the baselines folder %s (its pictures would overwrite them)", o->out_dir,
+                  o->baselines_dir);
+    free(out), free(base);
+    if (inside || (o->update && run_prepare_out_dir(o->baselines_dir) != 0))
+        return -1;
+    return run_prepare_out_dir(o->out_dir);
+}
+
 int check_main(const struct run_options *o)
 {
     const double start = util_now_ms();
@@ -776,15 +906,22 @@ int check_main(const struct run_options *o)
     struct check ch = {.o = o, .all_scenes = o->scene_count == 0};
     char *git = NULL, *date = NULL;
 
-    if (run_load_scenes(o, scenes, &scene_count) != 0 || collect_cells(&ch, scenes, scene_count) != 0)
+    if (run_load_scenes(o, scenes, &scene_count) != 0 || check_folders(o) != 0 ||
+        collect_cells(&ch, scenes, scene_count) != 0)
         goto out;
     for (int i = 0; i < ch.count; i++) {
         struct cell *c = &ch.cells[i];
-        if (read_baseline(c) == 0)
+        /* --update repairs what it cannot read: not an error there. */
+        const enum log_level level = log_get_level();
+        if (o->update)
+            log_set_level(LOG_NONE);
+        const int rc = read_baseline(c);
+        log_set_level(level);
+        if (rc == 0)
             continue;
         if (!o->update)
             goto out;
-        log_warn("%s: recorded anew", c->json_path);  /* --update repairs it */
+        log_warn("%s: not readable by this build (see check without --update): recorded anew", c->json_path);
         cJSON_Delete(c->baseline);
         c->baseline = NULL;
     }
@@ -793,8 +930,6 @@ int check_main(const struct run_options *o)
         if (light_frustum_fit(&scenes[s], &f) != 0)
             goto out;
     }
-    if (run_prepare_out_dir(o->out_dir) != 0)
-        goto out;
     status = EXIT_CHECK_FAILED;
     if (gl_context_create() != 0)
         goto out;

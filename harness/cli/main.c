@@ -391,7 +391,13 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
         case OPT_CACHE: o->cache_dir = optarg; break;
         case OPT_NO_CACHE: o->cache_dir = NULL; break;
         case OPT_SHADERS: o->shader_dir = optarg; break;
-        case OPT_BASELINES: o->baselines_dir = optarg; break;
+        case OPT_BASELINES:
+            if (!*optarg) {
+                log_error("--baselines: an empty folder name");
+                return -1;
+            }
+            o->baselines_dir = optarg;
+            break;
         case OPT_UPDATE: o->update = true; break;
         case OPT_STRICT: o->strict = true; break;
         case 'q': log_set_level(LOG_ERROR); break;
@@ -403,6 +409,10 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
     }
     if (optind < argc) {
         log_error("%s: unexpected argument (see --help)", argv[optind]);
+        return -1;
+    }
+    if (o->update && o->strict) {
+        log_error("--strict: has no effect with --update (which records every cell)");
         return -1;
     }
     if (cmd == RUN_CMD_GT && o->scene_count == 0) {

@@ -53,7 +53,7 @@ static int compose(struct composition *c, const char *file, const char *defines,
     size_t size;
     int err = util_read_file(path, &src, &size);
     if (err) {
-        log_error("%s: cannot read shader: %s", path, strerror(-err));
+        log_error("%s: cannot read shader: %s", path, util_read_error(err));
         free(path);
         return -1;
     }

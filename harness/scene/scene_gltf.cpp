@@ -443,7 +443,7 @@ extern "C" int scene_load(const char *path, struct scene *s)
     size_t size = 0;
     int err = util_read_file(path, &bytes, &size);
     if (err) {
-        log_error("%s: cannot open: %s", path, strerror(-err));
+        log_error("%s: cannot open: %s", path, util_read_error(err));
         return err;
     }
     try {
