@@ -8,6 +8,7 @@
 
 #include <cjson/cJSON.h>
 #include <string.h>
+#include <sys/stat.h>
 
 static const char *shadowbench;
 static char dir[] = "/tmp/sb_test_loader_XXXXXX";
@@ -97,6 +98,65 @@ static void overrun(cJSON *g)
     cJSON_DeleteItemFromObject(at(g, "accessors", 0), "max");
 }
 
+/* Hostile values (issue 12): overflowing sizes, shared children, values
+ * the renderers cannot hold, wrong JSON types that tinygltf would replace
+ * by defaults. */
+static void huge_count(cJSON *g)
+{
+    overrun(g);
+    cJSON_ReplaceItemInObject(at(g, "accessors", 0), "count", cJSON_CreateNumber(2147483647.0));
+}
+static void wrapping_offset(cJSON *g)
+{
+    cJSON_AddNumberToObject(at(g, "bufferViews", 0), "byteOffset", 18446744073709551608.0);
+}
+static void short_stride(cJSON *g) { cJSON_AddNumberToObject(at(g, "bufferViews", 0), "byteStride", 4); }
+static void two_parents(cJSON *g)
+{
+    cJSON_AddItemToObject(at(g, "nodes", 1), "children", cJSON_CreateIntArray((const int[]){0}, 1));
+    cJSON_AddItemToObject(at(g, "nodes", 2), "children", cJSON_CreateIntArray((const int[]){0}, 1));
+}
+static void huge_light(cJSON *g)
+{
+    cJSON_ReplaceItemInObject(light(g), "size", cJSON_CreateDoubleArray((const double[]){5e18, 1}, 2));
+}
+static void overflowing_light(cJSON *g)
+{
+    cJSON_ReplaceItemInObject(light(g), "size", cJSON_CreateDoubleArray((const double[]){1e39, 1}, 2));
+}
+static void vanishing_light(cJSON *g)
+{
+    cJSON_ReplaceItemInObject(light(g), "size", cJSON_CreateDoubleArray((const double[]){1e-50, 1}, 2));
+}
+static void far_camera(cJSON *g)
+{
+    cJSON *m = cJSON_GetObjectItem(at(g, "nodes", 1), "matrix");
+    cJSON_ReplaceItemInArray(m, 12, cJSON_CreateNumber(3e18));
+}
+static cJSON *perspective(cJSON *g) { return cJSON_GetObjectItem(at(g, "cameras", 0), "perspective"); }
+static void pi_yfov(cJSON *g) { cJSON_ReplaceItemInObject(perspective(g), "yfov", cJSON_CreateNumber(3.14159265358979)); }
+static void tiny_znear(cJSON *g) { cJSON_ReplaceItemInObject(perspective(g), "znear", cJSON_CreateNumber(1e-50)); }
+static void string_matrix(cJSON *g)
+{
+    const char *const a[16] = {"a", "0", "0", "0", "0", "1", "0", "0", "0", "0", "1", "0", "0", "0", "0", "1"};
+    cJSON_ReplaceItemInObject(at(g, "nodes", 1), "matrix", cJSON_CreateStringArray(a, 16));
+}
+static void short_matrix(cJSON *g)
+{
+    cJSON_ReplaceItemInObject(at(g, "nodes", 1), "matrix", cJSON_CreateIntArray((const int[]){1, 0, 0}, 3));
+}
+static void zero_rotation(cJSON *g)
+{
+    cJSON_AddItemToObject(at(g, "nodes", 0), "rotation", cJSON_CreateIntArray((const int[]){0, 0, 0, 0}, 4));
+}
+static void string_mode(cJSON *g) { cJSON_ReplaceItemInObject(primitive(g), "mode", cJSON_CreateString("4")); }
+static void twice_mode(cJSON *g) { cJSON_AddStringToObject(primitive(g), "mode", "4"); }
+static void huge_mesh(cJSON *g) { cJSON_ReplaceItemInObject(at(g, "nodes", 0), "mesh", cJSON_CreateNumber(1099511627776.0)); }
+static void missing_normal(cJSON *g)
+{
+    cJSON_AddNumberToObject(cJSON_GetObjectItem(primitive(g), "attributes"), "NORMAL", 9);
+}
+
 /* Runs `gt` on path; the whole of stderr must be the one expected line. */
 static void expect_error(const char *path, const char *problem)
 {
@@ -178,6 +238,49 @@ int main(int argc, char **argv)
                  "area light (node 2): radius must be positive, got -0.5");
     case_mutated("bad_shape", bad_shape,
                  "area light (node 2): \"shape\" must be \"rect\" or \"disk\", got \"sphere\"");
+
+    case_mutated("huge_count", huge_count,
+                 "malformed buffers: POSITION accessor 0 reads past the end of buffer view 0");
+    case_mutated("wrapping_offset", wrapping_offset,
+                 "malformed glTF: bufferViews[0].byteOffset must be a whole number in [0, 2^53]");
+    case_mutated("short_stride", short_stride,
+                 "malformed buffers: buffer view 0 has byteStride 4, less than the 12-byte elements of "
+                 "POSITION accessor 0");
+    case_mutated("two_parents", two_parents,
+                 "malformed glTF: node 0 has more than one parent (glTF forbids it)");
+    case_mutated("huge_light", huge_light,
+                 "area light (node 2): size must be in [1e-06, 1e+08] as floats, got [5e+18, 1]");
+    case_mutated("overflowing_light", overflowing_light,
+                 "area light (node 2): size must be in [1e-06, 1e+08] as floats, got [1e+39, 1]");
+    case_mutated("vanishing_light", vanishing_light,
+                 "area light (node 2): size must be in [1e-06, 1e+08] as floats, got [1e-50, 1]");
+    case_mutated("far_camera", far_camera,
+                 "camera 0: its position (3e+18, 3, 3) lies beyond 1e+08 world units");
+    case_mutated("pi_yfov", pi_yfov, "camera 0: yfov must be in (0, pi) as a float, got 3.14159265358979");
+    case_mutated("tiny_znear", tiny_znear, "camera 0: znear must be in [1e-06, 1e+08] as a float, got 1e-50");
+    case_mutated("string_matrix", string_matrix, "malformed glTF: nodes[1].matrix must be 16 finite numbers");
+    case_mutated("short_matrix", short_matrix, "malformed glTF: nodes[1].matrix must be 16 finite numbers");
+    case_mutated("zero_rotation", zero_rotation,
+                 "malformed glTF: nodes[0].rotation must be a unit quaternion (4 numbers)");
+    case_mutated("string_mode", string_mode,
+                 "malformed glTF: meshes[0].primitives[0].mode must be a number 0..6");
+    case_mutated("twice_mode", twice_mode, "malformed JSON: the key \"mode\" appears twice in one object");
+    case_mutated("huge_mesh", huge_mesh, "malformed glTF: nodes[0].mesh must be an index");
+    case_mutated("missing_normal", missing_normal, "mesh 0 primitive 0: NORMAL accessor 9 does not exist");
+
+    /* Not regular files: a FIFO would block a reader; /dev/null is a device. */
+    char *fifo = util_printf("%s/fifo.gltf", dir);
+    CHECK(mkfifo(fifo, 0600) == 0, "mkfifo %s", fifo);
+    expect_error(fifo, "cannot open: not a regular file");
+    free(fifo);
+    expect_error("/dev/null", "cannot open: not a regular file");
+
+    /* A GLB of another version. */
+    char *glb = util_printf("%s/v1.glb", dir);
+    const char header[20] = {'g', 'l', 'T', 'F', 1, 0, 0, 0, 20, 0, 0, 0, 0, 0, 0, 0, 'J', 'S', 'O', 'N'};
+    util_write_file_atomic(glb, header, sizeof header);
+    expect_error(glb, "GLB version 1: only version 2 is supported");
+    free(glb);
 
     struct mesh_builder m = {0};
     mesh_add_triangle(&m, v3(-1, 0, -1), v3(NAN, 0, -1), v3(0, 0, 1));

@@ -56,6 +56,14 @@ struct scene {
     uint64_t hash;        /* of the file's bytes and every loaded array */
 };
 
+/* The renderers' range (DESIGN.md §4): every coordinate (vertices, the
+ * camera's and the light's positions) within +-SCENE_MAX_COORD world units,
+ * and lengths (the light's size, znear) at least SCENE_MIN_LENGTH, as
+ * floats. Beyond them Embree's and GL's float arithmetic fails (Embree
+ * aborts on ~1e18). */
+#define SCENE_MAX_COORD 1e8f
+#define SCENE_MIN_LENGTH 1e-6f
+
 /* Loads path into *s. On failure logs one line "<path>: <problem>" and
  * returns a negative value; *s is then empty (scene_free is still safe). */
 int scene_load(const char *path, struct scene *s);

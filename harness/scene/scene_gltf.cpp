@@ -8,6 +8,8 @@
 #include <cjson/cJSON.h>
 
 #include <cerrno>
+#include <cfloat>
+#include <cstdint>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -114,12 +116,42 @@ public:
             for (size_t i = 0; i < child.size(); i++)
                 if (!child[i]) roots.push_back((int)i);
         }
+        // glTF: a node has at most one parent, and a scene lists roots, each
+        // once. A node reached twice would be traversed twice, and a chain
+        // of double children exponentially often.
+        std::vector<int> parents(m.nodes.size());
+        for (size_t i = 0; i < m.nodes.size(); i++)
+            for (int c : m.nodes[i].children) {
+                if (c < 0 || c >= (int)m.nodes.size())
+                    fail(fmt("malformed glTF: node %zu names child %d, which does not exist", i, c));
+                if (++parents[c] > 1)
+                    fail(fmt("malformed glTF: node %d has more than one parent (glTF forbids it)", c));
+            }
+        std::vector<bool> listed(m.nodes.size());
+        for (int r : roots) {
+            if (r < 0 || r >= (int)m.nodes.size())
+                fail(fmt("malformed glTF: node %d does not exist", r));
+            if (listed[r] || parents[r])
+                fail(fmt("malformed glTF: node %d is listed as a root %s", r,
+                         listed[r] ? "twice" : "but has a parent"));
+            listed[r] = true;
+        }
         for (int r : roots)
             visit(r, m4_identity(), 0);
     }
 
 private:
     const tinygltf::Model &m;
+
+    // A light's size: positive and below the coordinates' limit, as a float.
+    static bool usable_length(float v) { return v >= SCENE_MIN_LENGTH && v <= SCENE_MAX_COORD; }
+
+    static void check_position(struct vec3 p, const std::string &what)
+    {
+        if (!(fabsf(p.x) <= SCENE_MAX_COORD && fabsf(p.y) <= SCENE_MAX_COORD && fabsf(p.z) <= SCENE_MAX_COORD))
+            fail(fmt("%s: its position (%g, %g, %g) lies beyond %g world units", what.c_str(), (double)p.x,
+                     (double)p.y, (double)p.z, (double)SCENE_MAX_COORD));
+    }
 
     void visit(int ni, struct mat4 parent, int depth)
     {
@@ -152,14 +184,18 @@ private:
         if (c.type != "perspective")
             fail(fmt("camera %d is %s: only perspective cameras are supported", ci,
                      c.type.empty() ? "untyped" : c.type.c_str()));
-        if (!(c.perspective.yfov > 0 && c.perspective.yfov < M_PI))
-            fail(fmt("camera %d: yfov must be in (0, pi), got %g", ci, c.perspective.yfov));
-        if (!(c.perspective.znear > 0))
-            fail(fmt("camera %d: znear must be positive, got %g", ci, c.perspective.znear));
+        // Checked as the floats they become.
+        const float yfov = (float)c.perspective.yfov, znear = (float)c.perspective.znear;
+        if (!(yfov > 0 && yfov < (float)M_PI))
+            fail(fmt("camera %d: yfov must be in (0, pi) as a float, got %.17g", ci, c.perspective.yfov));
+        if (!(znear >= SCENE_MIN_LENGTH && znear <= SCENE_MAX_COORD))
+            fail(fmt("camera %d: znear must be in [%g, %g] as a float, got %g", ci, (double)SCENE_MIN_LENGTH,
+                     (double)SCENE_MAX_COORD, c.perspective.znear));
         if (!node_frame(world, &camera.pos, &camera.x, &camera.y, &camera.z))
             fail(fmt("camera %d: its node has a degenerate transform", ci));
-        camera.yfov_rad = (float)c.perspective.yfov;
-        camera.znear = (float)c.perspective.znear;
+        check_position(camera.pos, fmt("camera %d", ci));
+        camera.yfov_rad = yfov;
+        camera.znear = znear;
         have_camera = true;
     }
 
@@ -177,6 +213,9 @@ private:
             double w = s.Get(0).GetNumberAsDouble(), h = s.Get(1).GetNumberAsDouble();
             if (!(w > 0 && h > 0))
                 fail(fmt("%s (node %d): size must be positive, got [%g, %g]", where, ni, w, h));
+            if (!usable_length((float)w) || !usable_length((float)h))
+                fail(fmt("%s (node %d): size must be in [%g, %g] as floats, got [%g, %g]", where, ni,
+                         (double)SCENE_MIN_LENGTH, (double)SCENE_MAX_COORD, w, h));
             light.shape = LIGHT_RECT;
             light.width = (float)w;
             light.height = (float)h;
@@ -187,6 +226,9 @@ private:
             double rad = r.GetNumberAsDouble();
             if (!(rad > 0))
                 fail(fmt("%s (node %d): radius must be positive, got %g", where, ni, rad));
+            if (!usable_length((float)rad))
+                fail(fmt("%s (node %d): radius must be in [%g, %g] as a float, got %g", where, ni,
+                         (double)SCENE_MIN_LENGTH, (double)SCENE_MAX_COORD, rad));
             light.shape = LIGHT_DISK;
             light.radius = (float)rad;
             light.width = light.height = (float)(2 * rad);
@@ -196,6 +238,7 @@ private:
         }
         if (!node_frame(world, &light.pos, &light.x, &light.y, &light.z))
             fail(fmt("%s (node %d): the node has a degenerate transform", where, ni));
+        check_position(light.pos, fmt("%s (node %d)", where, ni));
         have_light = true;
     }
 
@@ -220,12 +263,19 @@ private:
             fail(fmt("malformed buffers: buffer view %d names buffer %d, which does not exist",
                      a.bufferView, bv.buffer));
         const tinygltf::Buffer &b = m.buffers[bv.buffer];
-        if (bv.byteOffset + bv.byteLength > b.data.size())
-            fail(fmt("malformed buffers: buffer view %d ends at byte %zu, past the end of buffer %d "
-                     "(%zu bytes)", a.bufferView, bv.byteOffset + bv.byteLength, bv.buffer,
+        size_t view_end;  // every sum and product checked: a wrapped one would pass the bound
+        if (__builtin_add_overflow(bv.byteOffset, bv.byteLength, &view_end) || view_end > b.data.size())
+            fail(fmt("malformed buffers: buffer view %d (offset %zu, %zu bytes) reaches past the end of "
+                     "buffer %d (%zu bytes)", a.bufferView, bv.byteOffset, bv.byteLength, bv.buffer,
                      b.data.size()));
-        size_t stride = bv.byteStride ? bv.byteStride : elem_size;
-        size_t end = a.count ? a.byteOffset + stride * (a.count - 1) + elem_size : 0;
+        if (bv.byteStride && bv.byteStride < elem_size)
+            fail(fmt("malformed buffers: buffer view %d has byteStride %zu, less than the %zu-byte "
+                     "elements of %s accessor %d", a.bufferView, bv.byteStride, elem_size, what, ai));
+        size_t stride = bv.byteStride ? bv.byteStride : elem_size, end = 0;
+        if (a.count && (__builtin_mul_overflow(stride, a.count - 1, &end) ||
+                        __builtin_add_overflow(end, a.byteOffset, &end) ||
+                        __builtin_add_overflow(end, elem_size, &end)))
+            end = SIZE_MAX;
         if (end > bv.byteLength)
             fail(fmt("malformed buffers: %s accessor %d reads past the end of buffer view %d", what,
                      ai, a.bufferView));
@@ -259,6 +309,9 @@ private:
             struct vec3 w = m4_point(world, v3(f[0], f[1], f[2]));
             if (!std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
                 fail(fmt("mesh %d primitive %d: vertex %zu is not finite", mi, pi, v));
+            if (!(fabsf(w.x) <= SCENE_MAX_COORD && fabsf(w.y) <= SCENE_MAX_COORD && fabsf(w.z) <= SCENE_MAX_COORD))
+                fail(fmt("mesh %d primitive %d: vertex %zu lies beyond %g world units (%g, %g, %g)", mi, pi,
+                         v, (double)SCENE_MAX_COORD, (double)w.x, (double)w.y, (double)w.z));
             pos.insert(pos.end(), {w.x, w.y, w.z});
         }
 
@@ -297,7 +350,9 @@ private:
 
         nrm.resize(pos.size(), 0.0f);
         auto na = p.attributes.find("NORMAL");
-        if (na != p.attributes.end() && na->second >= 0 && na->second < (int)m.accessors.size()) {
+        if (na != p.attributes.end() && (na->second < 0 || na->second >= (int)m.accessors.size()))
+            fail(fmt("mesh %d primitive %d: NORMAL accessor %d does not exist", mi, pi, na->second));
+        if (na != p.attributes.end()) {
             span ns = vec3_span(na->second, "NORMAL", mi, pi);
             if (ns.count != nv)
                 fail(fmt("mesh %d primitive %d: NORMAL has %zu elements, POSITION %zu", mi, pi,
@@ -373,14 +428,156 @@ std::string string_extra(const tinygltf::Value &v, const char *key)
     return v.IsObject() && v.Has(key) && v.Get(key).IsString() ? v.Get(key).Get<std::string>() : "";
 }
 
+// ---- the JSON's types, checked before tinygltf reads it: tinygltf puts a
+// default in place of a value of the wrong type (a camera matrix of
+// strings became the identity, "mode": "4" became triangles, a mesh index
+// of 2^40 was truncated), and none of that may pass silently.
+
+bool is_index(const cJSON *v)
+{
+    return cJSON_IsNumber(v) && v->valuedouble >= 0 && v->valuedouble <= INT32_MAX &&
+           v->valuedouble == floor(v->valuedouble);
+}
+
+bool is_count(const cJSON *v)  // a byte count or offset: exact in a double
+{
+    return cJSON_IsNumber(v) && v->valuedouble >= 0 && v->valuedouble <= 9007199254740992.0 &&
+           v->valuedouble == floor(v->valuedouble);
+}
+
+bool is_numbers(const cJSON *v, int n)
+{
+    if (!cJSON_IsArray(v) || cJSON_GetArraySize(v) != n)
+        return false;
+    const cJSON *e;
+    cJSON_ArrayForEach(e, v) if (!cJSON_IsNumber(e) || !std::isfinite(e->valuedouble)) return false;
+    return true;
+}
+
+// Each member `key` of every object in array `name` passes `ok`, where present.
+void check_members(const cJSON *doc, const char *name, const char *key, bool (*ok)(const cJSON *),
+                   const char *must)
+{
+    const cJSON *array = cJSON_GetObjectItemCaseSensitive(doc, name), *o;
+    int i = 0;
+    cJSON_ArrayForEach(o, array) {
+        const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+        if (v && !ok(v))
+            fail(fmt("malformed glTF: %s[%d].%s must be %s", name, i, key, must));
+        i++;
+    }
+}
+
+bool is_vec3(const cJSON *v) { return is_numbers(v, 3); }
+bool is_matrix(const cJSON *v) { return is_numbers(v, 16); }
+bool is_indices(const cJSON *v)
+{
+    if (!cJSON_IsArray(v))
+        return false;
+    const cJSON *e;
+    cJSON_ArrayForEach(e, v) if (!is_index(e)) return false;
+    return true;
+}
+bool is_unit_quaternion(const cJSON *v)
+{
+    if (!is_numbers(v, 4))
+        return false;
+    double len2 = 0;
+    const cJSON *e;
+    cJSON_ArrayForEach(e, v) len2 += e->valuedouble * e->valuedouble;
+    return fabs(sqrt(len2) - 1.0) <= 1e-3;
+}
+bool is_mode(const cJSON *v) { return is_index(v) && v->valuedouble <= 6; }
+
+// A key twice in one object: cJSON reads the first, tinygltf the last.
+void check_unique_keys(const cJSON *v, int depth)
+{
+    if (depth > 64)
+        fail("malformed JSON: nested more than 64 deep");
+    for (const cJSON *a = v ? v->child : nullptr; a; a = a->next) {
+        if (cJSON_IsObject(v))
+            for (const cJSON *b = a->next; b; b = b->next)
+                if (a->string && b->string && strcmp(a->string, b->string) == 0)
+                    fail(fmt("malformed JSON: the key \"%.64s\" appears twice in one object", a->string));
+        check_unique_keys(a, depth + 1);
+    }
+}
+
+void check_types(const cJSON *doc)
+{
+    if (!cJSON_IsObject(doc))
+        fail("malformed glTF: the document is not a JSON object");
+    check_unique_keys(doc, 0);
+    const cJSON *scene = cJSON_GetObjectItemCaseSensitive(doc, "scene");
+    if (scene && !is_index(scene))
+        fail("malformed glTF: \"scene\" must be an index");
+    check_members(doc, "scenes", "nodes", is_indices, "an array of indices");
+    check_members(doc, "nodes", "children", is_indices, "an array of indices");
+    check_members(doc, "nodes", "mesh", is_index, "an index");
+    check_members(doc, "nodes", "camera", is_index, "an index");
+    check_members(doc, "nodes", "matrix", is_matrix, "16 finite numbers");
+    check_members(doc, "nodes", "translation", is_vec3, "3 finite numbers");
+    check_members(doc, "nodes", "scale", is_vec3, "3 finite numbers");
+    check_members(doc, "nodes", "rotation", is_unit_quaternion, "a unit quaternion (4 numbers)");
+    check_members(doc, "accessors", "bufferView", is_index, "an index");
+    check_members(doc, "accessors", "byteOffset", is_count, "a whole number in [0, 2^53]");
+    check_members(doc, "accessors", "count", is_count, "a whole number in [0, 2^53]");
+    check_members(doc, "accessors", "componentType", is_index, "a component type");
+    check_members(doc, "bufferViews", "buffer", is_index, "an index");
+    check_members(doc, "bufferViews", "byteOffset", is_count, "a whole number in [0, 2^53]");
+    check_members(doc, "bufferViews", "byteLength", is_count, "a whole number in [0, 2^53]");
+    check_members(doc, "bufferViews", "byteStride", is_count, "a whole number in [0, 2^53]");
+    const cJSON *meshes = cJSON_GetObjectItemCaseSensitive(doc, "meshes"), *mesh;
+    int mi = 0;
+    cJSON_ArrayForEach(mesh, meshes) {
+        const cJSON *prims = cJSON_GetObjectItemCaseSensitive(mesh, "primitives"), *p;
+        int pi = 0;
+        cJSON_ArrayForEach(p, prims) {
+            const cJSON *mode = cJSON_GetObjectItemCaseSensitive(p, "mode");
+            const cJSON *indices = cJSON_GetObjectItemCaseSensitive(p, "indices");
+            const cJSON *attributes = cJSON_GetObjectItemCaseSensitive(p, "attributes"), *a;
+            if (mode && !is_mode(mode))
+                fail(fmt("malformed glTF: meshes[%d].primitives[%d].mode must be a number 0..6", mi, pi));
+            if (indices && !is_index(indices))
+                fail(fmt("malformed glTF: meshes[%d].primitives[%d].indices must be an index", mi, pi));
+            cJSON_ArrayForEach(a, attributes) if (!is_index(a))
+                fail(fmt("malformed glTF: meshes[%d].primitives[%d].attributes.%s must be an index", mi, pi,
+                         a->string));
+            pi++;
+        }
+        mi++;
+    }
+}
+
+// The JSON of a GLB (version 2 only), bounds-checked.
+cJSON *glb_json(const char *bytes, size_t size)
+{
+    auto u32 = [&](size_t at) {
+        return (uint32_t)(unsigned char)bytes[at] | (uint32_t)(unsigned char)bytes[at + 1] << 8 |
+               (uint32_t)(unsigned char)bytes[at + 2] << 16 | (uint32_t)(unsigned char)bytes[at + 3] << 24;
+    };
+    if (size < 20)
+        fail(fmt("malformed GLB: %zu bytes, shorter than its headers (20)", size));
+    if (u32(4) != 2)
+        fail(fmt("GLB version %u: only version 2 is supported", u32(4)));
+    const uint32_t length = u32(12);
+    if (memcmp(bytes + 16, "JSON", 4) != 0 || length > size - 20)
+        fail(fmt("malformed GLB: its first chunk is not JSON of %u bytes within the file's %zu", length, size));
+    cJSON *j = cJSON_ParseWithLength(bytes + 20, length);
+    if (!j)
+        fail("malformed GLB: its JSON chunk does not parse");
+    return j;
+}
+
 void load(const char *path, const char *bytes, size_t size, struct scene *s)
 {
     bool glb = size >= 4 && memcmp(bytes, "glTF", 4) == 0;
     if (size > 0x7fffffffu)
         fail("file is larger than 2 GiB");
+    cJSON *j = nullptr;
     if (!glb) {  // our own JSON check: a precise position instead of a parser's essay
         const char *end = nullptr;
-        cJSON *j = cJSON_ParseWithLengthOpts(bytes, size, &end, 0);
+        j = cJSON_ParseWithLengthOpts(bytes, size, &end, 0);
         if (!j) {
             const char *at = cJSON_GetErrorPtr();
             size_t off = at && at >= bytes && at <= bytes + size ? (size_t)(at - bytes) : 0;
@@ -389,8 +586,16 @@ void load(const char *path, const char *bytes, size_t size, struct scene *s)
                 line += bytes[i] == '\n';
             fail(fmt("malformed JSON at line %d (byte %zu)", line, off));
         }
-        cJSON_Delete(j);
+    } else {
+        j = glb_json(bytes, size);
     }
+    try {
+        check_types(j);
+    } catch (...) {
+        cJSON_Delete(j);
+        throw;
+    }
+    cJSON_Delete(j);
 
     std::string dir(path);
     size_t slash = dir.find_last_of('/');
