@@ -73,6 +73,10 @@ int main(int argc, char **argv)
     char *line = util_printf("--technique: unknown technique 'nope' (known: %s)", known.data);
     expect(2, "run --technique nope", line);
     free(line), strbuf_free(&known);
+    expect(2, "run --technique ''", "--technique: '' has an empty name");
+    expect(2, "run --technique ,", "--technique: ',' has an empty name");
+    expect(2, "run --technique hard,,pcf", "--technique: 'hard,,pcf' has an empty name");
+    expect(2, "run --sweep hard.constant_bias=,", "--sweep: 'hard.constant_bias=,' has an empty value");
     expect(2, "run --set hard.nope=1", "hard.nope: unknown parameter (hard has: constant_bias, slope_bias)");
     expect(2, "run --set nope.x=1", "--set: unknown technique 'nope'");
     expect(2, "run --set hard.slope_bias=99", "hard.slope_bias: 99 is out of range [0.0, 16.0]");

@@ -5,6 +5,7 @@
  * "missing", which the test proves it would see), and the inline charts
  * with their Pareto fronts and bars. Also the Pareto front itself. */
 #include "check.h"
+#include "cli/catalog.h"
 #include "run_cmd.h"
 #include "output/chart.h"
 
@@ -70,12 +71,53 @@ static void pareto_front(void)
     CHECK(m == 2 && front[0] == 1 && front[1] == 2, "front: %d items, first %d", m, front[0]);
 }
 
+/* A scene whose file name and description are HTML: the report shows them
+ * as text, and nothing in them runs (issue 12: a file name reached id,
+ * href and a caption unescaped). */
+static void hostile_names(void)
+{
+    char *src = catalog_resolve("parallel_planes"), *text;
+    size_t size;
+    CHECK(src && util_read_file(src, &text, &size) == 0, "reading parallel_planes");
+    cJSON *g = cJSON_Parse(text);
+    free(text);
+    cJSON *meta = cJSON_GetObjectItem(cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(g, "scenes"), 0),
+                                                          "extras"), "shadowbench");
+    cJSON_ReplaceItemInObject(meta, "description", cJSON_CreateString("<script>document.title='2'</script>"));
+    char *long_text = xmalloc(10001);  /* and a text too long to copy whole */
+    memset(long_text, 'x', 10000);
+    long_text[10000] = '\0';
+    cJSON_ReplaceItemInObject(meta, "shows", cJSON_CreateString(long_text));
+    free(long_text);
+    char *json = cJSON_Print(g), *path = util_printf("%s/<img src=x onerror=\"document.title=1\">.gltf", dir);
+    CHECK(util_write_file_atomic(path, json, strlen(json)) == 0, "writing %s", path);
+    cJSON_free(json);
+    cJSON_Delete(g);
+    char *out = util_printf("%s/hostile", dir);
+    char *cmd = util_printf("%s run --scene '%s' --technique hard --width 32 --height 32 --gt-samples 4 "
+                            "--frames 1 --warmup 0 --no-cache -q --out %s", sb, path, out);
+    struct strbuf err = {0};
+    CHECK(run_cmd(cmd, &err, NULL) == 0, "run on the hostile names: %s", err.data);
+    char *report = util_printf("%s/report.html", out);
+    char *dom = dump_dom(report, "");
+    CHECK(strstr(dom, "<title>shadowbench report</title>"), "a script from a name or description ran");
+    CHECK(!strstr(dom, "<img src=\"x\"") && !strstr(dom, "<script>document") &&
+              strstr(dom, "&lt;img src=x onerror=\"document.title=1\"&gt;") &&
+              strstr(dom, "&lt;script&gt;document.title='2'&lt;/script&gt;"),
+          "the names show as text, not as markup");
+    CHECK(strstr(dom, "[... 5904 more bytes, in the scene file]") && !strstr(dom, "xxxxx<"),
+          "a 10000-byte text is cut at 4096 bytes, with a note");
+    strbuf_free(&err);
+    free(dom), free(report), free(cmd), free(out), free(path), free(src);
+}
+
 int main(int argc, char **argv)
 {
     if (argc < 2 || !mkdtemp(dir))
         return 1;
     sb = argv[1];
     pareto_front();
+    hostile_names();
 
     char *out = util_printf("%s/run", dir);
     char *cmd = util_printf("%s run --scene parallel_planes --scene contact_hardening --technique hard,pcss "

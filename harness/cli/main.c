@@ -232,9 +232,14 @@ static int parse_int(const char *opt, const char *text, int lo, int hi, int *out
 
 static int add_techniques(struct run_options *o, const char *list)
 {
-    char *copy = xstrdup(list), *save = NULL;
+    char *copy = xstrdup(list), *rest = copy;
     int rc = 0;
-    for (char *name = strtok_r(copy, ",", &save); name && !rc; name = strtok_r(NULL, ",", &save)) {
+    for (char *name = strsep(&rest, ","); name && !rc; name = strsep(&rest, ",")) {
+        if (!*name) {  /* "", ",", "a,,b": never "every technique" by accident */
+            log_error("--technique: '%s' has an empty name", list);
+            rc = -1;
+            break;
+        }
         const struct technique *t = technique_find(name);
         if (!t) {
             struct strbuf known = {0};

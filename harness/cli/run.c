@@ -110,7 +110,7 @@ int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct
     const size_t count = (size_t)d->width * (size_t)d->height;
     ss->v = xmalloc(sizeof(float) * count);
     ss->distance = xmalloc(sizeof(float) * count);
-    ss->scored = xmalloc(sizeof(float) * count);
+    ss->scored = xcalloc(count, sizeof(float));  /* written whole even before any cell is scored */
     ss->timer = (struct stage_timer){.sm = &ss->sm, .mesh = &ss->mesh, .receiver = &ss->receiver};
     return 0;
 }

@@ -99,13 +99,41 @@ static struct chart_item item_of(const struct cell *c)
     return (struct chart_item){c->label, c->technique->name, technique_index(c->technique)};
 }
 
+static void url(struct strbuf *h, const char *s);
+
+/* A scene's own text, escaped, and cut at REPORT_TEXT_MAX bytes (at a
+ * character boundary) with a note: a file's text is not the report's to
+ * copy whole. */
+#define REPORT_TEXT_MAX 4096
+static void text_capped(struct strbuf *h, const char *s)
+{
+    const size_t n = strlen(s);
+    if (n <= REPORT_TEXT_MAX) {
+        strbuf_xml(h, s);
+        return;
+    }
+    size_t cut = REPORT_TEXT_MAX;
+    while (cut > 0 && ((unsigned char)s[cut] & 0xc0) == 0x80)  /* not inside a UTF-8 sequence */
+        cut--;
+    char *head = util_printf("%.*s", (int)cut, s);
+    strbuf_xml(h, head);
+    strbuf_printf(h, " <i>[... %zu more bytes, in the scene file]</i>", n - cut);
+    free(head);
+}
+
 /* Writes <out>/charts/<name>.svg and appends the SVG to html. */
 static int emit_chart(const struct report *r, const char *name, struct strbuf *svg, struct strbuf *html)
 {
     char *path = util_printf("%s/charts/%s.svg", r->out_dir, name);
     int rc = util_write_file_atomic(path, svg->data, svg->len);
-    strbuf_printf(html, "<figure class=\"chart\" id=\"chart-%s\">\n%s<figcaption><a href=\"charts/%s.svg\">"
-                        "charts/%s.svg</a></figcaption></figure>\n", name, svg->data, name, name);
+    /* name holds a scene's name, i.e. a file name: escaped wherever it goes. */
+    strbuf_printf(html, "<figure class=\"chart\" id=\"chart-");
+    url(html, name);
+    strbuf_printf(html, "\">\n%s<figcaption><a href=\"charts/", svg->data);
+    url(html, name);
+    strbuf_printf(html, ".svg\">charts/");
+    strbuf_xml(html, name);
+    strbuf_printf(html, ".svg</a></figcaption></figure>\n");
     free(path);
     strbuf_free(svg);
     return rc ? -1 : 0;
@@ -438,10 +466,10 @@ static int write_html(const struct report *r)
         strbuf_printf(&h, "\">Scene ");
         strbuf_xml(&h, sc->name);
         strbuf_printf(&h, "</h2>\n<p>");
-        strbuf_xml(&h, sc->description);
+        text_capped(&h, sc->description);
         if (*sc->shows) {
             strbuf_printf(&h, " <b>Shows:</b> ");
-            strbuf_xml(&h, sc->shows);
+            text_capped(&h, sc->shows);
         }
         strbuf_printf(&h, "</p>\n");
         scene_grid(r, sc, &h);
