@@ -10,6 +10,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static int exr_failed(exr_context_t ctx, const char *path, const char *what, exr_result_t rc)
 {
@@ -19,14 +20,21 @@ static int exr_failed(exr_context_t ctx, const char *path, const char *what, exr
     return -1;
 }
 
-int image_write_exr(const char *path, int width, int height, const struct exr_channel *channels,
-                    int channel_count, const char *comments)
+/* The library's own messages would make a second line: ours name the file. */
+static void exr_quiet(exr_const_context_t ctx, exr_result_t code, const char *msg)
+{
+    (void)ctx, (void)code, (void)msg;
+}
+
+/* Writes the EXR into file; messages name path. */
+static int write_exr_to(const char *path, const char *file, int width, int height,
+                        const struct exr_channel *channels, int channel_count, const char *comments)
 {
     exr_context_t ctx = NULL;
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = exr_quiet;
     int part = 0;
-    /* EXR_INTERMEDIATE_TEMP_FILE: the library writes a temporary and renames. */
-    exr_result_t rc = exr_start_write(&ctx, path, EXR_INTERMEDIATE_TEMP_FILE, &init);
+    exr_result_t rc = exr_start_write(&ctx, file, EXR_WRITE_FILE_DIRECTLY, &init);
     if (rc != EXR_ERR_SUCCESS)
         return exr_failed(NULL, path, "cannot write", rc);
     if ((rc = exr_add_part(ctx, "visibility", EXR_STORAGE_SCANLINE, &part)) ||
@@ -80,6 +88,24 @@ int image_write_exr(const char *path, int width, int height, const struct exr_ch
     return 0;
 }
 
+int image_write_exr(const char *path, int width, int height, const struct exr_channel *channels,
+                    int channel_count, const char *comments)
+{
+    /* Our own temporary and rename (not the library's), so that a signal
+     * removes it and a later run knows its name (util.h). */
+    char *tmp = util_temp_begin(path);
+    int rc = write_exr_to(path, tmp, width, height, channels, channel_count, comments);
+    if (rc == 0 && rename(tmp, path) != 0) {
+        log_error("%s: cannot write: %s", path, strerror(errno));
+        rc = -1;
+    }
+    if (rc)
+        unlink(tmp);
+    util_temp_end();
+    free(tmp);
+    return rc;
+}
+
 int image_read_exr(const char *path, int width, int height, struct exr_channel *channels,
                    int channel_count, char **comments)
 {
@@ -87,6 +113,7 @@ int image_read_exr(const char *path, int width, int height, struct exr_channel *
         return -ENOENT;
     exr_context_t ctx = NULL;
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = exr_quiet;
     exr_result_t rc = exr_start_read(&ctx, path, &init);
     if (rc)
         return exr_failed(NULL, path, "cannot read", rc);

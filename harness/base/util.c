@@ -1,12 +1,15 @@
 #include "util.h"
 #include "log.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <signal.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
@@ -84,13 +87,89 @@ const char *util_read_error(int err)
     return err == -ENODEV ? "not a regular file" : strerror(-err);
 }
 
+/* The temporary being written, for the signal handler (one at a time: the
+ * program writes its files from one thread). */
+static char temp_path[4096];
+static volatile sig_atomic_t temp_active;
+
+char *util_temp_begin(const char *path)
+{
+    char *tmp = util_printf("%s" UTIL_TEMP_SUFFIX "%ld", path, (long)getpid());
+    temp_active = 0;
+    snprintf(temp_path, sizeof temp_path, "%s", tmp);
+    temp_active = strlen(tmp) < sizeof temp_path;
+    return tmp;
+}
+
+void util_temp_end(void) { temp_active = 0; }
+
+static void on_signal(int sig)
+{
+    if (temp_active)
+        unlink(temp_path);  /* async-signal-safe, as is _exit */
+    _exit(128 + sig);
+}
+
+void util_exit_cleanly_on_signals(void)
+{
+    struct sigaction sa = {.sa_handler = on_signal};
+    sigemptyset(&sa.sa_mask);
+    sigaction(SIGINT, &sa, NULL);
+    sigaction(SIGTERM, &sa, NULL);
+    sigaction(SIGHUP, &sa, NULL);
+}
+
+int util_remove_stale_temps(const char *dir, int depth)
+{
+    DIR *d = opendir(dir);
+    if (!d)
+        return 0;
+    int removed = 0;
+    for (struct dirent *e; (e = readdir(d));) {
+        if (e->d_name[0] == '.')
+            continue;
+        char *path = util_printf("%s/%s", dir, e->d_name);
+        const char *mark = strstr(e->d_name, UTIL_TEMP_SUFFIX);
+        char *end = NULL;
+        long pid = mark ? strtol(mark + strlen(UTIL_TEMP_SUFFIX), &end, 10) : 0;
+        struct stat st;
+        if (mark && end && !*end && pid > 0 && kill((pid_t)pid, 0) != 0 && errno == ESRCH) {
+            removed += unlink(path) == 0;  /* its writer is gone */
+        } else if (depth > 0 && lstat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+            removed += util_remove_stale_temps(path, depth - 1);
+        }
+        free(path);
+    }
+    closedir(d);
+    return removed;
+}
+
+int util_lock_dir(const char *dir)
+{
+    char *path = util_printf("%s/.lock", dir);
+    int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    int rc = 0;
+    if (fd < 0) {
+        log_error("%s: cannot lock: %s", dir, strerror(errno));
+        rc = -1;
+    } else if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        log_error("%s: another shadowbench is writing there (it holds %s)", dir, path);
+        close(fd);
+        rc = -1;
+    }
+    /* On success fd stays open: the lock lasts until the process ends. */
+    free(path);
+    return rc;
+}
+
 int util_write_file_atomic(const char *path, const void *data, size_t size)
 {
-    char *tmp = util_printf("%s.tmp.%ld", path, (long)getpid());
+    char *tmp = util_temp_begin(path);
     int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd < 0) {
         int err = -errno;
         log_error("%s: cannot write: %s", path, strerror(errno));
+        util_temp_end();
         free(tmp);
         return err;
     }
@@ -105,6 +184,7 @@ int util_write_file_atomic(const char *path, const void *data, size_t size)
             log_error("%s: cannot write: %s", path, strerror(errno));
             close(fd);
             unlink(tmp);
+            util_temp_end();
             free(tmp);
             return err;
         }
@@ -115,9 +195,11 @@ int util_write_file_atomic(const char *path, const void *data, size_t size)
         int err = -errno;
         log_error("%s: cannot write: %s", path, strerror(errno));
         unlink(tmp);
+        util_temp_end();
         free(tmp);
         return err;
     }
+    util_temp_end();
     free(tmp);
     return 0;
 }

@@ -18,6 +18,28 @@ int util_read_file(const char *path, char **data, size_t *size);
 /* What util_read_file's error means, in words. */
 const char *util_read_error(int err);
 
+/* Temporary files are "<path>.tmp.<pid>". util_temp_begin names one and
+ * registers it as the one being written (the signal handler removes it);
+ * util_temp_end after it is renamed or removed. Returns the name,
+ * malloc'ed. */
+#define UTIL_TEMP_SUFFIX ".tmp."
+char *util_temp_begin(const char *path);
+void util_temp_end(void);
+
+/* SIGINT, SIGTERM and SIGHUP remove the temporary being written, then exit
+ * with 128 + the signal (130, 143, 129): no half-written file is left. */
+void util_exit_cleanly_on_signals(void);
+
+/* Removes "<name>.tmp.<pid>" files under dir (depth levels of folders
+ * below it) whose process is gone: leftovers of a killed run. Returns how
+ * many. */
+int util_remove_stale_temps(const char *dir, int depth);
+
+/* Takes an exclusive lock on dir (flock on dir/.lock) for the rest of the
+ * process, or fails at once: 0, or -1 after one line saying another
+ * shadowbench holds it. */
+int util_lock_dir(const char *dir);
+
 /* Writes to "<path>.tmp.<pid>" then renames over path, so a reader never sees
  * a half-written file. Returns 0 or a negative errno, and logs the failure. */
 int util_write_file_atomic(const char *path, const void *data, size_t size);

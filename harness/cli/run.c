@@ -46,6 +46,30 @@ void *run_settings(const struct run_options *o, const struct technique *t)
     return o->settings[i];
 }
 
+/* A scene's name is its file's stem and becomes <out>/<name>: it must name a
+ * folder of its own there, not climb out, hide, or take a run file's
+ * name. Refused before any work. */
+static int check_scene_name(const struct scene *s)
+{
+    static const char *const taken[] = {"charts", "report.html", "matrix.csv", "matrix.json", "run.json",
+                                        "check.html"};
+    const char *n = s->name;
+    bool control = false;
+    for (const char *p = n; *p; p++)
+        control |= (unsigned char)*p < 32 || *p == 127 || *p == '/';
+    bool reserved = false;
+    for (size_t i = 0; i < sizeof taken / sizeof *taken; i++)
+        reserved |= strcmp(n, taken[i]) == 0;
+    if (!*n || n[0] == '.' || control || reserved) {
+        log_error("%s: its name '%s' (the file's stem) cannot name its output folder: %s", s->path, n,
+                  !*n || n[0] == '.' ? "it is empty or starts with '.'"
+                  : control           ? "it holds a control character"
+                                      : "a run's own file has that name");
+        return -1;
+    }
+    return 0;
+}
+
 int run_load_scenes(const struct run_options *o, struct scene *scenes, int *count)
 {
     char **paths = NULL;
@@ -71,6 +95,8 @@ int run_load_scenes(const struct run_options *o, struct scene *scenes, int *coun
         rc = scene_load(paths[i], &scenes[i]);
         if (!rc)
             (*count)++;
+        if (!rc && (rc = check_scene_name(&scenes[i])) != 0)
+            continue;
         /* Outputs go to <out>/<scene name>: two scenes may not share one. */
         for (int j = 0; j < i && !rc; j++)
             if (strcmp(scenes[j].name, scenes[i].name) == 0) {
@@ -91,6 +117,14 @@ int run_prepare_out_dir(const char *dir)
         log_error("%s: output folder is not writable", dir);
         return -1;
     }
+    return 0;
+}
+
+int run_claim_out_dir(const char *dir)
+{
+    if (run_prepare_out_dir(dir) != 0 || util_lock_dir(dir) != 0)
+        return -1;
+    util_remove_stale_temps(dir, 3);  /* <out>/<scene>/<cell>/files: a killed run's */
     return 0;
 }
 
@@ -297,6 +331,27 @@ static cJSON *run_json(const struct run_options *o, double seconds)
     return r;
 }
 
+/* The folder says what state it is in (DESIGN.md §8): run.json with
+ * "complete": false first, the previous run's report and matrix removed
+ * (they would describe another run); report_write ends with run.json
+ * "complete": true. A run that fails or is killed leaves false. */
+static int begin_run(const struct run_options *o)
+{
+    static const char *const stale[] = {"report.html", "matrix.csv", "matrix.json"};
+    for (size_t i = 0; i < sizeof stale / sizeof *stale; i++) {
+        char *path = util_printf("%s/%s", o->out_dir, stale[i]);
+        unlink(path);
+        free(path);
+    }
+    cJSON *run = run_json(o, 0.0);
+    cJSON_AddFalseToObject(run, "complete");
+    char *path = util_printf("%s/run.json", o->out_dir);
+    int rc = report_write_json(path, run);
+    free(path);
+    cJSON_Delete(run);
+    return rc;
+}
+
 int run_main(const struct run_options *o)
 {
     double start = util_now_ms();
@@ -308,7 +363,8 @@ int run_main(const struct run_options *o)
     GLuint (*programs)[LIGHT_SHAPE_COUNT] = xcalloc((size_t)o->config_count, sizeof *programs);  /* by light shape */
     struct report_scene rs[RUN_MAX_SCENES] = {0};
 
-    if (run_load_scenes(o, scenes, &scene_count) != 0 || run_prepare_out_dir(o->out_dir) != 0) {
+    if (run_load_scenes(o, scenes, &scene_count) != 0 || run_claim_out_dir(o->out_dir) != 0 ||
+        begin_run(o) != 0) {
         status = EXIT_USAGE;
         goto out_free_scenes;
     }
@@ -351,8 +407,10 @@ int run_main(const struct run_options *o)
     }
     if (!failed) {
         double seconds = (util_now_ms() - start) * 1e-3;
+        cJSON *run = run_json(o, seconds);
+        cJSON_AddTrueToObject(run, "complete");
         struct report rep = {.out_dir = o->out_dir, .width = o->width, .height = o->height,
-                             .run = run_json(o, seconds), .scenes = rs,
+                             .run = run, .scenes = rs,
                              .scene_count = scene_count, .cells = cells, .cell_count = cell_count};
         failed = report_write(&rep);
         cJSON_Delete(rep.run);
@@ -408,7 +466,7 @@ int run_gt(const struct run_options *o)
         return EXIT_USAGE;
     }
     char *dir = util_printf("%s/%s", o->out_dir, s.name);
-    if (run_prepare_out_dir(dir) != 0) {
+    if (run_claim_out_dir(dir) != 0) {
         free(dir);
         scene_free(&s);
         return EXIT_USAGE;

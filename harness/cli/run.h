@@ -118,6 +118,11 @@ int run_load_scenes(const struct run_options *o, struct scene *scenes, int *coun
 /* Creates dir and checks it is writable. Returns 0 or -1 (logged). */
 int run_prepare_out_dir(const char *dir);
 
+/* run_prepare_out_dir, then an exclusive lock on it for the rest of the
+ * process (a second shadowbench on it fails at once) and the removal of
+ * temporaries a killed run left there. Returns 0 or -1 (logged). */
+int run_claim_out_dir(const char *dir);
+
 /* `git describe --always --dirty` of the source tree, or "unknown"; malloc'ed. */
 char *run_git_describe(void);
 

@@ -1,0 +1,65 @@
+#!/bin/sh
+# Protects the output folder's promises (README, Outputs): one shadowbench
+# per folder at a time; a run killed by SIGTERM or SIGINT exits 143 or 130,
+# leaves no temporary behind and says it is incomplete; a later run removes
+# the temporaries of dead runs and only those; scene names that would
+# escape their folder or take a run file's name are refused before any work.
+# Usage: test_data_safety.sh <shadowbench> <source root>
+set -u
+sb=$1 root=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failed=0
+fail() { echo "FAILED: $*"; failed=$((failed + 1)); }
+ok() { echo "ok: $*"; }
+small="--width 64 --height 64 --gt-samples 16 --frames 3 --warmup 0 --no-cache -q"
+
+# Two runs on one folder: the second fails at once.
+"$sb" run --scene parallel_planes --scene stanford_bunny --scene thin_features $small --out "$tmp/a" &
+first=$!
+i=0
+while [ ! -f "$tmp/a/.lock" ] && [ $i -lt 100 ]; do sleep 0.05; i=$((i + 1)); done
+out=$("$sb" run --scene parallel_planes $small --out "$tmp/a" 2>&1)
+rc=$?
+[ $rc = 2 ] && printf '%s' "$out" | grep -q "another shadowbench is writing there" &&
+    ok "a second run on the same folder: exit 2, '$out'" || fail "second run: exit $rc: $out"
+wait $first && grep -q '"complete":	true' "$tmp/a/run.json" && ok "the first run completes" ||
+    fail "the first run did not complete"
+
+# Killed: 143 on SIGTERM, 130 on SIGINT; no temporary left; run.json says
+# incomplete; the previous report is gone, not left to pass for this run's.
+for sig in TERM INT; do
+    "$sb" run $small --out "$tmp/a" &
+    pid=$!
+    sleep 1.5
+    kill -$sig $pid
+    wait $pid
+    rc=$?
+    want=$([ $sig = TERM ] && echo 143 || echo 130)
+    [ $rc = "$want" ] && ok "SIGTERM/SIGINT: $sig exits $rc" || fail "$sig: exit $rc, wanted $want"
+    left=$(find "$tmp/a" -name '*.tmp.*' | head -3)
+    [ -z "$left" ] && ok "$sig: no temporary left" || fail "$sig: temporaries left: $left"
+    grep -q '"complete":	false' "$tmp/a/run.json" && [ ! -f "$tmp/a/report.html" ] &&
+        ok "$sig: run.json says incomplete, no report" || fail "$sig: run.json or report.html wrong"
+done
+
+# Temporaries of dead runs go, a live process's stay.
+mkdir -p "$tmp/a/parallel_planes/hard"
+: > "$tmp/a/parallel_planes/hard/visibility.exr.tmp.4194305"
+: > "$tmp/a/parallel_planes/hard/heatmap.png.tmp.$$"
+"$sb" run --scene parallel_planes --technique hard $small --out "$tmp/a" || fail "run after the kills"
+[ ! -e "$tmp/a/parallel_planes/hard/visibility.exr.tmp.4194305" ] && [ -e "$tmp/a/parallel_planes/hard/heatmap.png.tmp.$$" ] &&
+    ok "a dead run's temporary removed, a live one's kept" || fail "stale temporaries"
+
+# Scene names that cannot name their folder, refused before any work.
+for name in ... . .. .hidden report.html matrix.csv run.json charts; do
+    cp "$root/scenes/parallel_planes.gltf" "$tmp/$name.gltf"
+    out=$("$sb" run --scene "$tmp/$name.gltf" $small --out "$tmp/names" 2>&1)
+    rc=$?
+    [ $rc = 2 ] && printf '%s' "$out" | grep -q "cannot name its output folder" && [ ! -e "$tmp/names/run.json" ] &&
+        ok "scene '$name.gltf' refused" || fail "scene '$name.gltf': exit $rc: $out"
+    rm -f "$tmp/$name.gltf"
+done
+
+[ "$failed" = 0 ] && echo "all passed" || echo "$failed failed"
+[ "$failed" = 0 ]
