@@ -2,6 +2,7 @@
  * gets one clear line and exit status 2, before any heavy work; --help
  * answers with status 0; list shows every technique's parameters. */
 #include "check.h"
+#include "gltf_writer.h"
 #include "run_cmd.h"
 #include "cli/catalog.h"
 #include "techniques/params.h"
@@ -73,6 +74,35 @@ int main(int argc, char **argv)
     char *line = util_printf("--technique: unknown technique 'nope' (known: %s)", known.data);
     expect(2, "run --technique nope", line);
     free(line), strbuf_free(&known);
+    /* Bad input gets exit 2 from every command, before any GL (issue 12). */
+    expect(2, "run --scene parallel_planes --shaders /nonexistent",
+           "/nonexistent: not a shadowbench shaders folder (no shadow_common.glsl in it)");
+    expect(2, "bench --shaders /nonexistent",
+           "/nonexistent: not a shadowbench shaders folder (no shadow_common.glsl in it)");
+    char *check_out = util_printf("check --shaders /nonexistent --scene parallel_planes --technique hard --out %s/c",
+                                  dir);
+    expect(2, check_out, "/nonexistent: not a shadowbench shaders folder (no shadow_common.glsl in it)");
+    free(check_out);
+    char *a_file = util_printf("%s/a_file", dir), *cache_arg = util_printf("gt --scene parallel_planes --cache %s", a_file);
+    util_write_file_atomic(a_file, "x", 1);
+    char *cache_line = util_printf("--cache %s: not a folder", a_file);
+    expect(2, cache_arg, cache_line);
+    free(a_file), free(cache_arg), free(cache_line);
+    struct mesh_builder m = {0};
+    mesh_add_triangle(&m, v3(-1, 0, -1), v3(1, 0, -1), v3(0, 0, 1));
+    char *away = util_printf("%s/away.gltf", dir);
+    gltf_write(away, &m, &(struct gltf_scene_desc){
+                             .description = "", .shows = "", .camera_pos = v3(0, 3, 3),
+                             .camera_target = v3(0, 0, 0), .camera_yfov_rad = 0.8f, .camera_znear = 0.1f,
+                             .light_pos = v3(0, 4, 0), .light_target = v3(0, 8, 0), .light_width = 1,
+                             .light_height = 1});
+    mesh_free(&m);
+    char *bench_away = util_printf("bench --scene %s", away), *run_away = util_printf("run --scene %s", away);
+    char *away_line = util_printf("%s: no geometry in front of the area light (it emits towards its local -Z)", away);
+    expect(2, bench_away, away_line);
+    expect(2, run_away, away_line);
+    free(away), free(bench_away), free(run_away), free(away_line);
+
     expect(2, "run --technique ''", "--technique: '' has an empty name");
     expect(2, "run --technique ,", "--technique: ',' has an empty name");
     expect(2, "run --technique hard,,pcf", "--technique: 'hard,,pcf' has an empty name");

@@ -231,6 +231,12 @@ int util_mkdirs(const char *path)
     return 0;
 }
 
+bool util_is_dir(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISDIR(st.st_mode);
+}
+
 bool util_dir_writable(const char *dir)
 {
     char *probe = util_printf("%s/.shadowbench-probe.%ld", dir, (long)getpid());

@@ -51,6 +51,8 @@ int util_mkdirs(const char *path);
 bool util_dir_writable(const char *dir);
 
 bool util_file_exists(const char *path);
+/* Whether path is a folder (following links). */
+bool util_is_dir(const char *path);
 
 /* FNV-1a, 64 bit: a cache key, not a cryptographic hash. */
 #define UTIL_HASH_INIT 0xcbf29ce484222325ull

@@ -6,6 +6,7 @@
 #include "gl/shader.h"
 #include "render/receiver.h"
 #include "render/stage_timer.h"
+#include "scene/light_frustum.h"
 #include "techniques/params.h"
 
 #include <stdbool.h>
@@ -70,14 +71,19 @@ int bench_main(const struct run_options *o)
     if (rc != 0)
         return EXIT_USAGE;
 
-    int status = EXIT_CHECK_FAILED;
+    /* Bad input before any GL, with run's exit status: a light that sees
+     * no geometry, a --shaders folder that is not one. */
+    int status = EXIT_USAGE;
     struct scene_mesh mesh = {0};
     struct shadowmap sm = {0};
     struct receiver rcv = {0};
+    struct light_frustum f;
+    if (light_frustum_fit(&s, &f) != 0 || shader_init(o->shader_dir) != 0)
+        goto out_free_scene;
+    status = EXIT_CHECK_FAILED;
     if (gl_context_create() != 0)
         goto out_free_scene;
-    if (shader_init(o->shader_dir) != 0 ||
-        shadowmap_create(&sm, &s, &(struct shadowmap_desc){.size_texels = o->shadow_map_size}) != 0 ||
+    if (shadowmap_create(&sm, &s, &(struct shadowmap_desc){.size_texels = o->shadow_map_size}) != 0 ||
         receiver_create(&rcv, &s, o->width, o->height) != 0)
         goto out_free_gl;
     scene_mesh_upload(&s, &mesh);

@@ -930,11 +930,11 @@ int check_main(const struct run_options *o)
         if (light_frustum_fit(&scenes[s], &f) != 0)
             goto out;
     }
+    if (shader_init(o->shader_dir) != 0)  /* a bad --shaders is bad usage */
+        goto out;
     status = EXIT_CHECK_FAILED;
     if (gl_context_create() != 0)
         goto out;
-    if (shader_init(o->shader_dir) != 0)
-        goto out_gl;
     git = run_git_describe();
     date = utc_date();
 
@@ -959,7 +959,6 @@ int check_main(const struct run_options *o)
                (util_now_ms() - start) * 1e-3, o->out_dir);
         status = failures ? EXIT_CHECK_FAILED : EXIT_OK;
     }
-out_gl:
     gl_context_destroy();
 out:
     for (int i = 0; i < ch.count; i++)

@@ -393,7 +393,13 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
         case OPT_FRAMES: rc = parse_int("frames", optarg, 1, STAGE_TIMER_MAX_FRAMES, &o->frames); break;
         case OPT_WARMUP: rc = parse_int("warmup", optarg, 0, RUN_MAX_WARMUP, &o->warmup); break;
         case OPT_OUT: o->out_dir = optarg; break;
-        case OPT_CACHE: o->cache_dir = optarg; break;
+        case OPT_CACHE:
+            if (!*optarg || (util_file_exists(optarg) && !util_is_dir(optarg))) {
+                log_error("--cache %s: not a folder", optarg);
+                return -1;
+            }
+            o->cache_dir = optarg;
+            break;
         case OPT_NO_CACHE: o->cache_dir = NULL; break;
         case OPT_SHADERS: o->shader_dir = optarg; break;
         case OPT_BASELINES:

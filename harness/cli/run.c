@@ -375,7 +375,11 @@ int run_main(const struct run_options *o)
             goto out_free_scenes;
         }
     }
-    if (gl_context_create() != 0 || shader_init(o->shader_dir) != 0)
+    if (shader_init(o->shader_dir) != 0) {  /* a bad --shaders is bad usage */
+        status = EXIT_USAGE;
+        goto out_free_scenes;
+    }
+    if (gl_context_create() != 0)
         goto out_free_scenes;
     for (int s = 0; s < scene_count; s++)
         for (int i = 0; i < o->config_count; i++) {
