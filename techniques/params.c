@@ -112,7 +112,9 @@ int params_set(const struct technique *t, void *settings, const char *name, cons
     case PARAM_FLOAT:
         errno = 0;
         v = strtod(value, &end);
-        if (!*value || *end || errno || !isfinite(v)) {
+        /* Decimal only: strtod also takes " 1", "0x1p1", "inf". */
+        if (!*value || *end || errno || !isfinite(v) || strpbrk(value, "xXpP \t") ||
+            !strchr("+-.0123456789", value[0])) {
             log_error("%s.%s: '%s' is not a number", t->name, name, value);
             return -1;
         }

@@ -103,6 +103,23 @@ int main(int argc, char **argv)
     expect(2, run_away, away_line);
     free(away), free(bench_away), free(run_away), free(away_line);
 
+    expect(2, "run --out ''", "--out: an empty folder name");
+    expect(2, "gt --scene parallel_planes --out ''", "--out: an empty folder name");
+    expect(2, "gt --scene parallel_planes --cache ''", "--cache: an empty folder name");
+    expect(2, "run --width ' 64'", "--width: ' 64' is not a whole number");
+    expect(2, "run --set hard.slope_bias=0x1p1", "hard.slope_bias: '0x1p1' is not a number");
+    char *dots = util_printf("%s/....gltf", dir), *dots_cmd = NULL, *dots_line = NULL;
+    char *src = catalog_resolve("parallel_planes"), *scene_text;
+    size_t scene_size;
+    if (src && util_read_file(src, &scene_text, &scene_size) == 0) {
+        util_write_file_atomic(dots, scene_text, scene_size);
+        free(scene_text);
+    }
+    dots_cmd = util_printf("gt --scene %s --out %s/gt", dots, dir);
+    dots_line = util_printf("%s: its name '...' (the file's stem) cannot name its output folder: it is empty or "
+                            "starts with '.'", dots);
+    expect(2, dots_cmd, dots_line);
+    free(dots), free(dots_cmd), free(dots_line), free(src);
     expect(2, "run --technique ''", "--technique: '' has an empty name");
     expect(2, "run --technique ,", "--technique: ',' has an empty name");
     expect(2, "run --technique hard,,pcf", "--technique: 'hard,,pcf' has an empty name");

@@ -152,6 +152,20 @@ static void zero_rotation(cJSON *g)
 static void string_mode(cJSON *g) { cJSON_ReplaceItemInObject(primitive(g), "mode", cJSON_CreateString("4")); }
 static void twice_mode(cJSON *g) { cJSON_AddStringToObject(primitive(g), "mode", "4"); }
 static void huge_mesh(cJSON *g) { cJSON_ReplaceItemInObject(at(g, "nodes", 0), "mesh", cJSON_CreateNumber(1099511627776.0)); }
+static void no_yfov(cJSON *g) { cJSON_DeleteItemFromObject(perspective(g), "yfov"); }
+static void folder_uri(cJSON *g) { cJSON_ReplaceItemInObject(at(g, "buffers", 0), "uri", cJSON_CreateString(".")); }
+static void device_uri(cJSON *g) { cJSON_ReplaceItemInObject(at(g, "buffers", 0), "uri", cJSON_CreateString("/dev/zero")); }
+static void short_buffer(cJSON *g)
+{
+    cJSON *b = at(g, "buffers", 0);
+    cJSON_ReplaceItemInObject(b, "byteLength", cJSON_CreateNumber(cJSON_GetObjectItem(b, "byteLength")->valuedouble + 1000));
+}
+static void overflowing_matrix(cJSON *g)
+{
+    cJSON_ReplaceItemInArray(cJSON_GetObjectItem(at(g, "nodes", 1), "matrix"), 0, cJSON_CreateNumber(1e39));
+}
+static void fifo_uri(cJSON *g) { cJSON_ReplaceItemInObject(at(g, "buffers", 0), "uri", cJSON_CreateString("fifo.bin")); }
+static void no_asset(cJSON *g) { cJSON_DeleteItemFromObject(g, "asset"); }
 static void missing_normal(cJSON *g)
 {
     cJSON_AddNumberToObject(cJSON_GetObjectItem(primitive(g), "attributes"), "NORMAL", 9);
@@ -199,6 +213,49 @@ static void case_mesh(const char *name, struct mesh_builder *m, const char *prob
     expect_error(path, problem);
     free(path);
 }
+
+/* A valid scene whose text has `from` replaced by `to` (once): for what a
+ * JSON library would not write, such as 4.0 for 4. */
+static void case_text(const char *name, const char *from, const char *to, const char *problem)
+{
+    char *path = scene_with(name, NULL), *text;
+    size_t size;
+    util_read_file(path, &text, &size);
+    char *at = strstr(text, from);
+    CHECK(at != NULL, "%s: '%s' not in the valid scene", name, from);
+    if (at) {
+        char *edited = util_printf("%.*s%s%s", (int)(at - text), text, to, at + strlen(from));
+        util_write_file_atomic(path, edited, strlen(edited));
+        free(edited);
+    }
+    free(text);
+    expect_error(path, problem);
+    free(path);
+}
+
+static void cycle(cJSON *g)
+{
+    cJSON_DeleteItemFromObject(g, "scenes");
+    cJSON_DeleteItemFromObject(g, "scene");
+    cJSON *a = cJSON_CreateObject(), *b = cJSON_CreateObject();
+    cJSON_AddItemToObject(a, "children", cJSON_CreateIntArray((const int[]){4}, 1));
+    cJSON_AddItemToObject(b, "children", cJSON_CreateIntArray((const int[]){3}, 1));
+    cJSON_AddItemToArray(cJSON_GetObjectItem(g, "nodes"), a);
+    cJSON_AddItemToArray(cJSON_GetObjectItem(g, "nodes"), b);
+}
+static void required_extension(cJSON *g)
+{
+    const char *const names[] = {"EXT_meshopt_compression"};
+    cJSON_AddItemToObject(g, "extensionsRequired", cJSON_CreateStringArray(names, 1));
+}
+static void scenes_object(cJSON *g) { cJSON_ReplaceItemInObject(g, "scenes", cJSON_CreateObject()); }
+static void no_attributes(cJSON *g)
+{
+    cJSON *p = cJSON_CreateObject();
+    cJSON_AddNumberToObject(p, "mode", 4);
+    cJSON_AddItemToArray(cJSON_GetObjectItem(at(g, "meshes", 0), "primitives"), p);
+}
+static void denormal_yfov(cJSON *g) { cJSON_ReplaceItemInObject(perspective(g), "yfov", cJSON_CreateNumber(1e-45)); }
 
 int main(int argc, char **argv)
 {
@@ -256,7 +313,7 @@ int main(int argc, char **argv)
                  "area light (node 2): size must be in [1e-06, 1e+08] as floats, got [1e-50, 1]");
     case_mutated("far_camera", far_camera,
                  "camera 0: its position (3e+18, 3, 3) lies beyond 1e+08 world units");
-    case_mutated("pi_yfov", pi_yfov, "camera 0: yfov must be in (0, pi) as a float, got 3.14159265358979");
+    case_mutated("pi_yfov", pi_yfov, "camera 0: yfov must be in [1e-4, pi) as a float, got 3.14159265358979");
     case_mutated("tiny_znear", tiny_znear, "camera 0: znear must be in [1e-06, 1e+08] as a float, got 1e-50");
     case_mutated("string_matrix", string_matrix, "malformed glTF: nodes[1].matrix must be 16 finite numbers");
     case_mutated("short_matrix", short_matrix, "malformed glTF: nodes[1].matrix must be 16 finite numbers");
@@ -266,6 +323,39 @@ int main(int argc, char **argv)
                  "malformed glTF: meshes[0].primitives[0].mode must be a number 0..6");
     case_mutated("twice_mode", twice_mode, "malformed JSON: the key \"mode\" appears twice in one object");
     case_mutated("huge_mesh", huge_mesh, "malformed glTF: nodes[0].mesh must be an index");
+    case_mutated("no_yfov", no_yfov, "malformed glTF: cameras[0].perspective needs numbers yfov and znear");
+    case_mutated("folder_uri", folder_uri, "malformed buffers: buffers[0].uri '.' is not a regular file");
+    case_mutated("device_uri", device_uri, "malformed buffers: buffers[0].uri '/dev/zero' is not a regular file");
+    case_mutated("short_buffer", short_buffer, "malformed buffers: buffers[0] holds 48 bytes, its byteLength says 1048");
+    case_mutated("overflowing_matrix", overflowing_matrix,
+                 "node 1: its transform overflows a float (a value beyond 3.40282e+38)");
+    case_mutated("no_asset", no_asset, "malformed glTF: needs \"asset\": {\"version\": \"2.0\"}");
+    case_text("float_mode", "\"mode\":\t4", "\"mode\":\t1.0",
+              "malformed glTF: meshes[0].primitives[0].mode is 1 in the file but was read as 4 (write whole "
+              "numbers without a fraction or an exponent)");
+    {   /* text after the document: where it starts */
+        char *path = scene_with("trailing_text", NULL), *text;
+        size_t size;
+        util_read_file(path, &text, &size);
+        while (size && strchr(" \t\r\n", text[size - 1]))
+            size--;
+        int line = 1;
+        for (size_t i = 0; i < size; i++)
+            line += text[i] == '\n';
+        char *edited = util_printf("%.*s xyz", (int)size, text);
+        util_write_file_atomic(path, edited, strlen(edited));
+        char *problem = util_printf("malformed JSON at line %d (byte %zu): text after the document", line, size + 1);
+        expect_error(path, problem);
+        free(problem), free(edited), free(text), free(path);
+    }
+    case_mutated("cycle", cycle, "malformed glTF: node 3 is its own ancestor (a cycle)");
+    case_mutated("required_extension", required_extension,
+                 "the scene requires the extension EXT_meshopt_compression, which shadowbench does not support");
+    case_mutated("scenes_object", scenes_object, "malformed glTF: \"scenes\" must be an array");
+    case_mutated("no_attributes", no_attributes,
+                 "malformed glTF: meshes[0].primitives[1] needs \"attributes\" with a POSITION");
+    case_mutated("denormal_yfov", denormal_yfov,
+                 "camera 0: yfov must be in [1e-4, pi) as a float, got 9.9999999999999998e-46");
     case_mutated("missing_normal", missing_normal, "mesh 0 primitive 0: NORMAL accessor 9 does not exist");
 
     /* Not regular files: a FIFO would block a reader; /dev/null is a device. */
@@ -274,6 +364,12 @@ int main(int argc, char **argv)
     expect_error(fifo, "cannot open: not a regular file");
     free(fifo);
     expect_error("/dev/null", "cannot open: not a regular file");
+
+    /* A buffer that is a FIFO: refused, not waited on. */
+    char *fifo_bin = util_printf("%s/fifo.bin", dir);
+    CHECK(mkfifo(fifo_bin, 0600) == 0, "mkfifo %s", fifo_bin);
+    free(fifo_bin);
+    case_mutated("fifo_uri", fifo_uri, "malformed buffers: buffers[0].uri 'fifo.bin' is not a regular file");
 
     /* A GLB of another version. */
     char *glb = util_printf("%s/v1.glb", dir);

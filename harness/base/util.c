@@ -206,6 +206,10 @@ int util_write_file_atomic(const char *path, const void *data, size_t size)
 
 int util_mkdirs(const char *path)
 {
+    if (!*path) {
+        log_error("an empty folder name");
+        return -EINVAL;
+    }
     char *p = xstrdup(path);
     for (char *s = p + 1;; s++) {
         char c = *s;

@@ -218,7 +218,7 @@ static int parse_int(const char *opt, const char *text, int lo, int hi, int *out
     char *end;
     errno = 0;
     long v = strtol(text, &end, 10);
-    if (!*text || *end || errno) {
+    if (!*text || *end || errno || !(text[0] == '-' || (text[0] >= '0' && text[0] <= '9'))) {
         log_error("--%s: '%s' is not a whole number", opt, text);
         return -1;
     }
@@ -392,10 +392,16 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
             break;
         case OPT_FRAMES: rc = parse_int("frames", optarg, 1, STAGE_TIMER_MAX_FRAMES, &o->frames); break;
         case OPT_WARMUP: rc = parse_int("warmup", optarg, 0, RUN_MAX_WARMUP, &o->warmup); break;
-        case OPT_OUT: o->out_dir = optarg; break;
+        case OPT_OUT:
+            if (!*optarg) {
+                log_error("--out: an empty folder name");
+                return -1;
+            }
+            o->out_dir = optarg;
+            break;
         case OPT_CACHE:
             if (!*optarg || (util_file_exists(optarg) && !util_is_dir(optarg))) {
-                log_error("--cache %s: not a folder", optarg);
+                log_error(*optarg ? "--cache %s: not a folder" : "--cache: an empty folder name%s", optarg);
                 return -1;
             }
             o->cache_dir = optarg;

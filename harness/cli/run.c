@@ -465,7 +465,7 @@ int run_gt(const struct run_options *o)
     int rc = scene_load(path, &s);
     free(path);
     struct light_frustum f;
-    if (rc != 0 || light_frustum_fit(&s, &f) != 0) {
+    if (rc != 0 || check_scene_name(&s) != 0 || light_frustum_fit(&s, &f) != 0) {
         scene_free(&s);
         return EXIT_USAGE;
     }

@@ -8,12 +8,14 @@
 #include <cjson/cJSON.h>
 
 #include <cerrno>
+#include <sys/stat.h>
 #include <cfloat>
 #include <cstdint>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -127,6 +129,18 @@ public:
                 if (++parents[c] > 1)
                     fail(fmt("malformed glTF: node %d has more than one parent (glTF forbids it)", c));
             }
+        // With one parent each, a node whose chain of parents comes back to
+        // it is on a cycle (unreachable from any root, so never visited).
+        std::vector<int> parent(m.nodes.size(), -1);
+        for (size_t i = 0; i < m.nodes.size(); i++)
+            for (int c : m.nodes[i].children)
+                parent[c] = (int)i;
+        for (size_t i = 0; i < m.nodes.size(); i++) {
+            size_t steps = 0;
+            for (int p = parent[i]; p >= 0 && steps <= m.nodes.size(); p = parent[p], steps++)
+                if (p == (int)i)
+                    fail(fmt("malformed glTF: node %zu is its own ancestor (a cycle)", i));
+        }
         std::vector<bool> listed(m.nodes.size());
         for (int r : roots) {
             if (r < 0 || r >= (int)m.nodes.size())
@@ -161,6 +175,9 @@ private:
             fail(fmt("malformed glTF: node %d is nested more than 64 deep (a cycle?)", ni));
         const tinygltf::Node &n = m.nodes[ni];
         struct mat4 world = m4_mul(parent, node_local(n));
+        for (int i = 0; i < 16; i++)
+            if (!std::isfinite(world.m[i]))
+                fail(fmt("node %d: its transform overflows a float (a value beyond %g)", ni, (double)FLT_MAX));
         if (n.camera >= 0 && !have_camera)
             take_camera(n.camera, world);
         if (!have_light && n.extras.IsObject() && n.extras.Has("area_light"))
@@ -186,14 +203,14 @@ private:
                      c.type.empty() ? "untyped" : c.type.c_str()));
         // Checked as the floats they become.
         const float yfov = (float)c.perspective.yfov, znear = (float)c.perspective.znear;
-        if (!(yfov > 0 && yfov < (float)M_PI))
-            fail(fmt("camera %d: yfov must be in (0, pi) as a float, got %.17g", ci, c.perspective.yfov));
+        if (!(yfov >= 1e-4f && yfov < (float)M_PI))
+            fail(fmt("camera %d: yfov must be in [1e-4, pi) as a float, got %.17g", ci, c.perspective.yfov));
         if (!(znear >= SCENE_MIN_LENGTH && znear <= SCENE_MAX_COORD))
             fail(fmt("camera %d: znear must be in [%g, %g] as a float, got %g", ci, (double)SCENE_MIN_LENGTH,
                      (double)SCENE_MAX_COORD, c.perspective.znear));
+        check_position(v3(world.m[12], world.m[13], world.m[14]), fmt("camera %d", ci));
         if (!node_frame(world, &camera.pos, &camera.x, &camera.y, &camera.z))
-            fail(fmt("camera %d: its node has a degenerate transform", ci));
-        check_position(camera.pos, fmt("camera %d", ci));
+            fail(fmt("camera %d: its node has a degenerate transform (a zero axis)", ci));
         camera.yfov_rad = yfov;
         camera.znear = znear;
         have_camera = true;
@@ -236,9 +253,9 @@ private:
             fail(fmt("%s (node %d): \"shape\" must be \"%s\" or \"%s\", got \"%s\"", where, ni,
                      rect, disk, shape.c_str()));
         }
+        check_position(v3(world.m[12], world.m[13], world.m[14]), fmt("%s (node %d)", where, ni));
         if (!node_frame(world, &light.pos, &light.x, &light.y, &light.z))
-            fail(fmt("%s (node %d): the node has a degenerate transform", where, ni));
-        check_position(light.pos, fmt("%s (node %d)", where, ni));
+            fail(fmt("%s (node %d): the node has a degenerate transform (a zero axis)", where, ni));
         have_light = true;
     }
 
@@ -414,13 +431,19 @@ bool skip_images(tinygltf::Image *, const int, std::string *, std::string *, int
     return true;  // textures are ignored (DESIGN.md §4)
 }
 
+// The first line of a parser's message, in printable ASCII (it may quote
+// the file's own bytes).
 std::string first_line(const std::string &s)
 {
     size_t b = s.find_first_not_of(" \t\r\n");
     if (b == std::string::npos)
         return "unknown error";
     size_t e = s.find_first_of("\r\n", b);
-    return s.substr(b, e == std::string::npos ? std::string::npos : e - b);
+    std::string line = s.substr(b, e == std::string::npos ? std::string::npos : e - b);
+    for (char &c : line)
+        if ((unsigned char)c < 32 || (unsigned char)c > 126)
+            c = '?';
+    return line;
 }
 
 std::string string_extra(const tinygltf::Value &v, const char *key)
@@ -503,11 +526,67 @@ void check_unique_keys(const cJSON *v, int depth)
     }
 }
 
+// A buffer's uri: a base64 data URI that holds at least byteLength bytes,
+// or a regular file beside the scene (never a folder, a device, a FIFO).
+void check_buffers(const cJSON *doc, const std::string &dir)
+{
+    const cJSON *buffers = cJSON_GetObjectItemCaseSensitive(doc, "buffers"), *b;
+    int i = 0;
+    cJSON_ArrayForEach(b, buffers) {
+        const cJSON *uri = cJSON_GetObjectItemCaseSensitive(b, "uri");
+        const cJSON *length = cJSON_GetObjectItemCaseSensitive(b, "byteLength");
+        if (!is_count(length))
+            fail(fmt("malformed glTF: buffers[%d].byteLength must be a whole number in [0, 2^53]", i));
+        if (uri && !cJSON_IsString(uri))
+            fail(fmt("malformed glTF: buffers[%d].uri must be a string", i));
+        const char *u = uri ? uri->valuestring : nullptr;
+        if (u && strncmp(u, "data:", 5) == 0) {
+            const char *comma = strstr(u, ";base64,");
+            if (!comma)
+                fail(fmt("malformed buffers: buffers[%d].uri is a data URI that is not base64", i));
+            const char *data = comma + 8;
+            size_t n = strlen(data), pad = n >= 1 && data[n - 1] == '=' ? (n >= 2 && data[n - 2] == '=' ? 2 : 1) : 0;
+            size_t bytes = n / 4 * 3 - pad;
+            if (n % 4 || strspn(data, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/=") != n)
+                fail(fmt("malformed buffers: buffers[%d].uri: its base64 is malformed (%zu characters)", i, n));
+            if ((double)bytes < length->valuedouble)
+                fail(fmt("malformed buffers: buffers[%d] holds %zu bytes, its byteLength says %.0f", i, bytes,
+                         length->valuedouble));
+        } else if (u) {
+            std::string path = u[0] == '/' ? std::string(u) : dir + "/" + u;
+            struct stat st;
+            if (stat(path.c_str(), &st) != 0)
+                fail(fmt("malformed buffers: buffers[%d].uri '%.200s': %s", i, u, strerror(errno)));
+            if (!S_ISREG(st.st_mode))
+                fail(fmt("malformed buffers: buffers[%d].uri '%.200s' is not a regular file", i, u));
+            if ((double)st.st_size < length->valuedouble)
+                fail(fmt("malformed buffers: buffers[%d].uri '%.200s' holds %lld bytes, its byteLength says %.0f", i,
+                         u, (long long)st.st_size, length->valuedouble));
+        }
+        i++;
+    }
+}
+
 void check_types(const cJSON *doc)
 {
     if (!cJSON_IsObject(doc))
         fail("malformed glTF: the document is not a JSON object");
     check_unique_keys(doc, 0);
+    static const char *const arrays[] = {"scenes", "nodes", "meshes", "accessors", "bufferViews", "buffers",
+                                         "cameras", "extensionsRequired"};
+    for (const char *name : arrays) {
+        const cJSON *a = cJSON_GetObjectItemCaseSensitive(doc, name);
+        if (a && !cJSON_IsArray(a))
+            fail(fmt("malformed glTF: \"%s\" must be an array", name));
+    }
+    const cJSON *required = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(doc, "extensionsRequired"), 0);
+    if (required)
+        fail(fmt("the scene requires the extension %.64s, which shadowbench does not support",
+                 cJSON_IsString(required) ? required->valuestring : "(not a name)"));
+    const char *version =
+        cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "asset"), "version"));
+    if (!version || strncmp(version, "2.", 2) != 0)
+        fail("malformed glTF: needs \"asset\": {\"version\": \"2.0\"}");
     const cJSON *scene = cJSON_GetObjectItemCaseSensitive(doc, "scene");
     if (scene && !is_index(scene))
         fail("malformed glTF: \"scene\" must be an index");
@@ -519,6 +598,17 @@ void check_types(const cJSON *doc)
     check_members(doc, "nodes", "translation", is_vec3, "3 finite numbers");
     check_members(doc, "nodes", "scale", is_vec3, "3 finite numbers");
     check_members(doc, "nodes", "rotation", is_unit_quaternion, "a unit quaternion (4 numbers)");
+    const cJSON *cameras = cJSON_GetObjectItemCaseSensitive(doc, "cameras"), *camera;
+    int ci = 0;
+    cJSON_ArrayForEach(camera, cameras) {
+        const char *type = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(camera, "type"));
+        const cJSON *p = cJSON_GetObjectItemCaseSensitive(camera, "perspective");
+        if (type && strcmp(type, "perspective") == 0 &&
+            (!cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(p, "yfov")) ||
+             !cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(p, "znear"))))
+            fail(fmt("malformed glTF: cameras[%d].perspective needs numbers yfov and znear", ci));
+        ci++;
+    }
     check_members(doc, "accessors", "bufferView", is_index, "an index");
     check_members(doc, "accessors", "byteOffset", is_count, "a whole number in [0, 2^53]");
     check_members(doc, "accessors", "count", is_count, "a whole number in [0, 2^53]");
@@ -540,12 +630,90 @@ void check_types(const cJSON *doc)
                 fail(fmt("malformed glTF: meshes[%d].primitives[%d].mode must be a number 0..6", mi, pi));
             if (indices && !is_index(indices))
                 fail(fmt("malformed glTF: meshes[%d].primitives[%d].indices must be an index", mi, pi));
+            if (!cJSON_IsObject(attributes) || !cJSON_GetObjectItemCaseSensitive(attributes, "POSITION"))
+                fail(fmt("malformed glTF: meshes[%d].primitives[%d] needs \"attributes\" with a POSITION", mi, pi));
             cJSON_ArrayForEach(a, attributes) if (!is_index(a))
                 fail(fmt("malformed glTF: meshes[%d].primitives[%d].attributes.%s must be an index", mi, pi,
                          a->string));
             pi++;
         }
         mi++;
+    }
+}
+
+// tinygltf must have read each index, count and offset as the file writes
+// it: it quietly puts its default in place of a value it does not take (a
+// whole number written 1.0, for one), which the type checks above cannot
+// see (cJSON reads 1.0 as 1).
+void check_read_as_written(const cJSON *doc, const tinygltf::Model &m)
+{
+    auto same = [](const cJSON *o, const char *key, double read, const std::string &where) {
+        const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, key);
+        if (v && cJSON_IsNumber(v) && v->valuedouble != read)
+            fail(fmt("malformed glTF: %s.%s is %.17g in the file but was read as %.17g (write whole numbers "
+                     "without a fraction or an exponent)", where.c_str(), key, v->valuedouble, read));
+    };
+    auto same_list = [](const cJSON *o, const char *key, const std::vector<int> &read, const std::string &where) {
+        const cJSON *a = cJSON_GetObjectItemCaseSensitive(o, key);
+        if (!a)
+            return;
+        bool equal = cJSON_GetArraySize(a) == (int)read.size();
+        for (int i = 0; equal && i < (int)read.size(); i++)
+            equal = cJSON_GetArrayItem(a, i)->valuedouble == read[i];
+        if (!equal)
+            fail(fmt("malformed glTF: %s.%s was not read as written (write whole numbers without a fraction "
+                     "or an exponent)", where.c_str(), key));
+    };
+    const cJSON *o;
+    int i = 0;
+    same(doc, "scene", m.defaultScene, "the document");
+    cJSON_ArrayForEach(o, cJSON_GetObjectItemCaseSensitive(doc, "scenes")) {
+        same_list(o, "nodes", m.scenes.at(i).nodes, fmt("scenes[%d]", i));
+        i++;
+    }
+    i = 0;
+    cJSON_ArrayForEach(o, cJSON_GetObjectItemCaseSensitive(doc, "nodes")) {
+        const tinygltf::Node &n = m.nodes.at(i);
+        const std::string where = fmt("nodes[%d]", i++);
+        same(o, "mesh", n.mesh, where);
+        same(o, "camera", n.camera, where);
+        same_list(o, "children", n.children, where);
+    }
+    i = 0;
+    cJSON_ArrayForEach(o, cJSON_GetObjectItemCaseSensitive(doc, "meshes")) {
+        const cJSON *p;
+        int k = 0;
+        cJSON_ArrayForEach(p, cJSON_GetObjectItemCaseSensitive(o, "primitives")) {
+            const tinygltf::Primitive &prim = m.meshes.at(i).primitives.at(k);
+            const std::string where = fmt("meshes[%d].primitives[%d]", i, k++);
+            same(p, "mode", prim.mode, where);
+            same(p, "indices", prim.indices, where);
+            const cJSON *a;
+            cJSON_ArrayForEach(a, cJSON_GetObjectItemCaseSensitive(p, "attributes")) {
+                auto it = prim.attributes.find(a->string);
+                same(cJSON_GetObjectItemCaseSensitive(p, "attributes"), a->string,
+                     it == prim.attributes.end() ? -1.0 : it->second, where + ".attributes");
+            }
+        }
+        i++;
+    }
+    i = 0;
+    cJSON_ArrayForEach(o, cJSON_GetObjectItemCaseSensitive(doc, "accessors")) {
+        const tinygltf::Accessor &a = m.accessors.at(i);
+        const std::string where = fmt("accessors[%d]", i++);
+        same(o, "bufferView", a.bufferView, where);
+        same(o, "byteOffset", (double)a.byteOffset, where);
+        same(o, "count", (double)a.count, where);
+        same(o, "componentType", a.componentType, where);
+    }
+    i = 0;
+    cJSON_ArrayForEach(o, cJSON_GetObjectItemCaseSensitive(doc, "bufferViews")) {
+        const tinygltf::BufferView &v = m.bufferViews.at(i);
+        const std::string where = fmt("bufferViews[%d]", i++);
+        same(o, "buffer", v.buffer, where);
+        same(o, "byteOffset", (double)v.byteOffset, where);
+        same(o, "byteLength", (double)v.byteLength, where);
+        same(o, "byteStride", (double)v.byteStride, where);
     }
 }
 
@@ -563,9 +731,14 @@ cJSON *glb_json(const char *bytes, size_t size)
     const uint32_t length = u32(12);
     if (memcmp(bytes + 16, "JSON", 4) != 0 || length > size - 20)
         fail(fmt("malformed GLB: its first chunk is not JSON of %u bytes within the file's %zu", length, size));
-    cJSON *j = cJSON_ParseWithLength(bytes + 20, length);
-    if (!j)
-        fail("malformed GLB: its JSON chunk does not parse");
+    const char *end = nullptr, *json = bytes + 20;
+    cJSON *j = cJSON_ParseWithLengthOpts(json, length, &end, 0);
+    while (j && end < json + length && strchr(" \t\r\n", *end))
+        end++;
+    if (!j || end != json + length) {
+        cJSON_Delete(j);
+        fail("malformed GLB: its JSON chunk does not parse, or has text after the document");
+    }
     return j;
 }
 
@@ -577,7 +750,20 @@ void load(const char *path, const char *bytes, size_t size, struct scene *s)
     cJSON *j = nullptr;
     if (!glb) {  // our own JSON check: a precise position instead of a parser's essay
         const char *end = nullptr;
+        const char *nul = (const char *)memchr(bytes, '\0', size);
+        if (nul)
+            fail(fmt("malformed JSON: a NUL byte at byte %zu", (size_t)(nul - bytes)));
         j = cJSON_ParseWithLengthOpts(bytes, size, &end, 0);
+        while (j && end < bytes + size && strchr(" \t\r\n", *end))
+            end++;
+        if (j && end != bytes + size) {
+            cJSON_Delete(j);
+            j = nullptr;
+            int line = 1;
+            for (const char *c = bytes; c < end; c++)
+                line += *c == '\n';
+            fail(fmt("malformed JSON at line %d (byte %zu): text after the document", line, (size_t)(end - bytes)));
+        }
         if (!j) {
             const char *at = cJSON_GetErrorPtr();
             size_t off = at && at >= bytes && at <= bytes + size ? (size_t)(at - bytes) : 0;
@@ -589,17 +775,13 @@ void load(const char *path, const char *bytes, size_t size, struct scene *s)
     } else {
         j = glb_json(bytes, size);
     }
-    try {
-        check_types(j);
-    } catch (...) {
-        cJSON_Delete(j);
-        throw;
-    }
-    cJSON_Delete(j);
-
     std::string dir(path);
     size_t slash = dir.find_last_of('/');
     dir = slash == std::string::npos ? "." : dir.substr(0, slash);
+    // Deleted however load ends: check_read_as_written needs it after tinygltf.
+    std::unique_ptr<cJSON, void (*)(cJSON *)> doc(j, cJSON_Delete);
+    check_types(j);
+    check_buffers(j, dir);
 
     tinygltf::TinyGLTF gltf;
     gltf.SetImageLoader(skip_images, nullptr);
@@ -608,8 +790,20 @@ void load(const char *path, const char *bytes, size_t size, struct scene *s)
     bool ok = glb ? gltf.LoadBinaryFromMemory(&model, &err, &warn, (const unsigned char *)bytes,
                                               (unsigned)size, dir)
                   : gltf.LoadASCIIFromString(&model, &err, &warn, bytes, (unsigned)size, dir);
-    if (!ok)
-        fail("malformed glTF: " + first_line(err));
+    if (!ok)  // a line of tinygltf's, capped: it can quote a whole data URI
+        fail("malformed glTF: " + first_line(err).substr(0, 200));
+    if (model.scenes.size() != (size_t)cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(j, "scenes")) ||
+        model.nodes.size() != (size_t)cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(j, "nodes")) ||
+        model.meshes.size() != (size_t)cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(j, "meshes")) ||
+        model.accessors.size() != (size_t)cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(j, "accessors")) ||
+        model.bufferViews.size() != (size_t)cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(j, "bufferViews")))
+        fail("malformed glTF: tinygltf did not read every scene, node, mesh, accessor and buffer view");
+    for (size_t mi = 0; mi < model.meshes.size(); mi++)
+        if ((int)model.meshes[mi].primitives.size() !=
+            cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(
+                cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(j, "meshes"), (int)mi), "primitives")))
+            fail(fmt("malformed glTF: meshes[%zu]: tinygltf did not read every primitive", mi));
+    check_read_as_written(j, model);
 
     loader l(model);
     l.run();
