@@ -165,6 +165,10 @@ static void overflowing_matrix(cJSON *g)
     cJSON_ReplaceItemInArray(cJSON_GetObjectItem(at(g, "nodes", 1), "matrix"), 0, cJSON_CreateNumber(1e39));
 }
 static void fifo_uri(cJSON *g) { cJSON_ReplaceItemInObject(at(g, "buffers", 0), "uri", cJSON_CreateString("fifo.bin")); }
+static void encoded_fifo_uri(cJSON *g)
+{
+    cJSON_ReplaceItemInObject(at(g, "buffers", 0), "uri", cJSON_CreateString("fifo%2Ebin"));
+}
 static void no_asset(cJSON *g) { cJSON_DeleteItemFromObject(g, "asset"); }
 static void missing_normal(cJSON *g)
 {
@@ -370,6 +374,12 @@ int main(int argc, char **argv)
     CHECK(mkfifo(fifo_bin, 0600) == 0, "mkfifo %s", fifo_bin);
     free(fifo_bin);
     case_mutated("fifo_uri", fifo_uri, "malformed buffers: buffers[0].uri 'fifo.bin' is not a regular file");
+    /* The same FIFO behind percent-encoding, as tinygltf decodes it. */
+    case_mutated("encoded_fifo_uri", encoded_fifo_uri,
+                 "malformed buffers: buffers[0].uri 'fifo%2Ebin' is not a regular file");
+    /* A key with a newline, twice: still one line. */
+    case_text("newline_key", "\"asset\":\t{", "\"asset\":\t{\"x\\ny\": 1, \"x\\ny\": 2, ",
+              "malformed JSON: the key \"x?y\" appears twice in one object");
 
     /* A GLB of another version. */
     char *glb = util_printf("%s/v1.glb", dir);

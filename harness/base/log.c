@@ -24,6 +24,11 @@ void log_msg(enum log_level level, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
+    /* One line, whatever a file name or a file's text quoted in it holds:
+     * control characters (a newline, a terminal escape) print as '?'. */
+    for (char *c = line; *c; c++)
+        if ((unsigned char)*c < 32 || *c == 127)
+            *c = '?';
     /* One fprintf per message so lines from OpenMP threads never interleave. */
     fprintf(stderr, "shadowbench: %s%s%s%s\n", prefix[level], context ? context : "", context ? ": " : "",
             line);

@@ -11,6 +11,7 @@
 #include <sys/stat.h>
 #include <cfloat>
 #include <cstdint>
+#include <algorithm>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -131,15 +132,21 @@ public:
             }
         // With one parent each, a node whose chain of parents comes back to
         // it is on a cycle (unreachable from any root, so never visited).
-        std::vector<int> parent(m.nodes.size(), -1);
+        // Each node's chain is walked once: a walk stops at a node an
+        // earlier walk finished, and a node seen twice in one walk closes a
+        // cycle.
+        std::vector<int> parent(m.nodes.size(), -1), walk(m.nodes.size(), -1);
         for (size_t i = 0; i < m.nodes.size(); i++)
             for (int c : m.nodes[i].children)
                 parent[c] = (int)i;
         for (size_t i = 0; i < m.nodes.size(); i++) {
-            size_t steps = 0;
-            for (int p = parent[i]; p >= 0 && steps <= m.nodes.size(); p = parent[p], steps++)
-                if (p == (int)i)
-                    fail(fmt("malformed glTF: node %zu is its own ancestor (a cycle)", i));
+            for (int p = (int)i; p >= 0 && walk[p] != -2; p = parent[p]) {
+                if (walk[p] == (int)i)
+                    fail(fmt("malformed glTF: node %d is its own ancestor (a cycle)", p));
+                walk[p] = (int)i;
+            }
+            for (int p = (int)i; p >= 0 && walk[p] == (int)i; p = parent[p])
+                walk[p] = -2;  // finished: no cycle above it
         }
         std::vector<bool> listed(m.nodes.size());
         for (int r : roots) {
@@ -172,7 +179,7 @@ private:
         if (ni < 0 || ni >= (int)m.nodes.size())
             fail(fmt("malformed glTF: node %d does not exist", ni));
         if (depth > 64)
-            fail(fmt("malformed glTF: node %d is nested more than 64 deep (a cycle?)", ni));
+            fail(fmt("node %d is nested more than 64 deep (shadowbench's limit)", ni));
         const tinygltf::Node &n = m.nodes[ni];
         struct mat4 world = m4_mul(parent, node_local(n));
         for (int i = 0; i < 16; i++)
@@ -250,8 +257,10 @@ private:
             light.radius = (float)rad;
             light.width = light.height = (float)(2 * rad);
         } else {
+            std::string shown = shape.substr(0, 64);  // a NUL inside would cut it short
+            std::replace(shown.begin(), shown.end(), '\0', '?');
             fail(fmt("%s (node %d): \"shape\" must be \"%s\" or \"%s\", got \"%s\"", where, ni,
-                     rect, disk, shape.c_str()));
+                     rect, disk, shown.c_str()));
         }
         check_position(v3(world.m[12], world.m[13], world.m[14]), fmt("%s (node %d)", where, ni));
         if (!node_frame(world, &light.pos, &light.x, &light.y, &light.z))
@@ -513,17 +522,41 @@ bool is_unit_quaternion(const cJSON *v)
 bool is_mode(const cJSON *v) { return is_index(v) && v->valuedouble <= 6; }
 
 // A key twice in one object: cJSON reads the first, tinygltf the last.
-void check_unique_keys(const cJSON *v, int depth)
+// Sorted, in n log n: an object of 80 000 keys is a valid 1.5 MB file.
+// cJSON itself refuses nesting deeper than CJSON_NESTING_LIMIT (1000).
+void check_unique_keys(const cJSON *v)
 {
-    if (depth > 64)
-        fail("malformed JSON: nested more than 64 deep");
+    std::vector<const char *> keys;
     for (const cJSON *a = v ? v->child : nullptr; a; a = a->next) {
-        if (cJSON_IsObject(v))
-            for (const cJSON *b = a->next; b; b = b->next)
-                if (a->string && b->string && strcmp(a->string, b->string) == 0)
-                    fail(fmt("malformed JSON: the key \"%.64s\" appears twice in one object", a->string));
-        check_unique_keys(a, depth + 1);
+        if (cJSON_IsObject(v) && a->string)
+            keys.push_back(a->string);
+        check_unique_keys(a);
     }
+    std::sort(keys.begin(), keys.end(), [](const char *x, const char *y) { return strcmp(x, y) < 0; });
+    for (size_t i = 1; i < keys.size(); i++)
+        if (strcmp(keys[i - 1], keys[i]) == 0)
+            fail(fmt("malformed JSON: the key \"%.64s\" appears twice in one object", keys[i]));
+}
+
+// A uri as tinygltf decodes it before opening the file ('+' a space, %XX a
+// byte, a bad hex digit 0), so that the file checked is the file read.
+std::string uri_decoded(const char *uri)
+{
+    auto hex = [](char c) {
+        return c >= '0' && c <= '9' ? c - '0' : c >= 'a' && c <= 'f' ? c - 'a' + 10 : c >= 'A' && c <= 'F' ? c - 'A' + 10 : 0;
+    };
+    std::string out;
+    for (size_t i = 0, n = strlen(uri); i < n; i++) {
+        if (uri[i] == '+') {
+            out += ' ';
+        } else if (uri[i] == '%' && n > i + 2) {
+            out += (char)(hex(uri[i + 1]) << 4 | hex(uri[i + 2]));
+            i += 2;
+        } else {
+            out += uri[i];
+        }
+    }
+    return out;
 }
 
 // A buffer's uri: a base64 data URI that holds at least byteLength bytes,
@@ -553,7 +586,10 @@ void check_buffers(const cJSON *doc, const std::string &dir)
                 fail(fmt("malformed buffers: buffers[%d] holds %zu bytes, its byteLength says %.0f", i, bytes,
                          length->valuedouble));
         } else if (u) {
-            std::string path = u[0] == '/' ? std::string(u) : dir + "/" + u;
+            const std::string name = uri_decoded(u);
+            if (name.find('\0') != std::string::npos)
+                fail(fmt("malformed buffers: buffers[%d].uri '%.200s' decodes to a NUL byte", i, u));
+            std::string path = name[0] == '/' ? name : dir + "/" + name;
             struct stat st;
             if (stat(path.c_str(), &st) != 0)
                 fail(fmt("malformed buffers: buffers[%d].uri '%.200s': %s", i, u, strerror(errno)));
@@ -571,7 +607,7 @@ void check_types(const cJSON *doc)
 {
     if (!cJSON_IsObject(doc))
         fail("malformed glTF: the document is not a JSON object");
-    check_unique_keys(doc, 0);
+    check_unique_keys(doc);
     static const char *const arrays[] = {"scenes", "nodes", "meshes", "accessors", "bufferViews", "buffers",
                                          "cameras", "extensionsRequired"};
     for (const char *name : arrays) {
@@ -658,8 +694,9 @@ void check_read_as_written(const cJSON *doc, const tinygltf::Model &m)
         if (!a)
             return;
         bool equal = cJSON_GetArraySize(a) == (int)read.size();
-        for (int i = 0; equal && i < (int)read.size(); i++)
-            equal = cJSON_GetArrayItem(a, i)->valuedouble == read[i];
+        size_t i = 0;
+        for (const cJSON *e = a->child; equal && e; e = e->next, i++)  // the list once: not GetArrayItem
+            equal = e->valuedouble == read[i];
         if (!equal)
             fail(fmt("malformed glTF: %s.%s was not read as written (write whole numbers without a fraction "
                      "or an exponent)", where.c_str(), key));
@@ -798,10 +835,10 @@ void load(const char *path, const char *bytes, size_t size, struct scene *s)
         model.accessors.size() != (size_t)cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(j, "accessors")) ||
         model.bufferViews.size() != (size_t)cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(j, "bufferViews")))
         fail("malformed glTF: tinygltf did not read every scene, node, mesh, accessor and buffer view");
-    for (size_t mi = 0; mi < model.meshes.size(); mi++)
+    size_t mi = 0;
+    for (const cJSON *mesh = cJSON_GetObjectItemCaseSensitive(j, "meshes")->child; mesh; mesh = mesh->next, mi++)
         if ((int)model.meshes[mi].primitives.size() !=
-            cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(
-                cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(j, "meshes"), (int)mi), "primitives")))
+            cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(mesh, "primitives")))
             fail(fmt("malformed glTF: meshes[%zu]: tinygltf did not read every primitive", mi));
     check_read_as_written(j, model);
 
