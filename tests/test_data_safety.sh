@@ -51,6 +51,18 @@ mkdir -p "$tmp/a/parallel_planes/hard"
 [ ! -e "$tmp/a/parallel_planes/hard/visibility.exr.tmp.4194305" ] && [ -e "$tmp/a/parallel_planes/hard/heatmap.png.tmp.$$" ] &&
     ok "a dead run's temporary removed, a live one's kept" || fail "stale temporaries"
 
+# Two ground truths written into one cache at once: both succeed, and the
+# entry they leave is whole (a third reads it from the cache).
+for i in 1 2; do
+    "$sb" gt --scene parallel_planes --width 96 --height 96 --gt-samples 64 --cache "$tmp/cache" \
+        --out "$tmp/gt$i" -q >/dev/null &
+done
+wait %1 && wait %2 || fail "two concurrent ground truths into one cache"
+out=$("$sb" gt --scene parallel_planes --width 96 --height 96 --gt-samples 64 --cache "$tmp/cache" \
+          --out "$tmp/gt3" 2>&1)
+printf '%s' "$out" | grep -q "from cache" && [ -z "$(find "$tmp/cache" -name '*.tmp.*')" ] &&
+    ok "concurrent writers leave one whole cache entry" || fail "cache after concurrent writers: $out"
+
 # Scene names that cannot name their folder, refused before any work.
 for name in ... . .. .hidden report.html matrix.csv run.json charts; do
     cp "$root/scenes/parallel_planes.gltf" "$tmp/$name.gltf"
