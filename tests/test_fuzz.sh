@@ -3,7 +3,8 @@
 # (tests/fuzz/fuzz_scene_loader.c), seeded with the shipped scenes: builds
 # the target with clang in its own folder, then runs it for SB_FUZZ_SECONDS
 # (default 30). A crash, a leak, a sanitizer report or a timeout fails the
-# test and leaves the input under <build>/fuzz/. Without clang (tools/setup
+# test and leaves the input under <build>/fuzz/; inputs it once found are
+# kept in tests/fuzz/regressions/ and replayed as seeds. Without clang (tools/setup
 # installs it) there is nothing to run: the test says so and passes.
 # Usage: test_fuzz.sh <source root> <build dir>
 set -u
@@ -17,7 +18,7 @@ CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DSB_FUZZ=ON -DCMAKE_BUILD_TYP
     cmake --build "$build" --target fuzz_scene_loader -j "$(nproc)" >/dev/null || { echo "FAILED: build"; exit 1; }
 corpus=$(mktemp -d)
 trap 'rm -rf "$corpus"' EXIT
-cp "$root"/scenes/*.gltf "$corpus"/
+cp "$root"/scenes/*.gltf "$root"/tests/fuzz/regressions/* "$corpus"/  # what it found before, replayed first
 cd "$build" || exit 1
 ./fuzz_scene_loader -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -max_len=65536 \
     -print_final_stats=1 "$corpus" > fuzz.log 2>&1

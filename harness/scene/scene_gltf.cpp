@@ -836,7 +836,8 @@ void load(const char *path, const char *bytes, size_t size, struct scene *s)
         model.bufferViews.size() != (size_t)cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(j, "bufferViews")))
         fail("malformed glTF: tinygltf did not read every scene, node, mesh, accessor and buffer view");
     size_t mi = 0;
-    for (const cJSON *mesh = cJSON_GetObjectItemCaseSensitive(j, "meshes")->child; mesh; mesh = mesh->next, mi++)
+    const cJSON *meshes = cJSON_GetObjectItemCaseSensitive(j, "meshes");
+    for (const cJSON *mesh = meshes ? meshes->child : nullptr; mesh; mesh = mesh->next, mi++)
         if ((int)model.meshes[mi].primitives.size() !=
             cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(mesh, "primitives")))
             fail(fmt("malformed glTF: meshes[%zu]: tinygltf did not read every primitive", mi));
