@@ -116,7 +116,7 @@ int main(int argc, char **argv)
         free(scene_text);
     }
     dots_cmd = util_printf("gt --scene %s --out %s/gt", dots, dir);
-    dots_line = util_printf("%s: its name '...' (the file's stem) cannot name its output folder: it is empty or "
+    dots_line = util_printf("%s: its name (the file's stem) cannot name its output folder: it is empty or "
                             "starts with '.'", dots);
     expect(2, dots_cmd, dots_line);
     free(dots), free(dots_cmd), free(dots_line), free(src);

@@ -63,8 +63,11 @@ out=$("$sb" gt --scene parallel_planes --width 96 --height 96 --gt-samples 64 --
 printf '%s' "$out" | grep -q "from cache" && [ -z "$(find "$tmp/cache" -name '*.tmp.*')" ] &&
     ok "concurrent writers leave one whole cache entry" || fail "cache after concurrent writers: $out"
 
-# Scene names that cannot name their folder, refused before any work.
-for name in ... . .. .hidden report.html matrix.csv run.json charts; do
+# Scene names that cannot name their folder, refused before any work:
+# climbing or hidden, a run file's, over 200 bytes, not UTF-8.
+long=$(printf 'a%.0s' $(seq 201))
+bad_utf8=$(printf 'x\377\376')
+for name in ... . .. .hidden report.html matrix.csv run.json charts "$long" "$bad_utf8"; do
     cp "$root/scenes/parallel_planes.gltf" "$tmp/$name.gltf"
     out=$("$sb" run --scene "$tmp/$name.gltf" $small --out "$tmp/names" 2>&1)
     rc=$?

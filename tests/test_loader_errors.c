@@ -169,6 +169,12 @@ static void encoded_fifo_uri(cJSON *g)
 {
     cJSON_ReplaceItemInObject(at(g, "buffers", 0), "uri", cJSON_CreateString("fifo%2Ebin"));
 }
+static void image_fifo(cJSON *g)
+{
+    cJSON *image = cJSON_CreateObject();
+    cJSON_AddStringToObject(image, "uri", "fifo.bin");
+    cJSON_AddItemToArray(cJSON_AddArrayToObject(g, "images"), image);
+}
 static void no_asset(cJSON *g) { cJSON_DeleteItemFromObject(g, "asset"); }
 static void missing_normal(cJSON *g)
 {
@@ -380,6 +386,14 @@ int main(int argc, char **argv)
     /* A key with a newline, twice: still one line. */
     case_text("newline_key", "\"asset\":\t{", "\"asset\":\t{\"x\\ny\": 1, \"x\\ny\": 2, ",
               "malformed JSON: the key \"x?y\" appears twice in one object");
+
+    /* An image naming the FIFO: images are ignored, and never opened or
+     * waited on; the scene loads. */
+    char *img = scene_with("image_fifo", image_fifo);
+    char *img_cmd = util_printf("timeout 60 %s gt --scene %s --width 16 --height 16 --gt-samples 1 --no-cache -q "
+                                "--out %s/out >/dev/null", shadowbench, img, dir);
+    CHECK(system(img_cmd) == 0, "a scene whose image is a FIFO must load, without waiting");
+    free(img_cmd), free(img);
 
     /* A GLB of another version. */
     char *glb = util_printf("%s/v1.glb", dir);

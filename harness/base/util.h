@@ -51,6 +51,9 @@ int util_mkdirs(const char *path);
 bool util_dir_writable(const char *dir);
 
 bool util_file_exists(const char *path);
+/* Whether s is well-formed UTF-8 (no overlong forms, no surrogates). */
+bool util_valid_utf8(const char *s);
+
 /* Whether path is a folder (following links). */
 bool util_is_dir(const char *path);
 

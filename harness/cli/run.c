@@ -60,10 +60,14 @@ static int check_scene_name(const struct scene *s)
     bool reserved = false;
     for (size_t i = 0; i < sizeof taken / sizeof *taken; i++)
         reserved |= strcmp(n, taken[i]) == 0;
-    if (!*n || n[0] == '.' || control || reserved) {
-        log_error("%s: its name '%s' (the file's stem) cannot name its output folder: %s", s->path, n,
+    const bool long_name = strlen(n) > 200;  /* with "_tradeoff.svg" and the like, under 255 bytes */
+    const bool utf8 = util_valid_utf8(n);
+    if (!*n || n[0] == '.' || control || reserved || long_name || !utf8) {
+        log_error("%s: its name (the file's stem) cannot name its output folder: %s", s->path,
                   !*n || n[0] == '.' ? "it is empty or starts with '.'"
                   : control           ? "it holds a control character"
+                  : long_name         ? "it is longer than 200 bytes"
+                  : !utf8             ? "it is not valid UTF-8"
                                       : "a run's own file has that name");
         return -1;
     }

@@ -434,6 +434,32 @@ private:
     }
 };
 
+// Every file tinygltf opens (buffers, and images, which it reads before
+// skip_images can ignore them) goes through util_read_file: regular files
+// only, never blocking on a FIFO or reading a device or a folder.
+bool read_regular_file(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *)
+{
+    char *bytes = nullptr;
+    size_t size = 0;
+    int rc = util_read_file(path.c_str(), &bytes, &size);
+    if (rc) {
+        if (err)
+            *err += path.substr(0, 200) + ": " + util_read_error(rc) + "\n";
+        return false;
+    }
+    out->assign(bytes, bytes + size);
+    free(bytes);
+    return true;
+}
+
+// tinygltf's own FileExists opens the file, which blocks on a FIFO: a file
+// exists here when it is a regular one.
+bool regular_file_exists(const std::string &path, void *)
+{
+    struct stat st;
+    return stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+}
+
 bool skip_images(tinygltf::Image *, const int, std::string *, std::string *, int, int,
                  const unsigned char *, int, void *)
 {
@@ -822,6 +848,8 @@ void load(const char *path, const char *bytes, size_t size, struct scene *s)
 
     tinygltf::TinyGLTF gltf;
     gltf.SetImageLoader(skip_images, nullptr);
+    gltf.SetFsCallbacks(tinygltf::FsCallbacks{regular_file_exists, tinygltf::ExpandFilePath, read_regular_file,
+                                              tinygltf::WriteWholeFile, nullptr});
     tinygltf::Model model;
     std::string err, warn;
     bool ok = glb ? gltf.LoadBinaryFromMemory(&model, &err, &warn, (const unsigned char *)bytes,
