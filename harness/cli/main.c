@@ -230,6 +230,22 @@ static int parse_int(const char *opt, const char *text, int lo, int hi, int *out
     return 0;
 }
 
+/* A folder option: not empty, and not something other than a folder (it
+ * may not exist yet). */
+static int folder_option(const char *opt, const char *text, const char **out)
+{
+    if (!*text) {
+        log_error("--%s: an empty folder name", opt);
+        return -1;
+    }
+    if (util_file_exists(text) && !util_is_dir(text)) {
+        log_error("--%s %s: not a folder", opt, text);
+        return -1;
+    }
+    *out = text;
+    return 0;
+}
+
 static int add_techniques(struct run_options *o, const char *list)
 {
     char *copy = xstrdup(list), *rest = copy;
@@ -392,29 +408,11 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
             break;
         case OPT_FRAMES: rc = parse_int("frames", optarg, 1, STAGE_TIMER_MAX_FRAMES, &o->frames); break;
         case OPT_WARMUP: rc = parse_int("warmup", optarg, 0, RUN_MAX_WARMUP, &o->warmup); break;
-        case OPT_OUT:
-            if (!*optarg) {
-                log_error("--out: an empty folder name");
-                return -1;
-            }
-            o->out_dir = optarg;
-            break;
-        case OPT_CACHE:
-            if (!*optarg || (util_file_exists(optarg) && !util_is_dir(optarg))) {
-                log_error(*optarg ? "--cache %s: not a folder" : "--cache: an empty folder name%s", optarg);
-                return -1;
-            }
-            o->cache_dir = optarg;
-            break;
+        case OPT_OUT: rc = folder_option("out", optarg, &o->out_dir); break;
+        case OPT_CACHE: rc = folder_option("cache", optarg, &o->cache_dir); break;
         case OPT_NO_CACHE: o->cache_dir = NULL; break;
         case OPT_SHADERS: o->shader_dir = optarg; break;
-        case OPT_BASELINES:
-            if (!*optarg) {
-                log_error("--baselines: an empty folder name");
-                return -1;
-            }
-            o->baselines_dir = optarg;
-            break;
+        case OPT_BASELINES: rc = folder_option("baselines", optarg, &o->baselines_dir); break;
         case OPT_UPDATE: o->update = true; break;
         case OPT_STRICT: o->strict = true; break;
         case 'q': log_set_level(LOG_ERROR); break;

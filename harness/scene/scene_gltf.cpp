@@ -652,14 +652,6 @@ void check_types(const cJSON *doc)
     const cJSON *scene = cJSON_GetObjectItemCaseSensitive(doc, "scene");
     if (scene && !is_index(scene))
         fail("malformed glTF: \"scene\" must be an index");
-    check_members(doc, "scenes", "nodes", is_indices, "an array of indices");
-    check_members(doc, "nodes", "children", is_indices, "an array of indices");
-    check_members(doc, "nodes", "mesh", is_index, "an index");
-    check_members(doc, "nodes", "camera", is_index, "an index");
-    check_members(doc, "nodes", "matrix", is_matrix, "16 finite numbers");
-    check_members(doc, "nodes", "translation", is_vec3, "3 finite numbers");
-    check_members(doc, "nodes", "scale", is_vec3, "3 finite numbers");
-    check_members(doc, "nodes", "rotation", is_unit_quaternion, "a unit quaternion (4 numbers)");
     const cJSON *cameras = cJSON_GetObjectItemCaseSensitive(doc, "cameras"), *camera;
     int ci = 0;
     cJSON_ArrayForEach(camera, cameras) {
@@ -671,14 +663,32 @@ void check_types(const cJSON *doc)
             fail(fmt("malformed glTF: cameras[%d].perspective needs numbers yfov and znear", ci));
         ci++;
     }
-    check_members(doc, "accessors", "bufferView", is_index, "an index");
-    check_members(doc, "accessors", "byteOffset", is_count, "a whole number in [0, 2^53]");
-    check_members(doc, "accessors", "count", is_count, "a whole number in [0, 2^53]");
-    check_members(doc, "accessors", "componentType", is_index, "a component type");
-    check_members(doc, "bufferViews", "buffer", is_index, "an index");
-    check_members(doc, "bufferViews", "byteOffset", is_count, "a whole number in [0, 2^53]");
-    check_members(doc, "bufferViews", "byteLength", is_count, "a whole number in [0, 2^53]");
-    check_members(doc, "bufferViews", "byteStride", is_count, "a whole number in [0, 2^53]");
+    // Members of the top-level arrays' objects, where present: (array, key,
+    // test, what it must be).
+    static const struct {
+        const char *array, *key;
+        bool (*ok)(const cJSON *);
+        const char *must;
+    } members[] = {
+        {"scenes", "nodes", is_indices, "an array of indices"},
+        {"nodes", "children", is_indices, "an array of indices"},
+        {"nodes", "mesh", is_index, "an index"},
+        {"nodes", "camera", is_index, "an index"},
+        {"nodes", "matrix", is_matrix, "16 finite numbers"},
+        {"nodes", "translation", is_vec3, "3 finite numbers"},
+        {"nodes", "scale", is_vec3, "3 finite numbers"},
+        {"nodes", "rotation", is_unit_quaternion, "a unit quaternion (4 numbers)"},
+        {"accessors", "bufferView", is_index, "an index"},
+        {"accessors", "byteOffset", is_count, "a whole number in [0, 2^53]"},
+        {"accessors", "count", is_count, "a whole number in [0, 2^53]"},
+        {"accessors", "componentType", is_index, "a component type"},
+        {"bufferViews", "buffer", is_index, "an index"},
+        {"bufferViews", "byteOffset", is_count, "a whole number in [0, 2^53]"},
+        {"bufferViews", "byteLength", is_count, "a whole number in [0, 2^53]"},
+        {"bufferViews", "byteStride", is_count, "a whole number in [0, 2^53]"},
+    };
+    for (const auto &c : members)
+        check_members(doc, c.array, c.key, c.ok, c.must);
     const cJSON *meshes = cJSON_GetObjectItemCaseSensitive(doc, "meshes"), *mesh;
     int mi = 0;
     cJSON_ArrayForEach(mesh, meshes) {
