@@ -2,7 +2,8 @@
 # Protects the output folder's promises (README, Outputs): one shadowbench
 # per folder at a time; a run killed by SIGTERM or SIGINT exits 143 or 130,
 # leaves no temporary behind and says it is incomplete; a later run removes
-# the temporaries of dead runs and only those; scene names that would
+# the temporaries of dead runs and only those; a write that fails is one
+# line and an incomplete run; scene names that would
 # escape their folder or take a run file's name are refused before any work.
 # Usage: test_data_safety.sh <shadowbench> <source root>
 set -u
@@ -63,15 +64,35 @@ out=$("$sb" gt --scene parallel_planes --width 96 --height 96 --gt-samples 64 --
 printf '%s' "$out" | grep -q "from cache" && [ -z "$(find "$tmp/cache" -name '*.tmp.*')" ] &&
     ok "concurrent writers leave one whole cache entry" || fail "cache after concurrent writers: $out"
 
+# A write that fails (the file-size limit makes write() fail with EFBIG,
+# where a full disk gives ENOSPC): one line naming the file, exit 1, no
+# temporary left, and run.json says incomplete. 4 KiB stops a cell's EXR,
+# 40 KiB the ground truth's.
+for kib in 4 40; do
+    out=$( (trap '' XFSZ; ulimit -f $kib; "$sb" run --scene parallel_planes --technique hard,pcf \
+               --width 128 --height 128 --gt-samples 16 --frames 1 --warmup 0 --no-cache -q \
+               --out "$tmp/full$kib") 2>&1)
+    rc=$?
+    [ $rc = 1 ] && [ "$(printf '%s\n' "$out" | wc -l)" = 1 ] &&
+        printf '%s' "$out" | grep -q "^shadowbench: error: $tmp/full$kib/parallel_planes/.*\.exr: cannot write" &&
+        [ -z "$(find "$tmp/full$kib" -name '*.tmp.*')" ] && grep -q '"complete":	false' "$tmp/full$kib/run.json" &&
+        ok "a write failing at $kib KiB: '$out'" || fail "a write failing at $kib KiB: exit $rc: $out"
+done
+
 # Scene names that cannot name their folder, refused before any work:
-# climbing or hidden, a run file's, over 200 bytes, not UTF-8.
+# climbing or hidden, a run file's, over 200 bytes, not UTF-8, a control
+# character, a bidirectional override (U+202E: "exe.gpj" shows as "jpg.exe").
 long=$(printf 'a%.0s' $(seq 201))
 bad_utf8=$(printf 'x\377\376')
-for name in ... . .. .hidden report.html matrix.csv run.json charts "$long" "$bad_utf8"; do
+escape=$(printf 'x\033[31m')
+rlo=$(printf 'exe\342\200\256gpj')
+for name in ... . .. .hidden report.html matrix.csv run.json charts "$long" "$bad_utf8" "$escape" "$rlo"; do
     cp "$root/scenes/parallel_planes.gltf" "$tmp/$name.gltf"
     out=$("$sb" run --scene "$tmp/$name.gltf" $small --out "$tmp/names" 2>&1)
     rc=$?
+    # The error line names the file in stored order: the override prints as '?'.
     [ $rc = 2 ] && printf '%s' "$out" | grep -q "cannot name its output folder" && [ ! -e "$tmp/names/run.json" ] &&
+        ! printf '%s' "$out" | LC_ALL=C grep -q "$(printf '\342\200\256')" &&
         ok "scene '$name.gltf' refused" || fail "scene '$name.gltf': exit $rc: $out"
     rm -f "$tmp/$name.gltf"
 done

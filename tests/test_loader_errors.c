@@ -8,7 +8,9 @@
 
 #include <cjson/cJSON.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 static const char *shadowbench;
 static char dir[] = "/tmp/sb_test_loader_XXXXXX";
@@ -154,7 +156,7 @@ static void twice_mode(cJSON *g) { cJSON_AddStringToObject(primitive(g), "mode",
 static void huge_mesh(cJSON *g) { cJSON_ReplaceItemInObject(at(g, "nodes", 0), "mesh", cJSON_CreateNumber(1099511627776.0)); }
 static void no_yfov(cJSON *g) { cJSON_DeleteItemFromObject(perspective(g), "yfov"); }
 static void folder_uri(cJSON *g) { cJSON_ReplaceItemInObject(at(g, "buffers", 0), "uri", cJSON_CreateString(".")); }
-static void device_uri(cJSON *g) { cJSON_ReplaceItemInObject(at(g, "buffers", 0), "uri", cJSON_CreateString("/dev/zero")); }
+static void device_uri(cJSON *g) { cJSON_ReplaceItemInObject(at(g, "buffers", 0), "uri", cJSON_CreateString("../../dev/zero")); }
 static void short_buffer(cJSON *g)
 {
     cJSON *b = at(g, "buffers", 0);
@@ -173,6 +175,22 @@ static void image_fifo(cJSON *g)
 {
     cJSON *image = cJSON_CreateObject();
     cJSON_AddStringToObject(image, "uri", "fifo.bin");
+    cJSON_AddItemToArray(cJSON_AddArrayToObject(g, "images"), image);
+}
+/* A file of 2000 bytes beside the scene, for a buffer of 48. */
+static void long_file(cJSON *g, const char *uri)
+{
+    char *path = util_printf("%s/long.bin", dir), zeros[2000] = {0};
+    util_write_file_atomic(path, zeros, sizeof zeros);
+    free(path);
+    cJSON_ReplaceItemInObject(at(g, "buffers", 0), "uri", cJSON_CreateString(uri));
+}
+static void long_uri(cJSON *g) { long_file(g, "long.bin"); }
+static void rooted_uri(cJSON *g) { long_file(g, "/long.bin"); }
+static void huge_image(cJSON *g)
+{
+    cJSON *image = cJSON_CreateObject();
+    cJSON_AddStringToObject(image, "uri", "huge.png");
     cJSON_AddItemToArray(cJSON_AddArrayToObject(g, "images"), image);
 }
 static void no_asset(cJSON *g) { cJSON_DeleteItemFromObject(g, "asset"); }
@@ -335,7 +353,7 @@ int main(int argc, char **argv)
     case_mutated("huge_mesh", huge_mesh, "malformed glTF: nodes[0].mesh must be an index");
     case_mutated("no_yfov", no_yfov, "malformed glTF: cameras[0].perspective needs numbers yfov and znear");
     case_mutated("folder_uri", folder_uri, "malformed buffers: buffers[0].uri '.' is not a regular file");
-    case_mutated("device_uri", device_uri, "malformed buffers: buffers[0].uri '/dev/zero' is not a regular file");
+    case_mutated("device_uri", device_uri, "malformed buffers: buffers[0].uri '../../dev/zero' is not a regular file");
     case_mutated("short_buffer", short_buffer, "malformed buffers: buffers[0] holds 48 bytes, its byteLength says 1048");
     case_mutated("overflowing_matrix", overflowing_matrix,
                  "node 1: its transform overflows a float (a value beyond 3.40282e+38)");
@@ -394,6 +412,31 @@ int main(int argc, char **argv)
                                 "--out %s/out >/dev/null", shadowbench, img, dir);
     CHECK(system(img_cmd) == 0, "a scene whose image is a FIFO must load, without waiting");
     free(img_cmd), free(img);
+
+    /* An image naming a 4 GiB file (sparse): never read (tinygltf would read
+     * it whole, then hand it to the image loader that ignores it). The
+     * children's peak memory stays far below the file's size. */
+    char *huge = util_printf("%s/huge.png", dir);
+    FILE *f = fopen(huge, "wb");
+    CHECK(f && ftruncate(fileno(f), (off_t)4 << 30) == 0, "a sparse %s", huge);
+    if (f)
+        fclose(f);
+    img = scene_with("huge_image", huge_image);
+    img_cmd = util_printf("%s gt --scene %s --width 16 --height 16 --gt-samples 1 --no-cache -q --out %s/out "
+                          ">/dev/null", shadowbench, img, dir);
+    CHECK(system(img_cmd) == 0, "a scene whose image is a 4 GiB file must load");
+    struct rusage ru;
+    getrusage(RUSAGE_CHILDREN, &ru);
+    CHECK(ru.ru_maxrss < 1024 * 1024, "a child's peak memory was %ld KiB: the image was read", ru.ru_maxrss);
+    remove(huge);
+    free(img_cmd), free(img), free(huge);
+
+    /* A buffer file longer than its byteLength: refused before it is read
+     * (tinygltf reads it whole first); a uri starting with '/' is, as
+     * tinygltf joins it, relative to the scene's folder. */
+    case_mutated("long_uri", long_uri, "malformed buffers: buffers[0].uri 'long.bin' holds 2000 bytes, its byteLength says 48");
+    case_mutated("rooted_uri", rooted_uri,
+                 "malformed buffers: buffers[0].uri '/long.bin' holds 2000 bytes, its byteLength says 48");
 
     /* A GLB of another version. */
     char *glb = util_printf("%s/v1.glb", dir);

@@ -83,7 +83,10 @@ static void hostile_names(void)
     free(text);
     cJSON *meta = cJSON_GetObjectItem(cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(g, "scenes"), 0),
                                                           "extras"), "shadowbench");
-    cJSON_ReplaceItemInObject(meta, "description", cJSON_CreateString("<script>document.title='2'</script>"));
+    /* and a right-to-left override (U+202E) and a control character, which
+     * would reorder the page and make the SVG charts invalid XML */
+    cJSON_ReplaceItemInObject(meta, "description",
+                              cJSON_CreateString("<script>document.title='2'</script> \u202egpj.exe \x01" "end"));
     char *long_text = xmalloc(10001);  /* and a text too long to copy whole */
     memset(long_text, 'x', 10000);
     long_text[10000] = '\0';
@@ -105,6 +108,8 @@ static void hostile_names(void)
               strstr(dom, "&lt;img src=x onerror=\"document.title=1\"&gt;") &&
               strstr(dom, "&lt;script&gt;document.title='2'&lt;/script&gt;"),
           "the names show as text, not as markup");
+    CHECK(strstr(dom, " [U+202E]gpj.exe \xef\xbf\xbd" "end") && !strstr(dom, "\u202e") && !strstr(dom, "\x01"),
+          "the override shows as [U+202E], the control character as U+FFFD");
     CHECK(strstr(dom, "[... 5904 more bytes, in the scene file]") && !strstr(dom, "xxxxx<"),
           "a 10000-byte text is cut at 4096 bytes, with a note");
     strbuf_free(&err);

@@ -1,7 +1,9 @@
 #include "log.h"
+#include "util.h"
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <string.h>
 
 static enum log_level max_level = LOG_INFO;
 static const char *context;
@@ -24,11 +26,20 @@ void log_msg(enum log_level level, const char *fmt, ...)
     va_start(ap, fmt);
     vsnprintf(line, sizeof line, fmt, ap);
     va_end(ap);
-    /* One line, whatever a file name or a file's text quoted in it holds:
-     * control characters (a newline, a terminal escape) print as '?'. */
-    for (char *c = line; *c; c++)
-        if ((unsigned char)*c < 32 || *c == 127)
-            *c = '?';
+    /* One line, shown in the order it is stored, whatever a file name or a
+     * file's text quoted in it holds: control characters (a newline, a
+     * terminal escape) and bidirectional formatting characters print as '?'. */
+    char *out = line;
+    unsigned cp;
+    for (const char *in = line; *in;) {
+        int n = util_utf8_next(in, &cp);
+        if (cp < 32 || cp == 127 || util_bidi_control(cp))
+            *out++ = '?';
+        else
+            memmove(out, in, (size_t)n), out += n;
+        in += n;
+    }
+    *out = '\0';
     /* One fprintf per message so lines from OpenMP threads never interleave. */
     fprintf(stderr, "shadowbench: %s%s%s%s\n", prefix[level], context ? context : "", context ? ": " : "",
             line);

@@ -57,20 +57,20 @@ int util_read_file(const char *path, char **data, size_t *size)
     if (fd < 0)
         return -errno;
     struct stat st;
-    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        int err = S_ISDIR(st.st_mode) ? -EISDIR : -ENODEV;
+    int err = fstat(fd, &st) != 0 ? -errno : S_ISDIR(st.st_mode) ? -EISDIR : !S_ISREG(st.st_mode) ? -ENODEV : 0;
+    if (err) {
         close(fd);
         return err;
     }
     FILE *f = fdopen(fd, "rb");
     if (!f) {
-        int err = -errno;
+        err = -errno;
         close(fd);
         return err;
     }
     char *buf = xmalloc((size_t)st.st_size + 1);
     size_t n = fread(buf, 1, (size_t)st.st_size, f);
-    int err = ferror(f) ? -EIO : 0;
+    err = ferror(f) ? -EIO : 0;
     fclose(f);
     if (err) {
         free(buf);
@@ -235,24 +235,38 @@ int util_mkdirs(const char *path)
     return 0;
 }
 
+int util_utf8_next(const char *s, unsigned *cp)
+{
+    const unsigned char *p = (const unsigned char *)s;
+    int n = *p < 0x80 ? 0 : (*p & 0xe0) == 0xc0 ? 1 : (*p & 0xf0) == 0xe0 ? 2 : (*p & 0xf8) == 0xf0 ? 3 : -1;
+    *cp = UTIL_NOT_UTF8;
+    if (n < 0)
+        return 1;
+    unsigned c = n == 0 ? *p : *p & (0x3f >> n);
+    for (int i = 1; i <= n; i++) {
+        if ((p[i] & 0xc0) != 0x80)
+            return 1;
+        c = c << 6 | (p[i] & 0x3f);
+    }
+    static const unsigned min[4] = {0, 0x80, 0x800, 0x10000};
+    if (c < min[n] || c > 0x10ffff || (c >= 0xd800 && c <= 0xdfff))
+        return 1;
+    *cp = c;
+    return n + 1;
+}
+
 bool util_valid_utf8(const char *s)
 {
-    for (const unsigned char *p = (const unsigned char *)s; *p;) {
-        int n = *p < 0x80 ? 0 : (*p & 0xe0) == 0xc0 ? 1 : (*p & 0xf0) == 0xe0 ? 2 : (*p & 0xf8) == 0xf0 ? 3 : -1;
-        if (n < 0)
-            return false;
-        unsigned cp = n == 0 ? *p : *p & (0x3f >> n);
-        for (int i = 1; i <= n; i++) {
-            if ((p[i] & 0xc0) != 0x80)
-                return false;
-            cp = cp << 6 | (p[i] & 0x3f);
-        }
-        static const unsigned min[4] = {0, 0x80, 0x800, 0x10000};
-        if (cp < min[n] || cp > 0x10ffff || (cp >= 0xd800 && cp <= 0xdfff))
-            return false;
-        p += n + 1;
-    }
-    return true;
+    unsigned cp = 0;
+    while (*s && cp != UTIL_NOT_UTF8)
+        s += util_utf8_next(s, &cp);
+    return cp != UTIL_NOT_UTF8;
+}
+
+bool util_bidi_control(unsigned cp)
+{
+    return cp == 0x061c || cp == 0x200e || cp == 0x200f || (cp >= 0x202a && cp <= 0x202e) ||
+           (cp >= 0x2066 && cp <= 0x2069);
 }
 
 bool util_is_dir(const char *path)
@@ -388,13 +402,22 @@ void strbuf_free(struct strbuf *sb)
 
 void strbuf_xml(struct strbuf *sb, const char *s)
 {
-    for (; *s; s++) {
-        switch (*s) {
+    unsigned cp;
+    for (int n; *s; s += n) {
+        n = util_utf8_next(s, &cp);
+        switch (cp) {
         case '<': strbuf_printf(sb, "&lt;"); break;
         case '>': strbuf_printf(sb, "&gt;"); break;
         case '&': strbuf_printf(sb, "&amp;"); break;
         case '"': strbuf_printf(sb, "&quot;"); break;
-        default: strbuf_append(sb, s, 1);
+        default:
+            if (util_bidi_control(cp))
+                strbuf_printf(sb, "[U+%04X]", cp);
+            else if (cp == UTIL_NOT_UTF8 || (cp < 32 && !strchr("\t\n\r", (int)cp)) || cp == 127 ||
+                     cp == 0xfffe || cp == 0xffff)
+                strbuf_printf(sb, "\xef\xbf\xbd");  /* U+FFFD: XML forbids these */
+            else
+                strbuf_append(sb, s, (size_t)n);
         }
     }
 }

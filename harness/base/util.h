@@ -51,8 +51,16 @@ int util_mkdirs(const char *path);
 bool util_dir_writable(const char *dir);
 
 bool util_file_exists(const char *path);
-/* Whether s is well-formed UTF-8 (no overlong forms, no surrogates). */
+/* Decodes the UTF-8 character at s (not at its NUL) into *cp and returns its
+ * length; a byte that starts no well-formed character (overlong forms and
+ * surrogates included) gives UTIL_NOT_UTF8 and length 1. */
+#define UTIL_NOT_UTF8 0xffffffffu
+int util_utf8_next(const char *s, unsigned *cp);
+/* Whether s is well-formed UTF-8. */
 bool util_valid_utf8(const char *s);
+/* Whether cp is a bidirectional formatting character (U+061C, U+200E/F,
+ * U+202A-E, U+2066-9): text that shows in another order than it is stored. */
+bool util_bidi_control(unsigned cp);
 
 /* Whether path is a folder (following links). */
 bool util_is_dir(const char *path);
@@ -82,7 +90,10 @@ void strbuf_list_printf(struct strbuf *sb, const char *sep, const char *fmt, ...
     __attribute__((format(printf, 3, 4)));
 /* Appends the NULL-terminated items separated by sep. */
 void strbuf_join(struct strbuf *sb, const char *const *items, const char *sep);
-/* Appends s with &, <, > and " escaped (for HTML and SVG). */
+/* Appends s with &, <, > and " escaped (for HTML and SVG), bidirectional
+ * formatting characters shown as "[U+202E]" (nothing a file holds reorders
+ * the page), and what XML forbids (control characters but tab and line
+ * ends, bytes that are not UTF-8, U+FFFE/F) as U+FFFD. */
 void strbuf_xml(struct strbuf *sb, const char *s);
 
 /* Returns a malloc'ed formatted string (aborts on out of memory). */

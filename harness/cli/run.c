@@ -54,18 +54,23 @@ static int check_scene_name(const struct scene *s)
     static const char *const taken[] = {"charts", "report.html", "matrix.csv", "matrix.json", "run.json",
                                         "check.html"};
     const char *n = s->name;
-    bool control = false;
-    for (const char *p = n; *p; p++)
-        control |= (unsigned char)*p < 32 || *p == 127 || *p == '/';
+    bool control = false, bidi = false;
+    unsigned cp;
+    for (const char *p = n; *p;) {
+        p += util_utf8_next(p, &cp);
+        control |= cp < 32 || cp == 127 || cp == '/';
+        bidi |= util_bidi_control(cp);
+    }
     bool reserved = false;
     for (size_t i = 0; i < sizeof taken / sizeof *taken; i++)
         reserved |= strcmp(n, taken[i]) == 0;
     const bool long_name = strlen(n) > 200;  /* with "_tradeoff.svg" and the like, under 255 bytes */
     const bool utf8 = util_valid_utf8(n);
-    if (!*n || n[0] == '.' || control || reserved || long_name || !utf8) {
+    if (!*n || n[0] == '.' || control || bidi || reserved || long_name || !utf8) {
         log_error("%s: its name (the file's stem) cannot name its output folder: %s", s->path,
                   !*n || n[0] == '.' ? "it is empty or starts with '.'"
                   : control           ? "it holds a control character"
+                  : bidi              ? "it holds a bidirectional formatting character (it would show reordered)"
                   : long_name         ? "it is longer than 200 bytes"
                   : !utf8             ? "it is not valid UTF-8"
                                       : "a run's own file has that name");

@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -434,11 +435,22 @@ private:
     }
 };
 
-// Every file tinygltf opens (buffers, and images, which it reads before
-// skip_images can ignore them) goes through util_read_file: regular files
-// only, never blocking on a FIFO or reading a device or a folder.
-bool read_regular_file(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *)
+// The files tinygltf may open: the buffers check_buffers resolved, by the
+// path tinygltf's FindFile builds. An image's file is never opened (textures
+// are ignored, DESIGN.md §4): it is not found, which tinygltf only warns of.
+struct buffer_files {
+    std::set<std::string> paths;
+};
+
+// Through util_read_file: regular files only, never blocking on a FIFO or
+// reading a device or a folder.
+bool read_buffer_file(std::vector<unsigned char> *out, std::string *err, const std::string &path, void *files)
 {
+    if (!((buffer_files *)files)->paths.count(path)) {
+        if (err)
+            *err += path.substr(0, 200) + ": not a buffer of the scene\n";
+        return false;
+    }
     char *bytes = nullptr;
     size_t size = 0;
     int rc = util_read_file(path.c_str(), &bytes, &size);
@@ -452,12 +464,11 @@ bool read_regular_file(std::vector<unsigned char> *out, std::string *err, const 
     return true;
 }
 
-// tinygltf's own FileExists opens the file, which blocks on a FIFO: a file
-// exists here when it is a regular one.
-bool regular_file_exists(const std::string &path, void *)
+// tinygltf's own FileExists opens the file, which blocks on a FIFO.
+bool buffer_file_exists(const std::string &path, void *files)
 {
     struct stat st;
-    return stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
+    return ((buffer_files *)files)->paths.count(path) && stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode);
 }
 
 bool skip_images(tinygltf::Image *, const int, std::string *, std::string *, int, int,
@@ -586,9 +597,13 @@ std::string uri_decoded(const char *uri)
 }
 
 // A buffer's uri: a base64 data URI that holds at least byteLength bytes,
-// or a regular file beside the scene (never a folder, a device, a FIFO).
-void check_buffers(const cJSON *doc, const std::string &dir)
+// or a regular file of exactly byteLength bytes (tinygltf reads it whole,
+// then compares) beside the scene, never a folder, a device, a FIFO. Returns
+// the files' paths as tinygltf's FindFile joins them: every "/" uri too is
+// relative to the scene's folder.
+std::set<std::string> check_buffers(const cJSON *doc, const std::string &dir)
 {
+    std::set<std::string> files;
     const cJSON *buffers = cJSON_GetObjectItemCaseSensitive(doc, "buffers"), *b;
     int i = 0;
     cJSON_ArrayForEach(b, buffers) {
@@ -615,18 +630,20 @@ void check_buffers(const cJSON *doc, const std::string &dir)
             const std::string name = uri_decoded(u);
             if (name.find('\0') != std::string::npos)
                 fail(fmt("malformed buffers: buffers[%d].uri '%.200s' decodes to a NUL byte", i, u));
-            std::string path = name[0] == '/' ? name : dir + "/" + name;
+            std::string path = dir.back() == '/' ? dir + name : dir + "/" + name;
             struct stat st;
             if (stat(path.c_str(), &st) != 0)
                 fail(fmt("malformed buffers: buffers[%d].uri '%.200s': %s", i, u, strerror(errno)));
             if (!S_ISREG(st.st_mode))
                 fail(fmt("malformed buffers: buffers[%d].uri '%.200s' is not a regular file", i, u));
-            if ((double)st.st_size < length->valuedouble)
+            if ((double)st.st_size != length->valuedouble)
                 fail(fmt("malformed buffers: buffers[%d].uri '%.200s' holds %lld bytes, its byteLength says %.0f", i,
                          u, (long long)st.st_size, length->valuedouble));
+            files.insert(path);
         }
         i++;
     }
+    return files;
 }
 
 void check_types(const cJSON *doc)
@@ -850,16 +867,16 @@ void load(const char *path, const char *bytes, size_t size, struct scene *s)
     }
     std::string dir(path);
     size_t slash = dir.find_last_of('/');
-    dir = slash == std::string::npos ? "." : dir.substr(0, slash);
+    dir = slash == std::string::npos ? "." : dir.substr(0, slash + (slash == 0));
     // Deleted however load ends: check_read_as_written needs it after tinygltf.
     std::unique_ptr<cJSON, void (*)(cJSON *)> doc(j, cJSON_Delete);
     check_types(j);
-    check_buffers(j, dir);
+    buffer_files files{check_buffers(j, dir)};
 
     tinygltf::TinyGLTF gltf;
     gltf.SetImageLoader(skip_images, nullptr);
-    gltf.SetFsCallbacks(tinygltf::FsCallbacks{regular_file_exists, tinygltf::ExpandFilePath, read_regular_file,
-                                              tinygltf::WriteWholeFile, nullptr});
+    gltf.SetFsCallbacks(tinygltf::FsCallbacks{buffer_file_exists, tinygltf::ExpandFilePath, read_buffer_file,
+                                              tinygltf::WriteWholeFile, &files});
     tinygltf::Model model;
     std::string err, warn;
     bool ok = glb ? gltf.LoadBinaryFromMemory(&model, &err, &warn, (const unsigned char *)bytes,
