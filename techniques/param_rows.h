@@ -9,32 +9,35 @@
 
 #define PARAM_ROW_CONSTANT_BIAS(settings)                                                  \
     {"constant_bias", "constant depth offset, linear shadow-map depth units (1 = near..far)", \
-     offsetof(settings, constant_bias), PARAM_FLOAT, 0.0005, 0.0, 0.1, NULL}
+     offsetof(settings, constant_bias), PARAM_FLOAT, 0.0005, 0.0, 0.1, NULL,                 \
+     TUNE(0.0, 0.0001, 0.0005, 0.002, 0.005)}
 
 /* note: "" or what else decides whether it applies, e.g. " (unused with
  * receiver_plane_bias)". */
 #define PARAM_ROW_SLOPE_BIAS(settings, note)                                               \
     {"slope_bias", "slope-scaled offset, texels of the receiver's depth slope" note,        \
-     offsetof(settings, slope_bias), PARAM_FLOAT, 1.0, 0.0, 16.0, NULL}
+     offsetof(settings, slope_bias), PARAM_FLOAT, 1.0, 0.0, 16.0, NULL, TUNE(0.0, 0.5, 1.0, 2.0, 4.0)}
 
 #define PARAM_ROW_RECEIVER_PLANE_BIAS(settings)                                            \
     {"receiver_plane_bias", "compare against the receiver's plane at each tap",            \
-     offsetof(settings, receiver_plane_bias), PARAM_BOOL, 1, 0, 1, NULL}
+     offsetof(settings, receiver_plane_bias), PARAM_BOOL, 1, 0, 1, NULL, TUNE_CHOICES}
 
 #define PARAM_ROW_LIGHT_SIZE_SCALE(settings)                                               \
     {"light_size_scale", "multiplies the scene's light size (1 = the true light)",         \
-     offsetof(settings, light_size_scale), PARAM_FLOAT, 1.0, 0.01, 10.0, NULL}
+     offsetof(settings, light_size_scale), PARAM_FLOAT, 1.0, 0.01, 10.0, NULL,               \
+     TUNE(0.5, 0.75, 1.0, 1.25, 1.5, 2.0)}
 
 #define PARAM_ROW_MIN_VARIANCE(settings)                                                   \
     {"min_variance", "floor on the variance, linear depth units squared",                  \
-     offsetof(settings, min_variance), PARAM_FLOAT, 1e-5, 0.0, 0.01, NULL}
+     offsetof(settings, min_variance), PARAM_FLOAT, 1e-5, 0.0, 0.01, NULL, TUNE(1e-6, 1e-5, 1e-4, 1e-3)}
 
 #define PARAM_ROW_BLEED_REDUCTION(settings)                                                \
     {"bleed_reduction", "light-bleeding reduction: p_max below this becomes 0, the rest "  \
-     "is rescaled (0 = off)", offsetof(settings, bleed_reduction), PARAM_FLOAT, 0.0, 0.0, 0.99, NULL}
+     "is rescaled (0 = off)", offsetof(settings, bleed_reduction), PARAM_FLOAT, 0.0, 0.0, 0.99, NULL, \
+     TUNE(0.0, 0.1, 0.2, 0.3, 0.5)}
 
 #define PARAM_ROW_SAT_FORMAT(settings)                                                     \
     {"sat_format", "summed-area table precision: fp32, fp32_centered (sums of d - 0.5), "  \
-     "int32 (exact)", offsetof(settings, sat_format), PARAM_ENUM, SAT_INT32, 0, 0, sat_format_names}
+     "int32 (exact)", offsetof(settings, sat_format), PARAM_ENUM, SAT_INT32, 0, 0, sat_format_names, TUNE_CHOICES}
 
 #endif

@@ -19,6 +19,8 @@ static const char *const tap_count_names[] = {
     NULL,
 };
 
+const double TUNE_CHOICES[] = {NAN};
+
 const int tap_counts[TAP_COUNT_KINDS] = {
 #define X(n) n,
     TAP_COUNTS(X)
@@ -68,6 +70,22 @@ static void put(const struct technique_param *p, void *settings, double v)
         *MEMBER(settings, p, float) = (float)v;
     else
         *MEMBER(settings, p, int) = (int)v;
+}
+
+void params_put(const struct technique_param *p, void *settings, double v) { put(p, settings, v); }
+
+int params_tune_values(const struct technique_param *p, double *values, int max)
+{
+    int n = 0;
+    if (p->tune == TUNE_CHOICES) {
+        const int count = p->type == PARAM_BOOL ? 2 : p->type == PARAM_TAPS ? TAP_COUNT_KINDS : 0;
+        for (int i = 0; n < max && (p->type == PARAM_ENUM ? p->choices[i] != NULL : i < count); i++)
+            values[n++] = p->type == PARAM_TAPS ? tap_counts[i] : i;
+    } else {
+        for (int i = 0; p->tune && !isnan(p->tune[i]) && n < max; i++)
+            values[n++] = p->tune[i];
+    }
+    return n;
 }
 
 void *params_defaults(const struct technique *t)

@@ -21,6 +21,14 @@ int params_set(const struct technique *t, void *settings, const char *name, cons
  * in table order, into taps[0..max-1]; returns how many t has (0: none). */
 int params_taps(const struct technique *t, const void *settings, int *taps, int max);
 
+/* The values `tune` explores for p (its .tune list, or with TUNE_CHOICES
+ * every choice), at most max, into values; returns how many (0: p is not
+ * tuned). */
+int params_tune_values(const struct technique_param *p, double *values, int max);
+
+/* Sets p to v (a value of p's type, in range: e.g. one of its tune values). */
+void params_put(const struct technique_param *p, void *settings, double v);
+
 /* Applies the technique's rules across parameters (technique.check).
  * Returns 0, or -1 after logging "<technique>: <reason>". */
 int params_check(const struct technique *t, const void *settings);

@@ -50,13 +50,14 @@ static const char *const pcf_patterns[] = {"grid", "poisson", NULL};
 
 static const struct technique_param pcf_params[] = {
     {"radius_texels", "kernel radius, shadow-map texels",
-     offsetof(struct pcf_settings, radius_texels), PARAM_FLOAT, 2.0, 0.0, 64.0, NULL},
+     offsetof(struct pcf_settings, radius_texels), PARAM_FLOAT, 2.0, 0.0, 64.0, NULL,
+     TUNE(1, 2, 3, 4, 6, 8, 12, 16, 24, 32, 48, 64)},
     {"pattern", "tap layout: grid (n x n) or poisson (disk, rotated per pixel)",
-     offsetof(struct pcf_settings, pattern), PARAM_ENUM, PCF_POISSON, 0, 0, pcf_patterns},
+     offsetof(struct pcf_settings, pattern), PARAM_ENUM, PCF_POISSON, 0, 0, pcf_patterns, TUNE_CHOICES},
     {"samples", "taps per pixel (grid: a square count)",
-     offsetof(struct pcf_settings, samples), PARAM_TAPS, 32, 0, 0, NULL},
+     offsetof(struct pcf_settings, samples), PARAM_TAPS, 32, 0, 0, NULL, TUNE_CHOICES},
     {"hardware_2x2", "each tap a bilinear 2x2 hardware comparison (sampler2DShadow)",
-     offsetof(struct pcf_settings, hardware_2x2), PARAM_BOOL, 0, 0, 1, NULL},
+     offsetof(struct pcf_settings, hardware_2x2), PARAM_BOOL, 0, 0, 1, NULL, TUNE_CHOICES},
     PARAM_ROW_RECEIVER_PLANE_BIAS(struct pcf_settings),
     PARAM_ROW_CONSTANT_BIAS(struct pcf_settings),
     PARAM_ROW_SLOPE_BIAS(struct pcf_settings, " (unused with receiver_plane_bias)"),

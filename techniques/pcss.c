@@ -40,9 +40,9 @@ struct pcss_settings {
 
 static const struct technique_param pcss_params[] = {
     {"blocker_samples", "taps of the blocker search",
-     offsetof(struct pcss_settings, blocker_samples), PARAM_TAPS, 32, 0, 0, NULL},
+     offsetof(struct pcss_settings, blocker_samples), PARAM_TAPS, 32, 0, 0, NULL, TUNE_CHOICES},
     {"filter_samples", "taps of the PCF over the estimated penumbra",
-     offsetof(struct pcss_settings, filter_samples), PARAM_TAPS, 32, 0, 0, NULL},
+     offsetof(struct pcss_settings, filter_samples), PARAM_TAPS, 32, 0, 0, NULL, TUNE_CHOICES},
     PARAM_ROW_LIGHT_SIZE_SCALE(struct pcss_settings),
     PARAM_ROW_RECEIVER_PLANE_BIAS(struct pcss_settings),
     PARAM_ROW_CONSTANT_BIAS(struct pcss_settings),

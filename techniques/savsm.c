@@ -37,7 +37,8 @@ struct savsm_settings {
 
 static const struct technique_param savsm_params[] = {
     {"box_width_texels", "side of the filter box, shadow-map texels",
-     offsetof(struct savsm_settings, box_width_texels), PARAM_FLOAT, 5.0, 1.0, 1024.0, NULL},
+     offsetof(struct savsm_settings, box_width_texels), PARAM_FLOAT, 5.0, 1.0, 1024.0, NULL,
+     TUNE(1, 3, 5, 9, 17, 33, 65, 129, 257)},
     PARAM_ROW_SAT_FORMAT(struct savsm_settings),
     PARAM_ROW_MIN_VARIANCE(struct savsm_settings),
     PARAM_ROW_BLEED_REDUCTION(struct savsm_settings),

@@ -7,6 +7,7 @@
 #ifndef SB_TECHNIQUE_H
 #define SB_TECHNIQUE_H
 
+#include <math.h>
 #include <stddef.h>
 
 /* Shadow-map products (DESIGN.md §1, §5): X(ID, name). Each is a row of the
@@ -110,7 +111,14 @@ struct technique_param {
     double min, max;              /* PARAM_FLOAT and PARAM_INT only; the others take their
                                      values from a list (bool: 0 and 1) */
     const char *const *choices;   /* PARAM_ENUM only: NULL-terminated names */
+    const double *tune;           /* the values `tune` explores, ending with NAN (PARAM_ENUM:
+                                     indices); TUNE_CHOICES: every choice (bool, enum, taps);
+                                     NULL: not tuned, kept at its default */
 };
+
+/* A parameter's tune values: .tune = TUNE(1, 2, 4). */
+#define TUNE(...) ((const double[]){__VA_ARGS__, NAN})
+extern const double TUNE_CHOICES[];
 
 struct technique {
     const char *name;

@@ -23,9 +23,9 @@ struct probe_settings {
 
 static const struct technique_param probe_params[] = {
     {"first_taps", "depth-map fetches per pixel, first loop",
-     offsetof(struct probe_settings, first_taps), PARAM_INT, 0, 0, 0, NULL},
+     offsetof(struct probe_settings, first_taps), PARAM_INT, 0, 0, 0, NULL, NULL},
     {"second_taps", "depth-map fetches per pixel, second loop",
-     offsetof(struct probe_settings, second_taps), PARAM_INT, 0, 0, 0, NULL},
+     offsetof(struct probe_settings, second_taps), PARAM_INT, 0, 0, 0, NULL, NULL},
     {NULL},
 };
 

@@ -23,6 +23,7 @@
  * for each table cell, setting each of its parameters back to the default
  * must change the picture (else the parameter is ignored). */
 #include "check.h"
+#include "tuned.h"
 #include "base/image.h"
 #include "base/log.h"
 #include "base/util.h"
@@ -132,8 +133,10 @@ static void cell_free(struct cell *c)
 }
 
 /* "pcf@radius_texels=8,pattern=grid" -> technique and settings (defaults
- * plus the values). Returns 0 or -1 (logged). */
-static int parse_label(const char *label, const struct technique **t, void **settings)
+ * plus the values); "pcf@tuned" -> pcf's tuned settings for scene s (from
+ * tuned_dir). Returns 0 or -1 (logged). */
+static int parse_label(const char *label, const struct scene *s, const char *tuned_dir,
+                       const struct technique **t, void **settings)
 {
     for (const char *p = label; *p; p++)
         if ((unsigned char)*p < 32 || *p == '/' || *p == 127) {
@@ -146,6 +149,17 @@ static int parse_label(const char *label, const struct technique **t, void **set
     if (!(*t = technique_find(name))) {
         log_error("cell '%s': unknown technique '%s'", label, name);
         return -1;
+    }
+    if (at && strcmp(at, TUNED_SUFFIX) == 0) {
+        struct tuned tu;
+        const int rc = tuned_load(tuned_dir, *t, &tu);
+        if (rc > 0)
+            log_error("cell '%s': %s/%s.json does not exist", label, tuned_dir, (*t)->name);
+        if (rc)
+            return -1;
+        *settings = memcpy(xmalloc((*t)->settings_size), tuned_settings(&tu, s->name), (*t)->settings_size);
+        tuned_free(&tu);
+        return 0;
     }
     *settings = params_defaults(*t);
     char *list = xstrdup(at ? at + 1 : ""), *rest = list, *names[64];
@@ -463,7 +477,7 @@ static int add_cell(struct check *ch, const struct scene *s, const char *label, 
     void *settings;
     if (known_cell(ch, s, label))
         return 0;
-    if (parse_label(label, &t, &settings) != 0)
+    if (parse_label(label, s, ch->o->tuned_dir, &t, &settings) != 0)
         return -1;
     if (!technique_selected(ch->o, t)) {
         free(settings);
@@ -512,9 +526,16 @@ static int add_files(struct check *ch, const struct scene *s)
 static int collect_cells(struct check *ch, const struct scene *scenes, int scene_count)
 {
     for (int s = 0; s < scene_count; s++) {
-        for (int i = 0; i < ch->o->technique_count; i++)
-            if (add_cell(ch, &scenes[s], ch->o->techniques[i]->name, false) != 0)
+        for (int i = 0; i < ch->o->technique_count; i++) {
+            const struct technique *t = ch->o->techniques[i];
+            char *tuned = util_printf("%s/%s.json", ch->o->tuned_dir, t->name),
+                 *label = util_printf("%s" TUNED_SUFFIX, t->name);
+            const int rc = add_cell(ch, &scenes[s], t->name, false) ||
+                           (util_file_exists(tuned) && add_cell(ch, &scenes[s], label, false));
+            free(tuned), free(label);
+            if (rc)
                 return -1;
+        }
         for (int i = 0; i < TABLE_COUNT; i++)
             if (strcmp(table[i].scene, scenes[s].name) == 0 && add_cell(ch, &scenes[s], table[i].cell, true) != 0)
                 return -1;

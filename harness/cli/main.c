@@ -5,6 +5,8 @@
 #include "catalog.h"
 #include "run.h"
 #include "sweep.h"
+#include "tune.h"
+#include "tuned.h"
 #include "base/log.h"
 #include "base/util.h"
 #include "render/stage_timer.h"
@@ -36,6 +38,8 @@ static const char usage_main[] =
     "  gt     ray trace one scene's ground truth into an EXR\n"
     "  bench  median time of each stage of each technique on one scene\n"
     "  check  the regression check: every baseline cell rendered again and compared\n"
+    "  tune   each technique's parameters explored: its frontier (error against\n"
+    "         time) and a setting per scene chosen on the other scenes\n"
     "  list   techniques with every parameter (default, range, meaning), and scenes\n"
     "\n"
     "'shadowbench <command> --help' explains each command's options.\n"
@@ -60,6 +64,12 @@ static const char usage_run[] =
     "  --technique T[,T...]  techniques to run (repeatable; default: all)\n"
     "  --set T.P=V           set parameter P of technique T (repeatable), e.g.\n"
     "                        --set hard.slope_bias=2; ranges in 'shadowbench list'\n"
+    "  --settings default|tuned|both  which cells of each technique (default both):\n"
+    "                        T at its defaults (with --set, --sweep), and T@tuned,\n"
+    "                        the settings " TUNED_DEFAULT_DIR "/T.json holds for each\n"
+    "                        scene, chosen by 'shadowbench tune' on the other scenes\n"
+    "                        (a scene it did not see gets the setting chosen on all)\n"
+    "  --tuned DIR           where the tuned settings are (default " TUNED_DEFAULT_DIR ")\n"
     "  --sweep T.P=V1,V2,... one cell per value of parameter P of technique T, on\n"
     "                        every scene, instead of T's single cell (repeatable;\n"
     "                        sweeps of one technique give every combination; a\n"
@@ -177,6 +187,51 @@ static const char usage_check[] =
     "a parameter that no cell sets or that changes nothing; 2 bad usage or an\n"
     "unreadable baseline (one line naming the file and the problem).\n";
 
+static const char usage_tune[] =
+    "usage: shadowbench tune [options]\n"
+    "\n"
+    "Explores each technique's parameters over the scenes, to answer: for a time\n"
+    "budget, which technique and which setting is least wrong? The values explored\n"
+    "are each parameter's tune values ('shadowbench list'); the search is " /* */
+    "coordinate\n"
+    "descent on the mean objective from the defaults: each parameter in turn at\n"
+    "every value with the others held, the best taken, rounds until nothing moves\n"
+    "(at most " RUN_STR(TUNE_MAX_ROUNDS) "). No randomness: the same code gives the same choices. Per\n"
+    "technique, it searches every scene; every scene but one, for each scene (that\n"
+    "scene's tuned setting, scored on it: leave-one-scene-out cross-validation).\n"
+    "Each scene's oracle is the best of every setting tried on it (fitted to it,\n"
+    "not a prediction). Every cell is timed; the frontier is the Pareto front of\n"
+    "error against time over every setting tried, over all scenes and per scene.\n"
+    "\n"
+    "Writes DIR/<technique>.json (settings, folds, frontier, command, date) and\n"
+    "DIR/tune.json (\"complete\" once every technique is done); with --write-tuned\n"
+    "also " TUNED_DEFAULT_DIR "/<technique>.json, which 'run' uses for its T@tuned cells.\n"
+    "\n"
+    "options:\n"
+    "  --technique T[,T...]  techniques to tune (default: all)\n"
+    "  --scene S             scenes to tune on (repeatable, at least 2; default:\n"
+    "                        every shipped scene)\n"
+    "  --objective M         the error minimised, averaged over the scenes:\n"
+    "                        penumbra_rmse (default), rmse or shaded_rmse\n"
+    "  --write-tuned         also write the tuned settings for run (see --tuned)\n"
+    "  --tuned DIR           where --write-tuned writes (default " TUNED_DEFAULT_DIR ")\n"
+    "  --width W, --height H image size in pixels, " SIZE_RANGE " (default " RUN_STR(TUNE_DEFAULT_SIZE)
+    " x " RUN_STR(TUNE_DEFAULT_SIZE) ")\n"
+    "  --gt-samples N        ground-truth light samples per pixel (default " RUN_STR(GT_DEFAULT_SAMPLES) ")\n"
+    "  --shadow-map-size N   shadow map resolution, " MAP_RANGE " (default "
+    RUN_STR(SHADOWMAP_DEFAULT_SIZE) "): the\n"
+    "                        texel-sized parameters are tuned for this size\n"
+    "  --frames K            timed frames per cell (default " RUN_STR(TUNE_DEFAULT_FRAMES) "); --warmup K (default "
+    RUN_STR(TUNE_DEFAULT_WARMUP) ": the\n"
+    "                        untimed frame that scores a cell warms it)\n"
+    "  --out DIR             output folder (default " TUNE_DEFAULT_OUT ")\n"
+    "  --cache DIR, --no-cache   ground-truth cache, as for run\n"
+    "  --shaders DIR         GLSL folder, as for run\n"
+    "  -q, --quiet, -v, --verbose\n"
+    "\n"
+    "The default (every technique on every shipped scene) takes about 10 minutes\n"
+    "on a 2-core CPU with llvmpipe; progress and an ETA go to stderr.\n";
+
 static const char usage_list[] =
     "usage: shadowbench list\n"
     "\n"
@@ -186,7 +241,7 @@ static const char usage_list[] =
 enum {
     OPT_SCENE = 256, OPT_TECHNIQUE, OPT_SET, OPT_WIDTH, OPT_HEIGHT, OPT_GT_SAMPLES,
     OPT_SM_SIZE, OPT_FRAMES, OPT_WARMUP, OPT_OUT, OPT_CACHE, OPT_NO_CACHE, OPT_SHADERS, OPT_SWEEP,
-    OPT_BASELINES, OPT_UPDATE, OPT_STRICT,
+    OPT_BASELINES, OPT_UPDATE, OPT_STRICT, OPT_TUNED, OPT_SETTINGS, OPT_OBJECTIVE, OPT_WRITE_TUNED,
 };
 
 static const struct option long_options[] = {
@@ -207,6 +262,10 @@ static const struct option long_options[] = {
     {"baselines", required_argument, NULL, OPT_BASELINES},
     {"update", no_argument, NULL, OPT_UPDATE},
     {"strict", no_argument, NULL, OPT_STRICT},
+    {"tuned", required_argument, NULL, OPT_TUNED},
+    {"settings", required_argument, NULL, OPT_SETTINGS},
+    {"objective", required_argument, NULL, OPT_OBJECTIVE},
+    {"write-tuned", no_argument, NULL, OPT_WRITE_TUNED},
     {"quiet", no_argument, NULL, 'q'},
     {"verbose", no_argument, NULL, 'v'},
     {"help", no_argument, NULL, 'h'},
@@ -304,10 +363,15 @@ static bool takes(enum run_command cmd, int c)
               c == OPT_WARMUP || c == OPT_SHADERS;
     bool gt = c == OPT_GT_SAMPLES || c == OPT_OUT || c == OPT_CACHE || c == OPT_NO_CACHE;
     bool check = c == OPT_BASELINES || c == OPT_UPDATE || c == OPT_STRICT;
-    if (c == OPT_SWEEP)
+    if (c == OPT_SWEEP || c == OPT_SETTINGS)
         return cmd == RUN_CMD_RUN;
+    if (c == OPT_OBJECTIVE || c == OPT_WRITE_TUNED)
+        return cmd == RUN_CMD_TUNE;
+    if (c == OPT_TUNED)
+        return cmd == RUN_CMD_RUN || cmd == RUN_CMD_CHECK || cmd == RUN_CMD_TUNE;
     switch (cmd) {
     case RUN_CMD_RUN: return !check;
+    case RUN_CMD_TUNE: return !check && c != OPT_SET;  /* the search starts from the defaults */
     case RUN_CMD_GT: return !gl && !check;
     case RUN_CMD_BENCH: return !gt && !check;
     case RUN_CMD_CHECK:  /* the settings are the baselines' */
@@ -331,7 +395,21 @@ static int parse_gt_samples(const char *text, int *out)
     return 0;
 }
 
-static const char *const command_names[] = {"run", "gt", "bench", "check"};
+static const char *const command_names[] = {"run", "gt", "bench", "check", "tune"};
+
+static int parse_choice(const char *opt, const char *text, const char *const *names, int *out)
+{
+    for (int i = 0; names[i]; i++)
+        if (strcmp(names[i], text) == 0) {
+            *out = i;
+            return 0;
+        }
+    struct strbuf known = {0};
+    strbuf_join(&known, names, ", ");
+    log_error("--%s: '%s' is not one of: %s", opt, text, known.data);
+    strbuf_free(&known);
+    return -1;
+}
 
 /* Every technique selected when none is, every setting at its default
  * unless --set, and the rules across parameters checked. */
@@ -391,7 +469,10 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
             o->scenes[o->scene_count++] = optarg;
             break;
         case OPT_TECHNIQUE: rc = add_techniques(o, optarg); break;
-        case OPT_SET: rc = apply_set(o, optarg); break;
+        case OPT_SET:
+            rc = apply_set(o, optarg);
+            o->set_count++;
+            break;
         case OPT_SWEEP:
             if (o->sweep_count == RUN_MAX_SWEEPS) {
                 log_error("--sweep: at most %d sweeps", RUN_MAX_SWEEPS);
@@ -415,6 +496,23 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
         case OPT_BASELINES: rc = folder_option("baselines", optarg, &o->baselines_dir); break;
         case OPT_UPDATE: o->update = true; break;
         case OPT_STRICT: o->strict = true; break;
+        case OPT_TUNED: rc = folder_option("tuned", optarg, &o->tuned_dir); break;
+        case OPT_SETTINGS: {
+            static const char *const modes[] = {"both", "default", "tuned", NULL};
+            int mode;
+            rc = parse_choice("settings", optarg, modes, &mode);
+            o->settings_mode = (enum run_settings_mode)mode;
+            break;
+        }
+        case OPT_OBJECTIVE: {
+            static const char *const names[] = {"penumbra_rmse", "rmse", "shaded_rmse", NULL};
+            static const int metrics[] = {METRIC_penumbra_rmse, METRIC_rmse, METRIC_shaded_rmse};
+            int k;
+            rc = parse_choice("objective", optarg, names, &k);
+            o->objective = rc ? o->objective : metrics[k];
+            break;
+        }
+        case OPT_WRITE_TUNED: o->write_tuned = true; break;
         case 'q': log_set_level(LOG_ERROR); break;
         case 'v': log_set_level(LOG_DEBUG); break;
         case 'h': fputs(usage, stdout); return 1;
@@ -490,13 +588,14 @@ int main(int argc, char **argv)
     }
     if (strcmp(cmd, "list") == 0)
         return cmd_list(argc - 1, argv + 1);
-    static const char *const usages[] = {usage_run, usage_gt, usage_bench, usage_check};
-    static int (*const mains[])(const struct run_options *) = {run_main, run_gt, bench_main, check_main};
+    static const char *const usages[] = {usage_run, usage_gt, usage_bench, usage_check, usage_tune};
+    static int (*const mains[])(const struct run_options *) = {run_main, run_gt, bench_main, check_main,
+                                                               tune_main};
     int k = 0;
-    while (k < 4 && strcmp(cmd, command_names[k]) != 0)
+    while (k < 5 && strcmp(cmd, command_names[k]) != 0)
         k++;
-    if (k == 4) {
-        log_error("unknown command '%s' (commands: run, gt, bench, check, list; see --help)", cmd);
+    if (k == 5) {
+        log_error("unknown command '%s' (commands: run, gt, bench, check, tune, list; see --help)", cmd);
         return EXIT_USAGE;
     }
     struct run_options o = {.argc = argc, .argv = argv};

@@ -3,6 +3,7 @@
  * receiver pass per technique, scored and written out (DESIGN.md §2, §8). */
 #include "run.h"
 #include "catalog.h"
+#include "tuned.h"
 #include "base/log.h"
 #include "base/util.h"
 #include "gl/gl_context.h"
@@ -27,15 +28,25 @@
 
 void run_options_defaults(struct run_options *o, enum run_command cmd)
 {
-    bool bench = cmd == RUN_CMD_BENCH;
-    o->width = o->height = bench ? BENCH_DEFAULT_SIZE : RUN_DEFAULT_SIZE;
+    bool bench = cmd == RUN_CMD_BENCH, tune = cmd == RUN_CMD_TUNE;
+    o->width = o->height = bench ? BENCH_DEFAULT_SIZE : tune ? TUNE_DEFAULT_SIZE : RUN_DEFAULT_SIZE;
     o->gt_samples = GT_DEFAULT_SAMPLES;
     o->shadow_map_size = SHADOWMAP_DEFAULT_SIZE;
-    o->frames = bench ? BENCH_DEFAULT_FRAMES : RUN_DEFAULT_FRAMES;
-    o->warmup = bench ? BENCH_DEFAULT_WARMUP : RUN_DEFAULT_WARMUP;
-    o->out_dir = cmd == RUN_CMD_GT ? GT_DEFAULT_OUT : cmd == RUN_CMD_CHECK ? CHECK_DEFAULT_OUT : RUN_DEFAULT_OUT;
+    o->frames = bench ? BENCH_DEFAULT_FRAMES : tune ? TUNE_DEFAULT_FRAMES : RUN_DEFAULT_FRAMES;
+    o->warmup = bench ? BENCH_DEFAULT_WARMUP : tune ? TUNE_DEFAULT_WARMUP : RUN_DEFAULT_WARMUP;
+    o->out_dir = cmd == RUN_CMD_GT      ? GT_DEFAULT_OUT
+                 : cmd == RUN_CMD_CHECK ? CHECK_DEFAULT_OUT
+                 : tune                 ? TUNE_DEFAULT_OUT
+                                        : RUN_DEFAULT_OUT;
     o->cache_dir = RUN_DEFAULT_CACHE;
     o->baselines_dir = CHECK_DEFAULT_BASELINES;
+    o->tuned_dir = TUNED_DEFAULT_DIR;
+    o->objective = METRIC_penumbra_rmse;
+}
+
+const void *run_config_settings(const struct run_config *c, const struct scene *s)
+{
+    return c->tuned ? tuned_settings(c->tuned, s->name) : c->settings;
 }
 
 void *run_settings(const struct run_options *o, const struct technique *t)
@@ -179,6 +190,46 @@ void scene_setup_free(struct scene_setup *ss)
     memset(ss, 0, sizeof *ss);
 }
 
+/* The receiver programs of a run, one per technique, settings and light
+ * shape: a tuned cell's settings differ by scene, and are often the same. */
+struct program_cache {
+    struct program_cache_entry {
+        const struct technique *t;
+        void *settings;
+        enum light_shape shape;
+        GLuint program;
+    } *entries;
+    int count;
+};
+
+/* The program, compiled on first use; 0 after a logged compile error. */
+static GLuint program_get(struct program_cache *pc, const struct technique *t, const void *settings,
+                          enum light_shape shape)
+{
+    for (int i = 0; i < pc->count; i++) {
+        const struct program_cache_entry *e = &pc->entries[i];
+        if (e->t == t && e->shape == shape && memcmp(e->settings, settings, t->settings_size) == 0)
+            return e->program;
+    }
+    GLuint program = receiver_program(t, settings, shape);
+    if (program) {
+        pc->entries = xrealloc(pc->entries, sizeof *pc->entries * (size_t)(pc->count + 1));
+        pc->entries[pc->count++] = (struct program_cache_entry){
+            t, memcpy(xmalloc(t->settings_size), settings, t->settings_size), shape, program};
+    }
+    return program;
+}
+
+static void program_cache_free(struct program_cache *pc)
+{
+    for (int i = 0; i < pc->count; i++) {
+        glDeleteProgram(pc->entries[i].program);
+        free(pc->entries[i].settings);
+    }
+    free(pc->entries);
+    memset(pc, 0, sizeof *pc);
+}
+
 /* A scene of the run: its shared set-up, timing and progress. */
 struct scene_run {
     const struct run_options *o;
@@ -190,13 +241,14 @@ struct scene_run {
 /* What a cell is: its scene, technique, name and parameter values. */
 static void describe_cell(const struct scene_run *sr, const struct run_config *config, struct cell *c)
 {
+    const void *settings = run_config_settings(config, sr->ss.scene);
     c->scene = sr->ss.scene->name;
     c->technique = config->technique;
     c->label = config->label;
     c->gl_renderer = gl_context_renderer();
-    c->params = params_json(config->technique, config->settings);
+    c->params = params_json(config->technique, settings);
     struct strbuf text = {0};
-    params_summary(config->technique, config->settings, &text);
+    params_summary(config->technique, settings, &text);
     c->params_text = text.data ? text.data : xstrdup("");
 }
 
@@ -238,7 +290,7 @@ static void timing_progress(void *user, int round, int rounds)
                 round == rounds ? "\n" : "");
 }
 
-static int run_scene(struct scene_run *sr, const struct scene *scene, GLuint (*programs)[LIGHT_SHAPE_COUNT],
+static int run_scene(struct scene_run *sr, const struct scene *scene, struct program_cache *programs,
                      struct cell *cells, int *cell_count)
 {
     const struct run_options *o = sr->o;
@@ -255,9 +307,12 @@ static int run_scene(struct scene_run *sr, const struct scene *scene, GLuint (*p
 
     struct stage_timer_cell *tc = xcalloc((size_t)o->config_count, sizeof *tc);
     struct stage_times *times = xcalloc((size_t)o->config_count, sizeof *times);
-    for (int i = 0; i < o->config_count; i++)
-        tc[i] = (struct stage_timer_cell){o->configs[i].technique, o->configs[i].settings,
-                                          programs[i][scene->light.shape]};
+    for (int i = 0; i < o->config_count; i++) {
+        const void *settings = run_config_settings(&o->configs[i], scene);
+        tc[i] = (struct stage_timer_cell){o->configs[i].technique, settings,
+                                          program_get(programs, o->configs[i].technique, settings,
+                                                      scene->light.shape)};
+    }
     int rc = stage_timer_run(&timer, tc, o->config_count, times);
     for (int i = 0; i < o->config_count && !rc; i++)
         rc = run_cell(sr, &tc[i], &o->configs[i], &times[i], &cells[(*cell_count)++]);
@@ -361,6 +416,73 @@ static int begin_run(const struct run_options *o)
     return rc;
 }
 
+/* The frontier charts' data, from the tuned cells' files. */
+struct frontiers {
+    struct chart_curve *all, *scene[RUN_MAX_SCENES];
+    int all_count, scene_count[RUN_MAX_SCENES];
+    double **arrays;
+    int array_count;
+    char *source, *objective;
+};
+
+/* t's frontier from tu over every scene (scene NULL) or one, appended to
+ * curves[*n] (nothing when the file has none for it). */
+static void add_curve(struct frontiers *f, const struct tuned *tu, const char *scene, struct chart_curve *curves,
+                      int *n)
+{
+    struct tuned_point *p, def, tuned;
+    const int count = tuned_frontier(tu, scene, &p, &def, &tuned);
+    if (count) {
+        double *a = xmalloc(sizeof(double) * 4 * (size_t)count);
+        for (int i = 0; i < count; i++)
+            a[i] = p[i].ms, a[count + i] = p[i].error, a[2 * count + i] = p[i].ms_q1, a[3 * count + i] = p[i].ms_q3;
+        f->arrays = xrealloc(f->arrays, sizeof *f->arrays * (size_t)(f->array_count + 1));
+        f->arrays[f->array_count++] = a;
+        int group = 0;
+        while (technique_list[group] != tu->t)
+            group++;
+        curves[(*n)++] = (struct chart_curve){{tu->t->name, tu->t->name, group}, count, a, a + count, a + 2 * count,
+                                              a + 3 * count, def.ms, def.error, tuned.ms, tuned.error};
+    }
+    free(p);
+}
+
+static void frontiers_build(struct frontiers *f, const struct run_options *o, const struct scene *scenes,
+                            int scene_count)
+{
+    memset(f, 0, sizeof *f);
+    f->all = xcalloc((size_t)o->config_count + 1, sizeof *f->all);
+    for (int s = 0; s < scene_count; s++)
+        f->scene[s] = xcalloc((size_t)o->config_count + 1, sizeof *f->scene[s]);
+    for (int i = 0; i < o->config_count; i++) {
+        const struct tuned *tu = o->configs[i].tuned;
+        if (!tu)
+            continue;
+        add_curve(f, tu, NULL, f->all, &f->all_count);
+        for (int s = 0; s < scene_count; s++)
+            add_curve(f, tu, scenes[s].name, f->scene[s], &f->scene_count[s]);
+        if (!f->source) {
+            const cJSON *d = tu->doc;
+            f->source = util_printf("shadowbench tune at %dx%d, a %d^2 shadow map, on %s (%s, %s)",
+                                    cJSON_GetObjectItem(d, "width")->valueint,
+                                    cJSON_GetObjectItem(d, "height")->valueint,
+                                    cJSON_GetObjectItem(d, "shadow_map_size")->valueint,
+                                    cJSON_GetStringValue(cJSON_GetObjectItem(d, "gl_renderer")),
+                                    o->tuned_dir, cJSON_GetStringValue(cJSON_GetObjectItem(d, "date")));
+            f->objective = xstrdup(cJSON_GetStringValue(cJSON_GetObjectItem(d, "objective")));
+        }
+    }
+}
+
+static void frontiers_free(struct frontiers *f, int scene_count)
+{
+    for (int i = 0; i < f->array_count; i++)
+        free(f->arrays[i]);
+    free(f->arrays), free(f->all), free(f->source), free(f->objective);
+    for (int s = 0; s < scene_count; s++)
+        free(f->scene[s]);
+}
+
 int run_main(const struct run_options *o)
 {
     double start = util_now_ms();
@@ -369,7 +491,8 @@ int run_main(const struct run_options *o)
     int scene_count = 0, status = EXIT_CHECK_FAILED;
     struct cell *cells = NULL;
     int cell_count = 0;
-    GLuint (*programs)[LIGHT_SHAPE_COUNT] = xcalloc((size_t)o->config_count, sizeof *programs);  /* by light shape */
+    struct program_cache programs = {0};
+    struct frontiers frontiers = {0};
     struct report_scene rs[RUN_MAX_SCENES] = {0};
 
     if (run_load_scenes(o, scenes, &scene_count) != 0 || run_claim_out_dir(o->out_dir) != 0 ||
@@ -390,30 +513,32 @@ int run_main(const struct run_options *o)
     }
     if (gl_context_create() != 0)
         goto out_free_scenes;
-    for (int s = 0; s < scene_count; s++)
-        for (int i = 0; i < o->config_count; i++) {
-            enum light_shape shape = scenes[s].light.shape;
-            if (!programs[i][shape] &&
-                !(programs[i][shape] =
-                      receiver_program(o->configs[i].technique, o->configs[i].settings, shape)))
+    for (int s = 0; s < scene_count; s++)  /* every program first: a compile error fails at once */
+        for (int i = 0; i < o->config_count; i++)
+            if (!program_get(&programs, o->configs[i].technique, run_config_settings(&o->configs[i], &scenes[s]),
+                             scenes[s].light.shape))
                 goto out_free_gl;
-        }
 
     int cells_total = scene_count * o->config_count, cells_done = 0, label_width = 0;
     for (int i = 0; i < o->config_count; i++)
         if ((int)strlen(o->configs[i].label) > label_width)
             label_width = (int)strlen(o->configs[i].label);
+    if (o->untuned.data)
+        log_info("no tuned settings in %s for %s: their default cells only (shadowbench tune --write-tuned "
+                 "writes them)", o->tuned_dir, o->untuned.data);
     log_info("run: %d scene(s) x %d technique configuration(s), %dx%d, %d GT samples, %d^2 shadow "
              "map, median of %d frames after %d warm-up, cells interleaved, on %s", scene_count, o->config_count, o->width,
              o->height, o->gt_samples, o->shadow_map_size, o->frames, o->warmup, gl_context_renderer());
     cells = xcalloc((size_t)cells_total, sizeof *cells);
+    frontiers_build(&frontiers, o, scenes, scene_count);
     int failed = 0;
     for (int s = 0; s < scene_count; s++) {
         struct scene_run sr = {.o = o, .cells_done = &cells_done, .cells_total = cells_total,
                                .label_width = label_width};
-        failed |= run_scene(&sr, &scenes[s], programs, cells, &cell_count);
+        failed |= run_scene(&sr, &scenes[s], &programs, cells, &cell_count);
         rs[s] = (struct report_scene){scenes[s].name, scenes[s].description, scenes[s].shows,
-                                      sr.ss.gt.seconds, sr.ss.gt.msamples_per_second, sr.ss.gt.cached};
+                                      sr.ss.gt.seconds, sr.ss.gt.msamples_per_second, sr.ss.gt.cached,
+                                      frontiers.scene[s], frontiers.scene_count[s]};
         scene_run_free(&sr);
         if (failed)
             break;
@@ -424,7 +549,9 @@ int run_main(const struct run_options *o)
         cJSON_AddTrueToObject(run, "complete");
         struct report rep = {.out_dir = o->out_dir, .width = o->width, .height = o->height,
                              .run = run, .scenes = rs,
-                             .scene_count = scene_count, .cells = cells, .cell_count = cell_count};
+                             .scene_count = scene_count, .cells = cells, .cell_count = cell_count,
+                             .frontier = frontiers.all, .frontier_count = frontiers.all_count,
+                             .frontier_source = frontiers.source, .frontier_objective = frontiers.objective};
         failed = report_write(&rep);
         cJSON_Delete(rep.run);
     }
@@ -452,14 +579,11 @@ int run_main(const struct run_options *o)
         free(cells[i].params_text);
     }
     free(cells);
+    frontiers_free(&frontiers, scene_count);
 out_free_gl:
-    for (int i = 0; i < o->config_count; i++)
-        for (int k = 0; k < LIGHT_SHAPE_COUNT; k++)
-            if (programs[i][k])
-                glDeleteProgram(programs[i][k]);
+    program_cache_free(&programs);
     gl_context_destroy();
 out_free_scenes:
-    free(programs);
     for (int s = 0; s < scene_count; s++)
         scene_free(&scenes[s]);
     return status;

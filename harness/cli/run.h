@@ -19,7 +19,10 @@ enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_USAGE = 2 };
 #define RUN_MAX_CONFIGS 256
 
 /* The commands that render: they share struct run_options. */
-enum run_command { RUN_CMD_RUN, RUN_CMD_GT, RUN_CMD_BENCH, RUN_CMD_CHECK };
+enum run_command { RUN_CMD_RUN, RUN_CMD_GT, RUN_CMD_BENCH, RUN_CMD_CHECK, RUN_CMD_TUNE };
+
+/* Which cells of each technique run makes (--settings). */
+enum run_settings_mode { RUN_SETTINGS_BOTH, RUN_SETTINGS_DEFAULT, RUN_SETTINGS_TUNED };
 
 /* Option defaults and ranges, one definition each: run_options_defaults()
  * and the option parser use them, and --help prints them (as text, through
@@ -39,6 +42,10 @@ enum run_command { RUN_CMD_RUN, RUN_CMD_GT, RUN_CMD_BENCH, RUN_CMD_CHECK };
 #define RUN_DEFAULT_CACHE "results/cache"
 #define CHECK_DEFAULT_OUT "results/check"
 #define CHECK_DEFAULT_BASELINES "results/baselines"
+#define TUNE_DEFAULT_OUT "results/tune/latest"
+#define TUNE_DEFAULT_SIZE 256   /* tune: --width, --height */
+#define TUNE_DEFAULT_FRAMES 3   /* the cells the files report, timed again (the search: 1) */
+#define TUNE_DEFAULT_WARMUP 1
 #define RUN_STR_(x) #x
 #define RUN_STR(x) RUN_STR_(x)  /* a default as text, for --help: plain literals only */
 
@@ -47,8 +54,13 @@ struct run_config {
     const struct technique *technique;
     void *settings;  /* owned */
     char *label;     /* the technique's name, or with its swept values:
-                        "pcss@blocker_samples=16,filter_samples=64"; the cell's folder */
+                        "pcss@blocker_samples=16,filter_samples=64", or "pcss@tuned";
+                        the cell's folder */
+    struct tuned *tuned;  /* owned; a tuned cell: its settings differ by scene (tuned.h) */
 };
+
+/* The settings of config c on scene s: a tuned cell's for that scene. */
+const void *run_config_settings(const struct run_config *c, const struct scene *s);
 
 struct run_options {
     const char *scenes[RUN_MAX_SCENES];  /* names or paths; none = every shipped scene */
@@ -56,9 +68,11 @@ struct run_options {
     const struct technique *techniques[RUN_MAX_TECHNIQUES];  /* at least one */
     int technique_count;
     void *settings[RUN_MAX_TECHNIQUES];  /* per technique_list index, every one set */
+    int set_count;                       /* --set options given */
     const char *sweeps[RUN_MAX_SWEEPS];  /* --sweep T.P=v1,v2,... as given */
     int sweep_count;
     struct run_config *configs;          /* run: filled by sweep_configs() */
+    struct strbuf untuned;               /* run: techniques without a tuned file ("a, b") */
     int config_count;
     int width, height;                   /* image size in pixels */
     int gt_samples;                      /* light samples per pixel of the ground truth */
@@ -71,6 +85,10 @@ struct run_options {
     const char *baselines_dir;           /* check: the baselines read (and written by update) */
     bool update;                         /* check: record the selected baselines anew */
     bool strict;                         /* check: an improvement fails too */
+    const char *tuned_dir;               /* run, check: tuned settings read; tune: written */
+    enum run_settings_mode settings_mode;  /* run: default, tuned or both cells */
+    int objective;                       /* tune: the metric minimised (METRIC_*) */
+    bool write_tuned;                    /* tune: write tuned_dir/<technique>.json */
     int argc;                            /* the command line, for run.json */
     char **argv;
 };

@@ -1,4 +1,5 @@
 #include "sweep.h"
+#include "tuned.h"
 #include "base/log.h"
 #include "base/util.h"
 #include "techniques/params.h"
@@ -118,8 +119,42 @@ static int add_configs(struct run_options *o, int ti, const struct sweep *sweeps
     return 0;
 }
 
+/* Appends t's tuned cell, <t>@tuned, from o->tuned_dir. A technique with no
+ * tuned file is listed in o->untuned with --settings both, an error with
+ * tuned. */
+static int add_tuned(struct run_options *o, const struct technique *t)
+{
+    struct tuned *tu = xcalloc(1, sizeof *tu);
+    const int rc = tuned_load(o->tuned_dir, t, tu);
+    if (rc != 0) {
+        free(tu);
+        if (rc > 0 && o->settings_mode == RUN_SETTINGS_TUNED)
+            log_error("%s/%s.json: no tuned settings for %s (shadowbench tune --write-tuned makes them)",
+                      o->tuned_dir, t->name, t->name);
+        else if (rc > 0)  /* said once, when the run starts */
+            strbuf_list_printf(&o->untuned, ", ", "%s", t->name);
+        return rc < 0 || o->settings_mode == RUN_SETTINGS_TUNED ? -1 : 0;
+    }
+    if (o->config_count == RUN_MAX_CONFIGS) {
+        tuned_free(tu);
+        free(tu);
+        log_error("--sweep: more than %d technique configurations in one run", RUN_MAX_CONFIGS);
+        return -1;
+    }
+    struct run_config *c = &o->configs[o->config_count++];
+    c->technique = t;
+    c->settings = memcpy(xmalloc(t->settings_size), tu->settings, t->settings_size);
+    c->label = util_printf("%s" TUNED_SUFFIX, t->name);
+    c->tuned = tu;
+    return 0;
+}
+
 int sweep_configs(struct run_options *o)
 {
+    if (o->settings_mode == RUN_SETTINGS_TUNED && (o->sweep_count || o->set_count)) {
+        log_error("--settings tuned: --set and --sweep change default cells, and this run has none");
+        return -1;
+    }
     struct sweep sweeps[RUN_MAX_SWEEPS];
     int count = 0, rc = 0;
     for (int i = 0; i < o->sweep_count && !rc; i++)
@@ -132,7 +167,10 @@ int sweep_configs(struct run_options *o)
         int ti = 0;
         while (technique_list[ti] != o->techniques[i])
             ti++;
-        rc = add_configs(o, ti, sweeps, count);
+        if (o->settings_mode != RUN_SETTINGS_TUNED)
+            rc = add_configs(o, ti, sweeps, count);
+        if (!rc && o->settings_mode != RUN_SETTINGS_DEFAULT)
+            rc = add_tuned(o, o->techniques[i]);
     }
     for (int i = 0; i < count; i++)
         sweep_clear(&sweeps[i]);
@@ -144,8 +182,12 @@ void sweep_free(struct run_options *o)
     for (int i = 0; i < o->config_count; i++) {
         free(o->configs[i].settings);
         free(o->configs[i].label);
+        if (o->configs[i].tuned)
+            tuned_free(o->configs[i].tuned);
+        free(o->configs[i].tuned);
     }
     free(o->configs);
+    strbuf_free(&o->untuned);
     o->configs = NULL;
     o->config_count = 0;
 }

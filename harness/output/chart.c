@@ -251,3 +251,93 @@ void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
     legend(out, items, n, 20, height - 12);
     strbuf_printf(out, "</svg>\n");
 }
+
+enum { FRONT_W = 900, FRONT_H = 520, FRONT_L = 80, FRONT_R = 30, FRONT_T = 60, FRONT_B = 80 };
+
+void chart_frontier_svg(struct strbuf *out, const char *title, const char *subtitle,
+                        const struct chart_curve *curves, int n, const char *x_label, const char *y_label)
+{
+    const int x0 = FRONT_L, y0 = FRONT_T, w = FRONT_W - FRONT_L - FRONT_R, h = FRONT_H - FRONT_T - FRONT_B;
+    double x_min = INFINITY, x_max = 0, y_max = 0, y_step;
+    for (int c = 0; c < n; c++) {
+        const struct chart_curve *k = &curves[c];
+        for (int i = 0; i < k->n; i++) {
+            x_min = fmin(x_min, k->lo ? k->lo[i] : k->x[i]), x_max = fmax(x_max, k->hi ? k->hi[i] : k->x[i]);
+            y_max = fmax(y_max, k->y[i]);
+        }
+        const double px[] = {k->default_x, k->tuned_x}, py[] = {k->default_y, k->tuned_y};
+        for (int i = 0; i < 2; i++)
+            if (isfinite(px[i]) && px[i] > 0 && isfinite(py[i]))
+                x_min = fmin(x_min, px[i]), x_max = fmax(x_max, px[i]), y_max = fmax(y_max, py[i]);
+    }
+    if (!(x_min > 0) || !(x_max >= x_min))
+        x_min = 1, x_max = 10;
+    /* Decades from below x_min to above x_max. */
+    const double lx0 = floor(log10(x_min)), lx1 = fmax(ceil(log10(x_max)), lx0 + 1);
+    y_max = nice_axis(y_max, &y_step);
+    begin(out, FRONT_W, FRONT_H, title, subtitle);
+    y_axis(out, x0, y0, w, h, y_max, y_step, y_label);
+#define FX(v) (x0 + (log10(v) - lx0) / (lx1 - lx0) * w)
+#define FY(v) (y0 + h - (v) / y_max * h)
+    for (double d = lx0; d <= lx1 + 1e-9; d++)
+        for (int m = 1; m < 10; m++) {
+            const double v = pow(10, d) * m;
+            if (log10(v) > lx1 + 1e-9)
+                break;
+            const bool label = m == 1 || m == 2 || m == 5;
+            strbuf_printf(out, "<line x1=\"%.1f\" x2=\"%.1f\" y1=\"%d\" y2=\"%d\" stroke=\"%s\"/>",
+                          FX(v), FX(v), y0 + h, label ? y0 + h + 5 : y0 + h + 3, "#333");
+            if (label)
+                strbuf_printf(out, "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%g</text>", FX(v),
+                              y0 + h + 18, v);
+            strbuf_printf(out, "\n");
+        }
+    strbuf_printf(out, "<text x=\"%d\" y=\"%d\" text-anchor=\"middle\">", x0 + w / 2, y0 + h + 38);
+    strbuf_xml(out, x_label);
+    strbuf_printf(out, "</text>\n");
+    for (int c = 0; c < n; c++) {
+        const struct chart_curve *k = &curves[c];
+        const char *col = colour(k->item.group);
+        strbuf_printf(out, "<path class=\"frontier\" d=\"");
+        for (int i = 0; i < k->n; i++)
+            strbuf_printf(out, i ? " H%.1f V%.1f" : "M%.1f %.1f", FX(k->x[i]), FY(k->y[i]));
+        strbuf_printf(out, "\" fill=\"none\" stroke=\"%s\" stroke-width=\"2\"/>\n", col);
+        for (int i = 0; i < k->n; i++) {
+            if (k->lo && k->hi)
+                strbuf_printf(out, "<path class=\"spread\" d=\"M%.1f %.1f H%.1f\" stroke=\"%s\" "
+                                   "stroke-width=\"1\"/>", FX(k->lo[i]), FY(k->y[i]), FX(k->hi[i]), col);
+            strbuf_printf(out, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3\" fill=\"%s\"><title>", FX(k->x[i]),
+                          FY(k->y[i]), col);
+            strbuf_xml(out, k->item.label);
+            strbuf_printf(out, ": %.4g at %.3g ms</title></circle>\n", k->y[i], k->x[i]);
+        }
+        if (isfinite(k->default_x) && k->default_x > 0 && isfinite(k->default_y)) {
+            strbuf_printf(out, "<rect class=\"default\" x=\"%.1f\" y=\"%.1f\" width=\"10\" height=\"10\" "
+                               "fill=\"white\" stroke=\"%s\" stroke-width=\"2\"><title>",
+                          FX(k->default_x) - 5, FY(k->default_y) - 5, col);
+            strbuf_xml(out, k->item.label);
+            strbuf_printf(out, " at its defaults: %.4g at %.3g ms</title></rect>\n", k->default_y, k->default_x);
+        }
+        if (isfinite(k->tuned_x) && k->tuned_x > 0 && isfinite(k->tuned_y)) {
+            const double cx = FX(k->tuned_x), cy = FY(k->tuned_y);
+            strbuf_printf(out, "<path class=\"tuned\" d=\"M%.1f %.1f L%.1f %.1f L%.1f %.1f L%.1f %.1f Z\" "
+                               "fill=\"%s\" stroke=\"black\"><title>", cx, cy - 7, cx + 7, cy, cx, cy + 7,
+                          cx - 7, cy, col);
+            strbuf_xml(out, k->item.label);
+            strbuf_printf(out, " tuned: %.4g at %.3g ms</title></path>\n", k->tuned_y, k->tuned_x);
+        }
+    }
+#undef FX
+#undef FY
+    int lx = 20;
+    for (int c = 0; c < n; c++) {
+        strbuf_printf(out, "<rect x=\"%d\" y=\"%d\" width=\"14\" height=\"3\" fill=\"%s\"/><text x=\"%d\" "
+                           "y=\"%d\">", lx, FRONT_H - 40, colour(curves[c].item.group), lx + 18, FRONT_H - 35);
+        strbuf_xml(out, curves[c].item.label);
+        strbuf_printf(out, "</text>\n");
+        lx += 30 + 7 * (int)strlen(curves[c].item.label);
+    }
+    strbuf_printf(out, "<text x=\"%d\" y=\"%d\" text-anchor=\"end\" fill=\"#555\">line: frontier (no "
+                       "setting tried is faster and better); &#9633; defaults; &#9670; tuned</text>\n</svg>\n",
+                  FRONT_W - 10, FRONT_H - 12);
+}

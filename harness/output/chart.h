@@ -41,6 +41,23 @@ void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
                     const struct chart_item *items, int n, const struct chart_series *series,
                     int series_count);
 
+/* One technique's frontier: its Pareto front over its own settings (points
+ * in increasing time, with the time's quartiles), and two marked points. */
+struct chart_curve {
+    struct chart_item item;       /* label: the technique */
+    int n;
+    const double *x, *y, *lo, *hi;
+    double default_x, default_y;  /* its defaults (NAN: none) */
+    double tuned_x, tuned_y;      /* its tuned setting (NAN: none) */
+};
+
+/* Error (y, linear from 0) against time (x, logarithmic: times span
+ * decades): each curve a staircase through its points, each point with its
+ * time's quartiles, the default a hollow square and the tuned setting a
+ * filled diamond. */
+void chart_frontier_svg(struct strbuf *out, const char *title, const char *subtitle,
+                        const struct chart_curve *curves, int n, const char *x_label, const char *y_label);
+
 /* Indices of the Pareto-optimal items for minimising both x and y, in
  * increasing x; returns their count. Ties in x keep the lower y. */
 int chart_pareto(const double *x, const double *y, int n, int *front);

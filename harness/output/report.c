@@ -243,6 +243,26 @@ static int overall_chart(const struct report *r, const char *device, struct strb
     return emit_chart(r, "overall_tradeoff", &svg, html);
 }
 
+/* The frontiers of the tuned techniques, over every scene (scene NULL) or
+ * one; nothing when there are none. */
+static int frontier_chart(const struct report *r, const char *scene, const struct chart_curve *curves, int n,
+                          struct strbuf *html)
+{
+    if (!n)
+        return 0;
+    char *title = util_printf("%s%sfrontier: the least error for a time budget", scene ? scene : "",
+                              scene ? ": " : "all scenes: ");
+    struct strbuf svg = {0};
+    char *y = util_printf("%s%s (lower is better)", scene ? "" : "mean ", r->frontier_objective);
+    chart_frontier_svg(&svg, title, r->frontier_source, curves, n, "ms per frame (median, log scale; bar: quartiles)",
+                       y);
+    free(y);
+    char *name = scene ? util_printf("%s_frontier", scene) : xstrdup("frontier");
+    int rc = emit_chart(r, name, &svg, html);
+    free(name), free(title);
+    return rc;
+}
+
 /* ---- report.html -------------------------------------------------------- */
 
 static const char style[] =
@@ -459,6 +479,16 @@ static int write_html(const struct report *r)
     int rc = 0;
     strbuf_printf(&h, "<h2 id=\"overall\">Speed against accuracy, all scenes</h2>\n");
     rc |= overall_chart(r, device, &h);
+    if (r->frontier_count) {
+        strbuf_printf(&h, "<h2 id=\"frontier\">Frontier: for a time budget, the least error</h2>\n<p>Each "
+                          "technique's line joins the settings that <code>shadowbench tune</code> tried where "
+                          "no other of its settings is both faster and better. The square is its defaults, "
+                          "the diamond its tuned setting: on each scene, the setting chosen on the other "
+                          "scenes, scored on that scene. Measured by the tuning, not by this run: ");
+        strbuf_xml(&h, r->frontier_source);
+        strbuf_printf(&h, ".</p>\n");
+        rc |= frontier_chart(r, NULL, r->frontier, r->frontier_count, &h);
+    }
     for (int s = 0; s < r->scene_count; s++) {
         const struct report_scene *sc = &r->scenes[s];
         strbuf_printf(&h, "<h2 id=\"");
@@ -474,6 +504,7 @@ static int write_html(const struct report *r)
         strbuf_printf(&h, "</p>\n");
         scene_grid(r, sc, &h);
         rc |= scene_charts(r, sc->name, device, &h);
+        rc |= frontier_chart(r, sc->name, sc->frontier, sc->frontier_count, &h);
     }
     char *env = cJSON_Print(r->run);
     strbuf_printf(&h, "<h2 id=\"environment\">Environment (run.json)</h2>\n<pre>");

@@ -3,6 +3,7 @@
 #ifndef SB_REPORT_H
 #define SB_REPORT_H
 
+#include "chart.h"
 #include "score/metrics.h"
 #include "techniques/technique.h"
 
@@ -25,6 +26,8 @@ struct report_scene {
     const char *name, *description, *shows;
     double gt_seconds, gt_msamples_per_second;
     bool gt_cached;
+    const struct chart_curve *frontier;  /* per tuned technique, from its tuning (may be none) */
+    int frontier_count;
 };
 
 struct report {
@@ -35,6 +38,10 @@ struct report {
     int scene_count;
     const struct cell *cells;
     int cell_count;
+    const struct chart_curve *frontier;  /* over every scene of the tunings (may be none) */
+    int frontier_count;
+    const char *frontier_source;         /* where and how they were measured */
+    const char *frontier_objective;      /* the error they minimise, e.g. "penumbra_rmse" */
 };
 
 /* Every metric of a cell as a flat JSON object (scene, technique, params,

@@ -1,0 +1,203 @@
+#include "tuned.h"
+#include "base/log.h"
+#include "base/util.h"
+#include "techniques/params.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Settings from {"name": value, ...}: every parameter of t, no other, each
+ * in range, the whole consistent. NULL after one line (in the file's
+ * context). */
+static void *settings_from_json(const struct technique *t, const cJSON *o, const char *what)
+{
+    if (!cJSON_IsObject(o)) {
+        log_error("%s: not an object of parameters", what);
+        return NULL;
+    }
+    void *s = params_defaults(t);
+    const cJSON *item;
+    cJSON_ArrayForEach(item, o) {
+        char text[64];
+        if (cJSON_IsBool(item))
+            snprintf(text, sizeof text, "%s", cJSON_IsTrue(item) ? "true" : "false");
+        else if (cJSON_IsNumber(item) && isfinite(item->valuedouble))
+            snprintf(text, sizeof text, item->valuedouble == floor(item->valuedouble) ? "%.0f" : "%.17g",
+                     item->valuedouble);
+        else if (cJSON_IsString(item))
+            snprintf(text, sizeof text, "%s", item->valuestring);
+        else {
+            log_error("%s: %s.%s is not a number, true/false or a name", what, t->name, item->string);
+            goto fail;
+        }
+        if (params_set(t, s, item->string, text) != 0)  /* unknown (renamed, removed) or out of range */
+            goto fail;
+    }
+    for (const struct technique_param *p = t->params; p->name; p++)
+        if (!cJSON_GetObjectItemCaseSensitive(o, p->name)) {
+            log_error("%s: lacks %s.%s (the file is older than the parameter: tune again)", what, t->name,
+                      p->name);
+            goto fail;
+        }
+    if (params_check(t, s) == 0)
+        return s;
+fail:
+    free(s);
+    return NULL;
+}
+
+static bool read_point(const cJSON *o, struct tuned_point *p)
+{
+    static const char *const keys[] = {"error", "ms", "ms_q1", "ms_q3"};
+    double *dst[] = {&p->error, &p->ms, &p->ms_q1, &p->ms_q3};
+    for (int i = 0; i < 4; i++) {
+        const cJSON *v = cJSON_GetObjectItemCaseSensitive(o, keys[i]);
+        if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble) || v->valuedouble < 0)
+            return false;
+        *dst[i] = v->valuedouble;
+    }
+    return true;
+}
+
+/* A frontier: an array of points, each with its settings' text. */
+static bool valid_frontier(const cJSON *a)
+{
+    const cJSON *e;
+    struct tuned_point p;
+    if (!cJSON_IsArray(a))
+        return false;
+    cJSON_ArrayForEach(e, a)
+        if (!read_point(e, &p) || !cJSON_IsString(cJSON_GetObjectItemCaseSensitive(e, "settings")))
+            return false;
+    return true;
+}
+
+int tuned_load(const char *dir, const struct technique *t, struct tuned *out)
+{
+    memset(out, 0, sizeof *out);
+    out->t = t;
+    out->path = util_printf("%s/%s.json", dir, t->name);
+    if (!util_file_exists(out->path)) {
+        tuned_free(out);
+        return 1;
+    }
+    char *text = NULL;
+    size_t size;
+    int rc = util_read_file(out->path, &text, &size);
+    log_set_context(out->path);
+    if (rc) {
+        log_error("cannot read: %s", util_read_error(rc));
+        goto fail;
+    }
+    out->doc = cJSON_ParseWithLength(text, size);
+    free(text);
+    const cJSON *d = out->doc, *folds = cJSON_GetObjectItemCaseSensitive(d, "folds"), *f;
+    const char *technique = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(d, "technique"));
+    if (!d) {
+        log_error("not JSON");
+        goto fail;
+    }
+    if (!technique || strcmp(technique, t->name) != 0) {
+        log_error("holds the technique '%.64s', not %s", technique ? technique : "(none)", t->name);
+        goto fail;
+    }
+    if (!(out->settings = settings_from_json(t, cJSON_GetObjectItemCaseSensitive(d, "settings"), "settings")))
+        goto fail;
+    if (!cJSON_IsArray(folds)) {
+        log_error("\"folds\" is not an array");
+        goto fail;
+    }
+    const int n = cJSON_GetArraySize(folds);
+    out->fold_scene = xcalloc((size_t)n + 1, sizeof *out->fold_scene);
+    out->fold_settings = xcalloc((size_t)n + 1, sizeof *out->fold_settings);
+    cJSON_ArrayForEach(f, folds) {
+        const char *scene = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(f, "scene"));
+        struct tuned_point p;
+        char what[256];
+        snprintf(what, sizeof what, "folds[%d].settings", out->fold_count);
+        if (!scene || !read_point(cJSON_GetObjectItemCaseSensitive(f, "held_out"), &p) ||
+            !read_point(cJSON_GetObjectItemCaseSensitive(f, "default"), &p)) {
+            log_error("folds[%d] needs \"scene\", and \"held_out\" and \"default\" with error, ms, ms_q1, "
+                      "ms_q3 (finite, not negative)", out->fold_count);
+            goto fail;
+        }
+        out->fold_scene[out->fold_count] = scene;
+        if (!(out->fold_settings[out->fold_count++] =
+                  settings_from_json(t, cJSON_GetObjectItemCaseSensitive(f, "settings"), what)))
+            goto fail;
+    }
+    const cJSON *summary = cJSON_GetObjectItemCaseSensitive(d, "summary");
+    const cJSON *frontier = cJSON_GetObjectItemCaseSensitive(d, "frontier");
+    const cJSON *scenes = cJSON_GetObjectItemCaseSensitive(frontier, "scenes"), *s;
+    struct tuned_point p;
+    bool ok = read_point(cJSON_GetObjectItemCaseSensitive(summary, "default"), &p) &&
+              read_point(cJSON_GetObjectItemCaseSensitive(summary, "tuned"), &p) &&
+              valid_frontier(cJSON_GetObjectItemCaseSensitive(frontier, "all")) && cJSON_IsObject(scenes);
+    cJSON_ArrayForEach(s, scenes)
+        ok &= valid_frontier(s);
+    if (!ok) {
+        log_error("\"summary\" (default, tuned) or \"frontier\" (all, scenes) is missing or malformed");
+        goto fail;
+    }
+    static const char *const numbers[] = {"width", "height", "shadow_map_size"},
+                             *const texts[] = {"objective", "gl_renderer", "date"};
+    for (int i = 0; i < 3; i++) {
+        const cJSON *v = cJSON_GetObjectItemCaseSensitive(d, numbers[i]);
+        if (!cJSON_IsNumber(v) || !(v->valuedouble >= 1 && v->valuedouble <= 65536) ||
+            !cJSON_IsString(cJSON_GetObjectItemCaseSensitive(d, texts[i]))) {
+            log_error("needs whole numbers width, height, shadow_map_size and texts objective, gl_renderer, date");
+            goto fail;
+        }
+    }
+    log_set_context(NULL);
+    return 0;
+fail:
+    log_set_context(NULL);
+    tuned_free(out);
+    return -1;
+}
+
+const void *tuned_settings(const struct tuned *tu, const char *scene_name)
+{
+    for (int i = 0; i < tu->fold_count; i++)
+        if (strcmp(tu->fold_scene[i], scene_name) == 0)
+            return tu->fold_settings[i];
+    return tu->settings;
+}
+
+int tuned_frontier(const struct tuned *tu, const char *scene_name, struct tuned_point **points,
+                   struct tuned_point *def, struct tuned_point *tuned)
+{
+    const cJSON *frontier = cJSON_GetObjectItemCaseSensitive(tu->doc, "frontier"), *a, *e;
+    *def = *tuned = (struct tuned_point){NAN, NAN, NAN, NAN};
+    *points = NULL;
+    if (!scene_name) {
+        a = cJSON_GetObjectItemCaseSensitive(frontier, "all");
+        const cJSON *summary = cJSON_GetObjectItemCaseSensitive(tu->doc, "summary");
+        read_point(cJSON_GetObjectItemCaseSensitive(summary, "default"), def);
+        read_point(cJSON_GetObjectItemCaseSensitive(summary, "tuned"), tuned);
+    } else {
+        a = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(frontier, "scenes"), scene_name);
+        const cJSON *f;
+        cJSON_ArrayForEach(f, cJSON_GetObjectItemCaseSensitive(tu->doc, "folds"))
+            if (strcmp(cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(f, "scene")), scene_name) == 0) {
+                read_point(cJSON_GetObjectItemCaseSensitive(f, "default"), def);
+                read_point(cJSON_GetObjectItemCaseSensitive(f, "held_out"), tuned);
+            }
+    }
+    int n = 0;
+    *points = xcalloc((size_t)cJSON_GetArraySize(a) + 1, sizeof **points);
+    cJSON_ArrayForEach(e, a)
+        read_point(e, &(*points)[n++]);
+    return n;
+}
+
+void tuned_free(struct tuned *tu)
+{
+    for (int i = 0; i < tu->fold_count; i++)
+        free(tu->fold_settings[i]);
+    free(tu->fold_settings), free(tu->fold_scene), free(tu->settings), free(tu->path);
+    cJSON_Delete(tu->doc);
+    memset(tu, 0, sizeof *tu);
+}

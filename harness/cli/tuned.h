@@ -1,0 +1,51 @@
+/* Tuned settings: results/tuned/<technique>.json (DESIGN.md §8), written by
+ * `shadowbench tune --write-tuned`, read by run (the <technique>@tuned
+ * cells), check (their baselines) and the report (the frontier chart).
+ *
+ * A tuned file holds, besides its evidence, one setting per shipped scene:
+ * the one the search chose on every other scene (leave-one-scene-out), so a
+ * tuned cell is never scored on a scene its setting was fitted to; and the
+ * setting chosen on every scene, for a scene the tuning did not see. */
+#ifndef SB_TUNED_H
+#define SB_TUNED_H
+
+#include "techniques/technique.h"
+
+#include <cjson/cJSON.h>
+
+#define TUNED_DEFAULT_DIR "results/tuned"
+#define TUNED_SUFFIX "@tuned"  /* a tuned cell's name: <technique>@tuned */
+
+/* A point of a frontier chart: mean error and time over scenes. */
+struct tuned_point {
+    double error, ms, ms_q1, ms_q3;
+};
+
+struct tuned {
+    const struct technique *t;
+    char *path;
+    cJSON *doc;                /* the whole file, validated */
+    void *settings;            /* chosen on every scene */
+    int fold_count;
+    const char **fold_scene;   /* into doc */
+    void **fold_settings;      /* chosen without that scene */
+};
+
+/* Reads dir/<t>.json. Returns 0; 1 when there is none (nothing logged); or
+ * -1 after one line naming the file: not JSON, another technique, a setting
+ * that names an unknown parameter, lacks one, or is out of range (a stale
+ * file: tune again). */
+int tuned_load(const char *dir, const struct technique *t, struct tuned *out);
+
+/* The settings of t's tuned cell on the scene called name. */
+const void *tuned_settings(const struct tuned *tu, const char *scene_name);
+
+/* The frontier over every scene ("all") or one scene's, as points sorted by
+ * time, with the labels of their settings; and the default and tuned
+ * points. Returns the count (0: none recorded). *points is malloc'ed. */
+int tuned_frontier(const struct tuned *tu, const char *scene_name, struct tuned_point **points,
+                   struct tuned_point *def, struct tuned_point *tuned);
+
+void tuned_free(struct tuned *tu);
+
+#endif

@@ -1,0 +1,265 @@
+/* Protects `shadowbench tune` (README, Tuning): the search is deterministic;
+ * leave-one-scene-out never looks at the held-out scene; every technique's
+ * tune values are in range and hold its default; the frontier it writes is
+ * a Pareto front; run's tuned cells use each scene's fold setting; a stale
+ * or out-of-range tuned file is one line naming it, exit 2. */
+#include "check.h"
+#include "run_cmd.h"
+#include "base/util.h"
+#include "score/tune_search.h"
+#include "techniques/params.h"
+#include "techniques/technique.h"
+
+#include <cjson/cJSON.h>
+#include <string.h>
+
+static const char *sb;
+static char dir[] = "/tmp/sb_test_tune_XXXXXX";
+
+/* A synthetic objective over 3 parameters of 5 values: scene k is a bowl
+ * centred at target[k] (with a coupling term, so one round is not always
+ * enough), plus a cost per evaluation log. */
+struct synthetic {
+    int target[8][3];
+    int scenes;
+    int calls[8];
+    char order[4096];  /* "k:a,b,c;" per call */
+    int scene_poisoned;  /* -1, or a scene whose objective is replaced by garbage */
+};
+
+static int synthetic_eval(void *user, const int *p, int k, struct tune_sample *s)
+{
+    struct synthetic *y = user;
+    double e = 0;
+    for (int d = 0; d < 3; d++)
+        e += (p[d] - y->target[k][d]) * (p[d] - y->target[k][d]);
+    e += 0.5 * (p[0] - p[1]) * (p[0] - p[1]) * (k % 2);
+    if (k == y->scene_poisoned)
+        e = 1000 - 37 * p[0] + 11 * p[2] * p[1];  /* another optimum altogether */
+    *s = (struct tune_sample){e, 1.0 + p[0], 0.9 + p[0], 1.1 + p[0], 1};
+    y->calls[k]++;
+    size_t n = strlen(y->order);
+    snprintf(y->order + n, sizeof y->order - n, "%d:%d,%d,%d;", k, p[0], p[1], p[2]);
+    return 0;
+}
+
+static struct tune_memo synthetic_memo(struct synthetic *y)
+{
+    struct tune_memo m = {.dims = 3, .counts = {5, 5, 5}, .scenes = y->scenes, .eval = synthetic_eval, .user = y};
+    return m;
+}
+
+static void search(void)
+{
+    struct synthetic y = {.target = {{4, 1, 2}, {3, 3, 0}, {4, 2, 2}, {0, 1, 4}}, .scenes = 4,
+                          .scene_poisoned = -1};
+    const int start[3] = {2, 2, 2};
+    int fold[TUNE_MAX_SCENES][TUNE_MAX_DIMS] = {{0}}, again[TUNE_MAX_SCENES][TUNE_MAX_DIMS] = {{0}};
+    double held[TUNE_MAX_SCENES], held_again[TUNE_MAX_SCENES];
+
+    /* One scene: coordinate descent reaches the bowl's centre. */
+    struct tune_memo m = synthetic_memo(&y);
+    int best[TUNE_MAX_DIMS];
+    double score;
+    const int one = 0;
+    CHECK(tune_descend(&m, &one, 1, start, best, &score) == 0 && score == 0 && best[0] == 4 && best[1] == 1 &&
+              best[2] == 2, "scene 0 alone: best %d,%d,%d score %g", best[0], best[1], best[2], score);
+    tune_memo_free(&m);
+
+    /* Deterministic: the same calls in the same order, the same choices. */
+    m = synthetic_memo(&y);
+    y.order[0] = '\0';
+    CHECK(tune_cross_validate(&m, start, fold, held) == 0, "cross-validation");
+    char *first = xstrdup(y.order);
+    tune_memo_free(&m);
+    m = synthetic_memo(&y);
+    y.order[0] = '\0';
+    tune_cross_validate(&m, start, again, held_again);
+    CHECK(strcmp(first, y.order) == 0 && memcmp(fold, again, sizeof fold) == 0 &&
+              memcmp(held, held_again, sizeof(double) * 4) == 0, "two searches differ");
+    free(first);
+    tune_memo_free(&m);
+
+    /* No leak: poisoning scene k changes nothing that fold k chose, and a
+     * fresh memo proves fold k's search never asked for scene k (its only
+     * evaluation of k is the held-out score, after the search). */
+    for (int k = 0; k < y.scenes; k++) {
+        y.scene_poisoned = k;
+        m = synthetic_memo(&y);
+        tune_cross_validate(&m, start, again, held_again);
+        CHECK(memcmp(fold[k], again[k], sizeof fold[k]) == 0, "fold %d moved when its held-out scene changed", k);
+        tune_memo_free(&m);
+
+        m = synthetic_memo(&y);
+        memset(y.calls, 0, sizeof y.calls);
+        int others[4], n = 0;
+        for (int i = 0; i < y.scenes; i++)
+            if (i != k)
+                others[n++] = i;
+        int b[TUNE_MAX_DIMS];
+        tune_descend(&m, others, n, start, b, &score);
+        CHECK(y.calls[k] == 0, "the search without scene %d evaluated it %d times", k, y.calls[k]);
+        tune_memo_free(&m);
+    }
+    y.scene_poisoned = -1;
+
+    /* The memo: a cell is evaluated once, however many searches ask. */
+    m = synthetic_memo(&y);
+    tune_cross_validate(&m, start, fold, held);
+    const long cells = m.evaluations;
+    tune_cross_validate(&m, start, again, held_again);
+    CHECK(m.evaluations == cells, "a second cross-validation evaluated %ld more cells", m.evaluations - cells);
+    tune_memo_free(&m);
+}
+
+/* Every tuned parameter's values are in its range, distinct, and hold its
+ * default (the search starts there). */
+static void tables(void)
+{
+    for (const struct technique *const *t = technique_list; *t; t++)
+        for (const struct technique_param *p = (*t)->params; p->name; p++) {
+            double v[64];
+            const int n = params_tune_values(p, v, 64);
+            bool has_default = n == 0;
+            for (int i = 0; i < n; i++) {
+                if (p->type == PARAM_FLOAT || p->type == PARAM_INT)
+                    CHECK(v[i] >= p->min && v[i] <= p->max, "%s.%s: tune value %g outside [%g, %g]", (*t)->name,
+                          p->name, v[i], p->min, p->max);
+                for (int j = 0; j < i; j++)
+                    CHECK(v[i] != v[j], "%s.%s: %g twice", (*t)->name, p->name, v[i]);
+                has_default |= (float)v[i] == (float)p->def;
+            }
+            CHECK(has_default, "%s.%s: its tune values lack its default", (*t)->name, p->name);
+        }
+}
+
+static cJSON *read_json(const char *path)
+{
+    char *text = NULL;
+    size_t size;
+    if (util_read_file(path, &text, &size) != 0)
+        return NULL;
+    cJSON *j = cJSON_Parse(text);
+    free(text);
+    return j;
+}
+
+static void expect_fail(const char *cmd, const char *line)
+{
+    struct strbuf err = {0};
+    int status = run_cmd(cmd, &err, NULL);
+    CHECK(status == 2 && err.data && strcmp(err.data, line) == 0, "exit %d\n  got:    %s  wanted: %s", status,
+          err.data ? err.data : "", line);
+    strbuf_free(&err);
+}
+
+/* A small tune of hard on two scenes, then run with its settings. */
+static void command(void)
+{
+    char *cmd = util_printf("%s tune --technique hard --scene parallel_planes --scene contact_hardening "
+                            "--width 64 --height 64 --gt-samples 16 --frames 1 --no-cache -q --out %s/tune "
+                            "--write-tuned --tuned %s/tuned", sb, dir, dir);
+    struct strbuf err = {0};
+    CHECK(run_cmd(cmd, &err, NULL) == 0, "tune: %s", err.data);
+    strbuf_free(&err);
+    free(cmd);
+    char *path = util_printf("%s/tuned/hard.json", dir);
+    cJSON *j = read_json(path);
+    CHECK(j, "%s: not written", path);
+    if (!j)
+        return;
+    /* The frontier: increasing time, decreasing error (a Pareto front), and
+     * no setting tried is both faster and better than a point of it. */
+    const cJSON *front = cJSON_GetObjectItem(cJSON_GetObjectItem(j, "frontier"), "all"), *p;
+    double last_ms = -1, last_error = INFINITY;
+    int n = 0;
+    cJSON_ArrayForEach(p, front) {
+        const double ms = cJSON_GetObjectItem(p, "ms")->valuedouble, e = cJSON_GetObjectItem(p, "error")->valuedouble;
+        CHECK(ms >= last_ms && e < last_error, "frontier point %d: %g ms, %g after %g ms, %g", n, ms, e, last_ms,
+              last_error);
+        last_ms = ms, last_error = e, n++;
+    }
+    CHECK(n >= 1, "an empty frontier");
+    const cJSON *folds = cJSON_GetObjectItem(j, "folds");
+    CHECK(cJSON_GetArraySize(folds) == 2, "a fold per scene");
+    /* The fold's setting is what run's hard@tuned cell uses on that scene. */
+    cmd = util_printf("%s run --technique hard --scene parallel_planes --settings tuned --width 64 --height 64 "
+                      "--gt-samples 16 --frames 1 --warmup 0 --no-cache -q --tuned %s/tuned --out %s/run", sb, dir,
+                      dir);
+    CHECK(run_cmd(cmd, NULL, NULL) == 0, "run --settings tuned");
+    free(cmd);
+    char *metrics = util_printf("%s/run/parallel_planes/hard@tuned/metrics.json", dir);
+    cJSON *m = read_json(metrics);
+    const cJSON *f0 = cJSON_GetArrayItem(folds, 0);
+    CHECK(m && strcmp(cJSON_GetObjectItem(f0, "scene")->valuestring, "parallel_planes") == 0 &&
+              cJSON_Compare(cJSON_GetObjectItem(m, "params"), cJSON_GetObjectItem(f0, "settings"), true),
+          "hard@tuned on parallel_planes does not use the setting chosen without it");
+    cJSON_Delete(m);
+    free(metrics);
+
+    /* Stale and out-of-range files: one line naming the file, exit 2. */
+    const cJSON *settings = cJSON_GetObjectItem(j, "settings");
+    cJSON *slope = cJSON_DetachItemFromObject((cJSON *)settings, "slope_bias");
+    cJSON_AddItemToObject((cJSON *)settings, "slope_bias_renamed", slope);
+    char *text = cJSON_Print(j);
+    util_write_file_atomic(path, text, strlen(text));
+    cJSON_free(text);
+    char *run = util_printf("%s run --technique hard --scene parallel_planes --tuned %s/tuned --out %s/run2", sb,
+                            dir, dir);
+    char *line = util_printf("shadowbench: error: %s: hard.slope_bias_renamed: unknown parameter (hard has: "
+                             "constant_bias, slope_bias)\n", path);
+    expect_fail(run, line);
+    free(line);
+    cJSON_DeleteItemFromObject((cJSON *)settings, "slope_bias_renamed");
+    cJSON_AddNumberToObject((cJSON *)settings, "slope_bias", 99);
+    text = cJSON_Print(j);
+    util_write_file_atomic(path, text, strlen(text));
+    cJSON_free(text);
+    line = util_printf("shadowbench: error: %s: hard.slope_bias: 99 is out of range [0.0, 16.0]\n", path);
+    expect_fail(run, line);
+    free(line);
+    cJSON_DeleteItemFromObject((cJSON *)settings, "slope_bias");
+    text = cJSON_Print(j);
+    util_write_file_atomic(path, text, strlen(text));
+    cJSON_free(text);
+    line = util_printf("shadowbench: error: %s: settings: lacks hard.slope_bias (the file is older than the "
+                       "parameter: tune again)\n", path);
+    expect_fail(run, line);
+    free(line);
+    free(run);
+    cJSON_Delete(j);
+    free(path);
+
+    /* Usage. */
+    char *bad = util_printf("%s tune --scene parallel_planes --out %s/one", sb, dir);
+    expect_fail(bad, "shadowbench: error: tune: needs 2 to 64 scenes (each scene's setting is chosen on the "
+                     "others), got 1\n");
+    free(bad);
+    bad = util_printf("%s tune --objective mae", sb);
+    expect_fail(bad, "shadowbench: error: --objective: 'mae' is not one of: penumbra_rmse, rmse, shaded_rmse\n");
+    free(bad);
+    bad = util_printf("%s tune --set hard.slope_bias=1", sb);
+    expect_fail(bad, "shadowbench: error: --set: unknown option for tune (see --help)\n");
+    free(bad);
+    bad = util_printf("%s run --settings tuned --set hard.slope_bias=1", sb);
+    expect_fail(bad, "shadowbench: error: --settings tuned: --set and --sweep change default cells, and this run "
+                     "has none\n");
+    free(bad);
+    bad = util_printf("%s run --settings tuned --technique hard --tuned %s/nothing", sb, dir);
+    char *want = util_printf("shadowbench: error: %s/nothing/hard.json: no tuned settings for hard (shadowbench "
+                             "tune --write-tuned makes them)\n", dir);
+    expect_fail(bad, want);
+    free(bad), free(want);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2 || !mkdtemp(dir))
+        return 1;
+    sb = argv[1];
+    search();
+    tables();
+    command();
+    remove_tree(dir);
+    return check_finish();
+}
