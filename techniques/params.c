@@ -3,6 +3,7 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -131,9 +132,13 @@ int params_set(const struct technique *t, void *settings, const char *name, cons
         errno = 0;
         v = strtod(value, &end);
         /* Decimal only: strtod also takes " 1", "0x1p1", "inf". */
-        if (!*value || *end || errno || !isfinite(v) || strpbrk(value, "xXpP \t") ||
+        if (!*value || *end || (errno && fabs(v) >= 1) || !isfinite(v) || strpbrk(value, "xXpP \t") ||
             !strchr("+-.0123456789", value[0])) {
             log_error("%s.%s: '%s' is not a number", t->name, name, value);
+            return -1;
+        }
+        if (v != 0 && (float)fabs(v) < FLT_MIN) {  /* it would become 0 or lose its digits as a float */
+            log_error("%s.%s: %s is too close to 0 for a float (write 0)", t->name, name, value);
             return -1;
         }
         v += 0.0;  /* -0 is 0: one spelling in the outputs, and one cell in a sweep */
@@ -253,6 +258,46 @@ cJSON *params_json(const struct technique *t, const void *settings)
         }
     }
     return o;
+}
+
+void *params_from_json(const struct technique *t, const cJSON *o)
+{
+    if (!cJSON_IsObject(o)) {
+        log_error("%s: the parameters are not an object", t->name);
+        return NULL;
+    }
+    void *s = params_defaults(t);
+    const cJSON *item;
+    cJSON_ArrayForEach(item, o) {
+        char text[64];
+        for (const cJSON *other = o->child; other != item; other = other->next)
+            if (strcmp(other->string, item->string) == 0) {
+                log_error("%s.%s: given twice", t->name, item->string);
+                goto fail;
+            }
+        if (cJSON_IsBool(item))
+            snprintf(text, sizeof text, "%s", cJSON_IsTrue(item) ? "true" : "false");
+        else if (cJSON_IsNumber(item) && isfinite(item->valuedouble))
+            snprintf(text, sizeof text, "%.17g", item->valuedouble);
+        else if (cJSON_IsString(item) && strlen(item->valuestring) < sizeof text)
+            snprintf(text, sizeof text, "%s", item->valuestring);
+        else {
+            log_error("%s.%s: not a number, true/false or a name", t->name, item->string);
+            goto fail;
+        }
+        if (params_set(t, s, item->string, text) != 0)  /* unknown (renamed, removed) or out of range */
+            goto fail;
+    }
+    for (const struct technique_param *p = t->params; p->name; p++)
+        if (!cJSON_GetObjectItemCaseSensitive(o, p->name)) {
+            log_error("lacks %s.%s (recorded before the parameter existed)", t->name, p->name);
+            goto fail;
+        }
+    if (params_check(t, s) == 0)
+        return s;
+fail:
+    free(s);
+    return NULL;
 }
 
 int params_value_text(const struct technique *t, const void *settings, const char *name, char *buf,

@@ -92,7 +92,33 @@ edit 's/"rmse":\t[-0-9.e]*,/"rmse":\t"abc",/'
 expect 2 "hard.json: metric rmse: needs a number" --technique hard
 record
 edit '0,/"value":/s/"value":\t[-0-9.e]*/"value":\t-1/'
-expect 2 "hard.json: metric rmse: needs a number (or null: unscored) and a tolerance" --technique hard
+expect 2 "hard.json: metric rmse: needs a number in \[0, 1\] and a tolerance" --technique hard
+record
+# A null metric (it would make any value "better" and hide a moved
+# picture), one out of its range, a count that is not whole: refused.
+edit 's/"rmse":\t[-0-9.e]*,/"rmse":\tnull,/'
+expect 2 "hard.json: metric rmse: needs a number in \[0, 1\]" --technique hard
+record
+edit 's/"leak_fraction":\t[-0-9.e]*,/"leak_fraction":\t-1,/'
+expect 2 "hard.json: metric leak_fraction: needs a number in \[0, 1\]" --technique hard
+record
+edit 's/"nonfinite":\t0$/"nonfinite":\t0.5/'
+expect 2 "hard.json: metric nonfinite: needs a number in \[0, inf\], whole" --technique hard
+record
+# A key twice (JSON readers differ on which counts), a parameter missing or
+# empty params (a default would stand in unseen), a value that is no float.
+edit 's/"rmse":\t\([-0-9.e]*\),/"rmse":\t\1, "rmse": 99,/'
+expect 2 "hard.json: the key \"rmse\" appears twice in one object" --technique hard
+record
+edit '/"slope_bias":/d'
+edit 's/"constant_bias":\t"\([^"]*\)",/"constant_bias":\t"\1"/'
+expect 2 "hard.json: lacks hard.slope_bias" --technique hard
+record
+edit 's/"params":\t{/"params":\t{}, "x": {/'
+expect 2 "hard.json: lacks hard.constant_bias" --technique hard
+record
+edit 's/"constant_bias":\t"[^"]*"/"constant_bias":\t"1e-320"/'
+expect 2 "hard.json: hard.constant_bias: 1e-320 is too close to 0 for a float" --technique hard
 record
 edit 's/"scene":\t"parallel_planes"/"scene":\t"map_border"/'
 expect 2 "hard.json: its \"scene\" is not its folder's" --technique hard

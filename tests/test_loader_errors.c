@@ -343,8 +343,8 @@ int main(int argc, char **argv)
                  "camera 0: its position (3e+18, 3, 3) lies beyond 1e+08 world units");
     case_mutated("pi_yfov", pi_yfov, "camera 0: yfov must be in [1e-4, pi) as a float, got 3.14159265358979");
     case_mutated("tiny_znear", tiny_znear, "camera 0: znear must be in [1e-06, 1e+08] as a float, got 1e-50");
-    case_mutated("string_matrix", string_matrix, "malformed glTF: nodes[1].matrix must be 16 finite numbers");
-    case_mutated("short_matrix", short_matrix, "malformed glTF: nodes[1].matrix must be 16 finite numbers");
+    case_mutated("string_matrix", string_matrix, "malformed glTF: nodes[1].matrix must be 16 finite numbers of an affine transform (bottom row 0 0 0 1)");
+    case_mutated("short_matrix", short_matrix, "malformed glTF: nodes[1].matrix must be 16 finite numbers of an affine transform (bottom row 0 0 0 1)");
     case_mutated("zero_rotation", zero_rotation,
                  "malformed glTF: nodes[0].rotation must be a unit quaternion (4 numbers)");
     case_mutated("string_mode", string_mode,

@@ -206,8 +206,8 @@ static void command(void)
     cJSON_free(text);
     char *run = util_printf("%s run --technique hard --scene parallel_planes --tuned %s/tuned --out %s/run2", sb,
                             dir, dir);
-    char *line = util_printf("shadowbench: error: %s: hard.slope_bias_renamed: unknown parameter (hard has: "
-                             "constant_bias, slope_bias)\n", path);
+    char *line = util_printf("shadowbench: error: %s: settings: hard.slope_bias_renamed: unknown parameter (hard "
+                             "has: constant_bias, slope_bias)\n", path);
     expect_fail(run, line);
     free(line);
     cJSON_DeleteItemFromObject((cJSON *)settings, "slope_bias_renamed");
@@ -215,15 +215,15 @@ static void command(void)
     text = cJSON_Print(j);
     util_write_file_atomic(path, text, strlen(text));
     cJSON_free(text);
-    line = util_printf("shadowbench: error: %s: hard.slope_bias: 99 is out of range [0.0, 16.0]\n", path);
+    line = util_printf("shadowbench: error: %s: settings: hard.slope_bias: 99 is out of range [0.0, 16.0]\n", path);
     expect_fail(run, line);
     free(line);
     cJSON_DeleteItemFromObject((cJSON *)settings, "slope_bias");
     text = cJSON_Print(j);
     util_write_file_atomic(path, text, strlen(text));
     cJSON_free(text);
-    line = util_printf("shadowbench: error: %s: settings: lacks hard.slope_bias (the file is older than the "
-                       "parameter: tune again)\n", path);
+    line = util_printf("shadowbench: error: %s: settings: lacks hard.slope_bias (recorded before the parameter "
+                       "existed)\n", path);
     expect_fail(run, line);
     free(line);
     free(run);

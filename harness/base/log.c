@@ -11,6 +11,9 @@ static const char *context;
 void log_set_context(const char *c) { context = c; }
 
 void log_set_level(enum log_level level) { max_level = level; }
+
+static bool errors_as_warnings;
+void log_errors_as_warnings(bool on) { errors_as_warnings = on; }
 enum log_level log_get_level(void) { return max_level; }
 
 void log_msg(enum log_level level, const char *fmt, ...)
@@ -19,13 +22,16 @@ void log_msg(enum log_level level, const char *fmt, ...)
         [LOG_ERROR] = "error: ", [LOG_WARN] = "warning: ",
         [LOG_INFO] = "", [LOG_DEBUG] = "debug: ",
     };
+    if (level == LOG_ERROR && errors_as_warnings)
+        level = LOG_WARN;
     if (level > max_level)
         return;
-    char line[4096];
+    struct strbuf text = {0};  /* whole, however long: a line cut short could lose its reason */
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(line, sizeof line, fmt, ap);
+    strbuf_vprintf(&text, fmt, ap);
     va_end(ap);
+    char *line = text.data;
     /* One line, shown in the order it is stored, whatever a file name or a
      * file's text quoted in it holds: control characters (a newline, a
      * terminal escape) and bidirectional formatting characters print as '?'. */
@@ -42,5 +48,6 @@ void log_msg(enum log_level level, const char *fmt, ...)
     *out = '\0';
     /* One fprintf per message so lines from OpenMP threads never interleave. */
     fprintf(stderr, "shadowbench: %s%s%s%s\n", prefix[level], context ? context : "", context ? ": " : "",
-            line);
+            text.data);
+    strbuf_free(&text);
 }

@@ -4,12 +4,17 @@
 #ifndef SB_LOG_H
 #define SB_LOG_H
 
+#include <stdbool.h>
+
 enum log_level { LOG_NONE = -1, LOG_ERROR, LOG_WARN, LOG_INFO, LOG_DEBUG };  /* NONE: silence */
 
 void log_msg(enum log_level level, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
 void log_set_level(enum log_level max_level);
 enum log_level log_get_level(void);
+/* While on, log_error prints a warning: for a failure the caller recovers
+ * from (an unreadable cache entry, rendered again). */
+void log_errors_as_warnings(bool on);
 
 /* While context is not NULL, every message starts with "<context>: " (e.g.
  * the file whose contents are being checked by code that does not know

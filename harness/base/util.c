@@ -1,4 +1,6 @@
 #include "util.h"
+
+#include <cjson/cJSON.h>
 #include "log.h"
 
 #include <dirent.h>
@@ -255,6 +257,21 @@ int util_utf8_next(const char *s, unsigned *cp)
     return n + 1;
 }
 
+char *util_utf8_copy(const char *s)
+{
+    struct strbuf out = {0};
+    strbuf_append(&out, "", 0);
+    unsigned cp;
+    for (int n; *s; s += n) {
+        n = util_utf8_next(s, &cp);
+        if (cp == UTIL_NOT_UTF8)
+            strbuf_append(&out, "\xef\xbf\xbd", 3);
+        else
+            strbuf_append(&out, s, (size_t)n);
+    }
+    return out.data;
+}
+
 bool util_valid_utf8(const char *s)
 {
     unsigned cp = 0;
@@ -267,6 +284,32 @@ bool util_bidi_control(unsigned cp)
 {
     return cp == 0x061c || cp == 0x200e || cp == 0x200f || (cp >= 0x202a && cp <= 0x202e) ||
            (cp >= 0x2066 && cp <= 0x2069);
+}
+
+static int compare_keys(const void *a, const void *b)
+{
+    return strcmp(*(const char *const *)a, *(const char *const *)b);
+}
+
+const char *util_json_duplicate_key(const cJSON *v)
+{
+    const char *twice = NULL;
+    size_t n = 0;
+    for (const cJSON *c = v ? v->child : NULL; c; c = c->next)
+        n++;
+    const char **keys = xcalloc(n + 1, sizeof *keys);
+    size_t k = 0;
+    for (const cJSON *c = v ? v->child : NULL; c && !twice; c = c->next) {
+        if (cJSON_IsObject(v) && c->string)
+            keys[k++] = c->string;
+        twice = util_json_duplicate_key(c);
+    }
+    qsort(keys, k, sizeof *keys, compare_keys);  /* n log n: an object may hold many keys */
+    for (size_t i = 1; i < k && !twice; i++)
+        if (strcmp(keys[i - 1], keys[i]) == 0)
+            twice = keys[i];
+    free(keys);
+    return twice;
 }
 
 bool util_is_dir(const char *path)
@@ -359,7 +402,7 @@ void strbuf_append(struct strbuf *sb, const char *s, size_t n)
     sb->data[sb->len] = '\0';
 }
 
-static void strbuf_vprintf(struct strbuf *sb, const char *fmt, va_list ap)
+void strbuf_vprintf(struct strbuf *sb, const char *fmt, va_list ap)
 {
     va_list again;
     va_copy(again, ap);

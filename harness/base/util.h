@@ -3,6 +3,7 @@
 #ifndef SB_UTIL_H
 #define SB_UTIL_H
 
+#include <stdarg.h>
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
@@ -56,11 +57,19 @@ bool util_file_exists(const char *path);
  * surrogates included) gives UTIL_NOT_UTF8 and length 1. */
 #define UTIL_NOT_UTF8 0xffffffffu
 int util_utf8_next(const char *s, unsigned *cp);
+/* A malloc'ed copy of s with every byte that starts no well-formed UTF-8
+ * character replaced by U+FFFD: text JSON can hold. */
+char *util_utf8_copy(const char *s);
 /* Whether s is well-formed UTF-8. */
 bool util_valid_utf8(const char *s);
 /* Whether cp is a bidirectional formatting character (U+061C, U+200E/F,
  * U+202A-E, U+2066-9): text that shows in another order than it is stored. */
 bool util_bidi_control(unsigned cp);
+
+/* The first key found twice in one object of JSON value v (cJSON keeps
+ * both and reads the first), or NULL. */
+struct cJSON;
+const char *util_json_duplicate_key(const struct cJSON *v);
 
 /* Whether path is a folder (following links). */
 bool util_is_dir(const char *path);
@@ -84,6 +93,7 @@ void strbuf_printf(struct strbuf *sb, const char *fmt, ...)
     __attribute__((format(printf, 2, 3)));
 void strbuf_append(struct strbuf *sb, const char *s, size_t n);
 void strbuf_free(struct strbuf *sb);
+void strbuf_vprintf(struct strbuf *sb, const char *fmt, va_list ap);
 /* Appends one item of a list: sep first unless sb is empty, then the
  * formatted item ("a, b, c" item by item). sb holds just this list. */
 void strbuf_list_printf(struct strbuf *sb, const char *sep, const char *fmt, ...)

@@ -269,8 +269,17 @@ static const char *baseline_problem(struct cell *c, const cJSON *b, char *buf, s
         const char *key = metric_info[guarded[g].metric].key;
         const cJSON *m = cJSON_GetObjectItemCaseSensitive(metrics, key);
         const double tol = json_in_range(cJSON_GetObjectItemCaseSensitive(tolerances, key), "value", 0, 1);
-        if (!(cJSON_IsNull(m) || (cJSON_IsNumber(m) && isfinite(m->valuedouble))) || isnan(tol)) {
-            snprintf(buf, size, "metric %s: needs a number (or null: unscored) and a tolerance in [0, 1]", key);
+        /* A scored cell's value: an error or a share in [0, 1] (bias in
+         * [-1, 1], shaded_rmse from 0), a count whole from 0. Never null:
+         * an unscored cell is not a baseline, and a null would make any
+         * value "better". */
+        const int k = guarded[g].metric;
+        const double v = cJSON_IsNumber(m) ? m->valuedouble : NAN,
+                     lo = k == METRIC_bias ? -1 : 0,
+                     hi = k == METRIC_nonfinite || k == METRIC_shaded_rmse ? INFINITY : 1;
+        if (!(v >= lo && v <= hi) || (k == METRIC_nonfinite && v != floor(v)) || isnan(tol)) {
+            snprintf(buf, size, "metric %s: needs a number in [%g, %g]%s and a tolerance in [0, 1]", key, lo, hi,
+                     k == METRIC_nonfinite ? ", whole" : "");
             return buf;
         }
     }
@@ -307,39 +316,29 @@ static int read_baseline(struct cell *c)
         problem = buf;
     } else if (!cJSON_IsObject(c->baseline))
         problem = "not a JSON object";
+    else if (util_json_duplicate_key(c->baseline)) {
+        snprintf(buf, sizeof buf, "the key \"%.64s\" appears twice in one object",
+                 util_json_duplicate_key(c->baseline));
+        problem = buf;
+    }
     else
         problem = baseline_problem(c, c->baseline, buf, sizeof buf);
     free(text);
 
-    /* The parameters it was rendered with; a bad one is reported by
-     * params_set, prefixed with the file. */
+    /* The parameters it was rendered with: every one, named once, in range;
+     * a bad one is reported by params_from_json, prefixed with the file. */
     log_set_context(c->json_path);
     if (problem)
         log_error("%s", problem);
-    const cJSON *params = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(c->baseline, "settings"),
-                                                           "params");
-    const cJSON *p, *list = problem ? NULL : params;
-    cJSON_ArrayForEach(p, list) {
-        char value[64];
-        int length = cJSON_IsString(p) ? snprintf(value, sizeof value, "%s", p->valuestring)
-                   : cJSON_IsNumber(p)  ? snprintf(value, sizeof value, "%.9g", p->valuedouble)
-                   : cJSON_IsBool(p)    ? snprintf(value, sizeof value, "%s", cJSON_IsTrue(p) ? "true" : "false")
-                                        : -1;
-        if (length < 0 || length >= (int)sizeof value) {
-            log_error("parameter %s: not a value, or longer than %zu characters", p->string, sizeof value - 1);
-            problem = "bad parameter";
-            break;
-        }
-        if (params_set(c->t, c->settings, p->string, value) != 0) {
-            problem = "bad parameter";
-            break;
-        }
-    }
-    if (!problem && params_check(c->t, c->settings) != 0)
-        problem = "bad parameters";
+    void *settings = problem ? NULL
+                             : params_from_json(c->t, cJSON_GetObjectItemCaseSensitive(
+                                                          cJSON_GetObjectItemCaseSensitive(c->baseline, "settings"),
+                                                          "params"));
     log_set_context(NULL);
-    if (problem)
+    if (!settings)
         return -1;
+    memcpy(c->settings, settings, c->t->settings_size);
+    free(settings);
 
     rc = image_read_png16(c->png_path, c->desc.width, c->desc.height, &c->picture);
     if (rc == -ENOENT)

@@ -20,6 +20,7 @@
 #include <OpenEXR/openexr.h>
 #include <embree3/rtcore.h>
 
+#include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -140,8 +141,31 @@ int run_prepare_out_dir(const char *dir)
     return 0;
 }
 
+/* Whether dir exists with something in it other than what shadowbench
+ * itself leaves (its .lock). */
+static bool foreign_dir(const char *dir)
+{
+    DIR *d = opendir(dir);
+    if (!d)
+        return false;
+    bool any = false, lock = false;
+    for (struct dirent *e; (e = readdir(d));) {
+        lock |= strcmp(e->d_name, ".lock") == 0;
+        any |= strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0;
+    }
+    closedir(d);
+    return any && !lock;
+}
+
 int run_claim_out_dir(const char *dir)
 {
+    /* A folder shadowbench did not make is not cleaned: its report.html or
+     * *.tmp.<pid> files may be someone else's. */
+    if (foreign_dir(dir)) {
+        log_error("%s: holds files and was not made by shadowbench (no .lock in it): name a new or empty "
+                  "output folder", dir);
+        return -1;
+    }
     if (run_prepare_out_dir(dir) != 0 || util_lock_dir(dir) != 0)
         return -1;
     util_remove_stale_temps(dir, 3);  /* <out>/<scene>/<cell>/files: a killed run's */
@@ -173,11 +197,16 @@ int scene_setup_cell(struct scene_setup *ss, const struct stage_timer_cell *cell
 {
     if (stage_timer_render(&ss->timer, cell) != 0)
         return -1;
+    scene_setup_score(ss, m);
+    return 0;
+}
+
+void scene_setup_score(struct scene_setup *ss, struct metrics *m)
+{
     receiver_read(&ss->receiver, ss->v, ss->distance);
     m->mismatch_pixels = metrics_score_mask(ss->gt.mask, ss->gt.distance, ss->distance,
                                             ss->width * ss->height, ss->scored);
     metrics_compute(ss->v, &ss->gt, ss->scored, ss->distance, m);
-    return 0;
 }
 
 void scene_setup_free(struct scene_setup *ss)
@@ -331,6 +360,16 @@ static void scene_run_free(struct scene_run *sr)
     sr->dir = NULL;
 }
 
+char *run_command_line(const struct run_options *o)
+{
+    struct strbuf cmd = {0};
+    for (int i = 0; i < o->argc; i++)
+        strbuf_list_printf(&cmd, " ", "%s", o->argv[i]);
+    char *text = util_utf8_copy(cmd.data ? cmd.data : "");
+    strbuf_free(&cmd);
+    return text;
+}
+
 char *run_git_describe(void)
 {
     char buf[128] = "unknown";
@@ -365,11 +404,9 @@ static char *cpu_model(void)
 static cJSON *run_json(const struct run_options *o, double seconds)
 {
     cJSON *r = cJSON_CreateObject();
-    struct strbuf cmd = {0};
-    for (int i = 0; i < o->argc; i++)
-        strbuf_list_printf(&cmd, " ", "%s", o->argv[i]);
-    cJSON_AddStringToObject(r, "command_line", cmd.data ? cmd.data : "");
-    strbuf_free(&cmd);
+    char *cmd = run_command_line(o);
+    cJSON_AddStringToObject(r, "command_line", cmd);
+    free(cmd);
     char *git = run_git_describe(), *cpu = cpu_model();
     cJSON_AddStringToObject(r, "shadowbench_version", SB_VERSION);
     cJSON_AddStringToObject(r, "git_describe", git);
@@ -613,8 +650,15 @@ int run_gt(const struct run_options *o)
     if (gt_obtain(&s, &f, &(struct gt_desc){.width = o->width, .height = o->height, .samples = o->gt_samples},
                   o->cache_dir, &gt) == 0) {
         /* No GL pass here: the mask lacks run's silhouette check (DESIGN.md §6). */
-        if (output_groundtruth(dir, &gt, gt.mask) == 0) {
-            double noise = gt_noise_floor(gt.noise, gt.mask, (size_t)o->width * (size_t)o->height);
+        const size_t count = (size_t)o->width * (size_t)o->height;
+        size_t scored = 0;
+        for (size_t i = 0; i < count; i++)
+            scored += gt.mask[i] > 0;
+        if (!scored)  /* as run says of an unscored cell; a noise floor of nothing is no number */
+            log_error("%s: no pixel to score: the camera sees no surface inside the light's frustum that sees "
+                      "the light above its horizon", s.path);
+        else if (output_groundtruth(dir, &gt, gt.mask) == 0) {
+            double noise = gt_noise_floor(gt.noise, gt.mask, count);
             printf("%s/groundtruth.exr\nnoise floor (rms error of V at %d samples): %.5f\n", dir,
                    o->gt_samples, noise);
             status = EXIT_OK;

@@ -45,7 +45,7 @@ enum run_settings_mode { RUN_SETTINGS_BOTH, RUN_SETTINGS_DEFAULT, RUN_SETTINGS_T
 #define TUNE_DEFAULT_OUT "results/tune/latest"
 #define TUNE_DEFAULT_SIZE 256   /* tune: --width, --height */
 #define TUNE_DEFAULT_FRAMES 3   /* the cells the files report, timed again (the search: 1) */
-#define TUNE_DEFAULT_WARMUP 1
+#define TUNE_DEFAULT_WARMUP 0   /* the cells timed again were rendered before */
 #define RUN_STR_(x) #x
 #define RUN_STR(x) RUN_STR_(x)  /* a default as text, for --help: plain literals only */
 
@@ -127,6 +127,9 @@ int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct
  * they are). Returns 0 or -1 (logged). */
 int scene_setup_cell(struct scene_setup *ss, const struct stage_timer_cell *cell, struct metrics *m);
 
+/* Scores what the receiver holds now (the last frame rendered). */
+void scene_setup_score(struct scene_setup *ss, struct metrics *m);
+
 void scene_setup_free(struct scene_setup *ss);
 
 /* Loads every scene named in o (or every shipped one) before any heavy
@@ -140,6 +143,9 @@ int run_prepare_out_dir(const char *dir);
  * process (a second shadowbench on it fails at once) and the removal of
  * temporaries a killed run left there. Returns 0 or -1 (logged). */
 int run_claim_out_dir(const char *dir);
+
+/* The command line, as UTF-8 text (any other byte as U+FFFD); malloc'ed. */
+char *run_command_line(const struct run_options *o);
 
 /* `git describe --always --dirty` of the source tree, or "unknown"; malloc'ed. */
 char *run_git_describe(void);

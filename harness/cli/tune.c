@@ -18,9 +18,11 @@
 #include <unistd.h>
 
 #define TUNE_MAX_VALUES 32
-/* The search times each cell by one frame after the render that scores it;
- * the cells a file reports (the frontiers' candidates, the defaults, the
- * tuned settings) are timed again with --frames after --warmup. */
+/* The search renders each cell once, timed, and scores that frame (a new
+ * program is first rendered once untimed, so the JIT compile is not
+ * timed); the cells a file reports (the frontiers' candidates, the
+ * defaults, the tuned settings) are timed again with --frames after
+ * --warmup. */
 #define TUNE_SEARCH_FRAMES 1
 
 struct tune_dim {
@@ -82,8 +84,11 @@ static void *settings_of(const struct tuner *tn, const int *point)
     return s;
 }
 
-static GLuint program_for(struct tuner *tn, const int *point, const void *settings, enum light_shape shape)
+/* The program of point for a light shape; a new one is rendered once on
+ * scene k, untimed, before any frame of it is timed. 0 on failure. */
+static GLuint program_for(struct tuner *tn, const int *point, const void *settings, int k)
 {
+    const enum light_shape shape = tn->scenes[k].light.shape;
     struct program_entry *e = NULL;
     for (int i = 0; i < tn->program_count && !e; i++)
         if (memcmp(tn->programs[i].point, point, sizeof(int) * (size_t)tn->dim_count) == 0)
@@ -94,8 +99,9 @@ static GLuint program_for(struct tuner *tn, const int *point, const void *settin
         memset(e, 0, sizeof *e);
         memcpy(e->point, point, sizeof(int) * (size_t)tn->dim_count);
     }
-    if (!e->program[shape])
-        e->program[shape] = receiver_program(tn->t, settings, shape);
+    if (!e->program[shape] && (e->program[shape] = receiver_program(tn->t, settings, shape)) &&
+        stage_timer_render(&tn->setups[k].timer, &(struct stage_timer_cell){tn->t, settings, e->program[shape]}) != 0)
+        return 0;
     return e->program[shape];
 }
 
@@ -117,22 +123,23 @@ static void show_progress(struct tune_progress *p, const char *technique)
         log_info("%s", line + 2);
 }
 
-/* Times point on scene k (frames after warmup) into out's times; scores it
- * first into *m when m is not NULL (that render warms it). Returns 0 or -1. */
+/* Times point on scene k (frames after warmup) into out's times, and
+ * scores the last frame into *m when m is not NULL. Returns 0 or -1. */
 static int measure(struct tuner *tn, const int *point, int k, int warmup, int frames, struct metrics *m,
                    struct tune_sample *out)
 {
     void *s = settings_of(tn, point);
     struct scene_setup *ss = &tn->setups[k];
-    const struct stage_timer_cell cell = {tn->t, s, program_for(tn, point, s, tn->scenes[k].light.shape)};
+    const struct stage_timer_cell cell = {tn->t, s, program_for(tn, point, s, k)};
     struct stage_timer timer = ss->timer;
     timer.warmup = warmup, timer.frames = frames;
     struct stage_times times;
-    int rc = !cell.program || (m && scene_setup_cell(ss, &cell, m) != 0) ||
-             stage_timer_run(&timer, &cell, 1, &times) != 0;
+    int rc = !cell.program || stage_timer_run(&timer, &cell, 1, &times) != 0;
     free(s);
     if (rc)
         return -1;
+    if (m)
+        scene_setup_score(ss, m);
     out->ms = times.total_ms, out->ms_q1 = times.total_q1_ms, out->ms_q3 = times.total_q3_ms;
     out->frames = frames;
     tn->progress->cells++;
@@ -335,11 +342,9 @@ static cJSON *technique_json(const struct tuner *tn, const int *start, const int
     cJSON_AddNumberToObject(j, "settings_tried", tn->memo.count);
     cJSON_AddNumberToObject(j, "cells_evaluated", (double)tn->memo.evaluations);
     cJSON_AddNumberToObject(j, "seconds", seconds);
-    struct strbuf cmd = {0};
-    for (int i = 0; i < o->argc; i++)
-        strbuf_list_printf(&cmd, " ", "%s", o->argv[i]);
-    cJSON_AddStringToObject(j, "command", cmd.data ? cmd.data : "");
-    strbuf_free(&cmd);
+    char *cmd = run_command_line(o);
+    cJSON_AddStringToObject(j, "command", cmd);
+    free(cmd);
     char *date = utc_now(), *git = run_git_describe();
     cJSON_AddStringToObject(j, "date", date);
     cJSON_AddStringToObject(j, "git_describe", git);
@@ -494,6 +499,16 @@ static int begin_tune(const struct run_options *o, bool complete, double seconds
     return rc;
 }
 
+/* The tuned folder is committed (no .lock in a fresh clone, files in it):
+ * locked, its own temporaries removed, nothing else touched. */
+static int claim_tuned_dir(const char *dir)
+{
+    if (run_prepare_out_dir(dir) != 0 || util_lock_dir(dir) != 0)
+        return -1;
+    util_remove_stale_temps(dir, 1);
+    return 0;
+}
+
 int tune_main(const struct run_options *o)
 {
     const double start = util_now_ms();
@@ -507,7 +522,7 @@ int tune_main(const struct run_options *o)
                   TUNE_MAX_SCENES, scene_count);
         goto out;
     }
-    if (run_claim_out_dir(o->out_dir) != 0 || (o->write_tuned && run_claim_out_dir(o->tuned_dir) != 0) ||
+    if (run_claim_out_dir(o->out_dir) != 0 || (o->write_tuned && claim_tuned_dir(o->tuned_dir) != 0) ||
         begin_tune(o, false, 0) != 0 || shader_init(o->shader_dir) != 0)
         goto out;
     status = EXIT_CHECK_FAILED;

@@ -7,44 +7,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Settings from {"name": value, ...}: every parameter of t, no other, each
- * in range, the whole consistent. NULL after one line (in the file's
- * context). */
-static void *settings_from_json(const struct technique *t, const cJSON *o, const char *what)
+/* Settings from the object `what` of file path, or NULL after one line
+ * naming both. */
+static void *settings_from_json(const struct technique *t, const cJSON *o, const char *path, const char *what)
 {
-    if (!cJSON_IsObject(o)) {
-        log_error("%s: not an object of parameters", what);
-        return NULL;
-    }
-    void *s = params_defaults(t);
-    const cJSON *item;
-    cJSON_ArrayForEach(item, o) {
-        char text[64];
-        if (cJSON_IsBool(item))
-            snprintf(text, sizeof text, "%s", cJSON_IsTrue(item) ? "true" : "false");
-        else if (cJSON_IsNumber(item) && isfinite(item->valuedouble))
-            snprintf(text, sizeof text, item->valuedouble == floor(item->valuedouble) ? "%.0f" : "%.17g",
-                     item->valuedouble);
-        else if (cJSON_IsString(item))
-            snprintf(text, sizeof text, "%s", item->valuestring);
-        else {
-            log_error("%s: %s.%s is not a number, true/false or a name", what, t->name, item->string);
-            goto fail;
-        }
-        if (params_set(t, s, item->string, text) != 0)  /* unknown (renamed, removed) or out of range */
-            goto fail;
-    }
-    for (const struct technique_param *p = t->params; p->name; p++)
-        if (!cJSON_GetObjectItemCaseSensitive(o, p->name)) {
-            log_error("%s: lacks %s.%s (the file is older than the parameter: tune again)", what, t->name,
-                      p->name);
-            goto fail;
-        }
-    if (params_check(t, s) == 0)
-        return s;
-fail:
-    free(s);
-    return NULL;
+    char *context = util_printf("%s: %s", path, what);
+    log_set_context(context);
+    void *s = params_from_json(t, o);
+    log_set_context(path);
+    free(context);
+    return s;
 }
 
 static bool read_point(const cJSON *o, struct tuned_point *p)
@@ -98,11 +70,15 @@ int tuned_load(const char *dir, const struct technique *t, struct tuned *out)
         log_error("not JSON");
         goto fail;
     }
+    if (util_json_duplicate_key(d)) {
+        log_error("the key \"%.64s\" appears twice in one object", util_json_duplicate_key(d));
+        goto fail;
+    }
     if (!technique || strcmp(technique, t->name) != 0) {
         log_error("holds the technique '%.64s', not %s", technique ? technique : "(none)", t->name);
         goto fail;
     }
-    if (!(out->settings = settings_from_json(t, cJSON_GetObjectItemCaseSensitive(d, "settings"), "settings")))
+    if (!(out->settings = settings_from_json(t, cJSON_GetObjectItemCaseSensitive(d, "settings"), out->path, "settings")))
         goto fail;
     if (!cJSON_IsArray(folds)) {
         log_error("\"folds\" is not an array");
@@ -124,7 +100,7 @@ int tuned_load(const char *dir, const struct technique *t, struct tuned *out)
         }
         out->fold_scene[out->fold_count] = scene;
         if (!(out->fold_settings[out->fold_count++] =
-                  settings_from_json(t, cJSON_GetObjectItemCaseSensitive(f, "settings"), what)))
+                  settings_from_json(t, cJSON_GetObjectItemCaseSensitive(f, "settings"), out->path, what)))
             goto fail;
     }
     const cJSON *summary = cJSON_GetObjectItemCaseSensitive(d, "summary");

@@ -63,6 +63,9 @@ struct scene {
  * aborts on ~1e18). */
 #define SCENE_MAX_COORD 1e8f
 #define SCENE_MIN_LENGTH 1e-6f
+/* The most triangles a scene may instantiate (three times as many vertices):
+ * 140 times the bunny, 1-2 GB with Embree's BVH, loaded in seconds. */
+#define SCENE_MAX_TRIANGLES 10000000
 
 /* Loads path into *s. On failure logs one line "<path>: <problem>" and
  * returns a negative value; *s is then empty (scene_free is still safe). */

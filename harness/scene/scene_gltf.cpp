@@ -90,8 +90,12 @@ bool node_frame(struct mat4 m, struct vec3 *o, struct vec3 *x, struct vec3 *y, s
     *z = v3_normalize(cz);
     *x = v3_normalize(v3_sub(cx, v3_scale(*z, v3_dot(cx, *z))));
     *y = v3_cross(*z, *x);
-    return std::isfinite(v3_dot(*x, *x) + v3_dot(*z, *z) + v3_dot(*o, *o)) &&
-           v3_length(*x) > 0.5f && v3_length(*z) > 0.5f;
+    // The node's own Y axis must agree: zero, or mirrored (a negative
+    // determinant), it would be replaced here without a word.
+    const struct vec3 cy = v3(m.m[4], m.m[5], m.m[6]);
+    return std::isfinite(v3_dot(*x, *x) + v3_dot(*z, *z) + v3_dot(*o, *o) + v3_dot(cy, cy)) &&
+           v3_length(*x) > 0.5f && v3_length(*z) > 0.5f && v3_dot(cy, *y) > 1e-6f * v3_length(cy) &&
+           v3_length(cy) > 0;
 }
 
 class loader {
@@ -113,6 +117,8 @@ public:
                 fail(fmt("malformed glTF: default scene %d does not exist", si));
             roots = m.scenes[si].nodes;
         } else {  // no scenes: every node that is nobody's child is a root
+            if (m.defaultScene >= 0)
+                fail(fmt("malformed glTF: default scene %d does not exist", m.defaultScene));
             std::vector<bool> child(m.nodes.size());
             for (const auto &n : m.nodes)
                 for (int c : n.children)
@@ -186,6 +192,8 @@ private:
         for (int i = 0; i < 16; i++)
             if (!std::isfinite(world.m[i]))
                 fail(fmt("node %d: its transform overflows a float (a value beyond %g)", ni, (double)FLT_MAX));
+        if (n.camera >= (int)m.cameras.size())
+            fail(fmt("malformed glTF: node %d names camera %d, which does not exist", ni, n.camera));
         if (n.camera >= 0 && !have_camera)
             take_camera(n.camera, world);
         if (!have_light && n.extras.IsObject() && n.extras.Has("area_light"))
@@ -218,7 +226,8 @@ private:
                      (double)SCENE_MAX_COORD, c.perspective.znear));
         check_position(v3(world.m[12], world.m[13], world.m[14]), fmt("camera %d", ci));
         if (!node_frame(world, &camera.pos, &camera.x, &camera.y, &camera.z))
-            fail(fmt("camera %d: its node has a degenerate transform (a zero axis)", ci));
+            fail(fmt("camera %d: its node has a degenerate or mirrored transform (a zero axis, or a negative "
+                     "scale)", ci));
         camera.yfov_rad = yfov;
         camera.znear = znear;
         have_camera = true;
@@ -265,7 +274,8 @@ private:
         }
         check_position(v3(world.m[12], world.m[13], world.m[14]), fmt("%s (node %d)", where, ni));
         if (!node_frame(world, &light.pos, &light.x, &light.y, &light.z))
-            fail(fmt("%s (node %d): the node has a degenerate transform (a zero axis)", where, ni));
+            fail(fmt("%s (node %d): the node has a degenerate or mirrored transform (a zero axis, or a negative "
+                     "scale)", where, ni));
         have_light = true;
     }
 
@@ -327,8 +337,22 @@ private:
             fail(fmt("mesh %d primitive %d has no POSITION attribute", mi, pi));
         if (pa->second < 0 || pa->second >= (int)m.accessors.size())
             fail(fmt("mesh %d primitive %d: POSITION accessor %d does not exist", mi, pi, pa->second));
+        for (const auto &attribute : p.attributes)  // ignored ones too: the file must be whole
+            if (attribute.second < 0 || attribute.second >= (int)m.accessors.size())
+                fail(fmt("mesh %d primitive %d: %s accessor %d does not exist", mi, pi, attribute.first.c_str(),
+                         attribute.second));
+        if (!p.targets.empty())
+            fail(fmt("mesh %d primitive %d has morph targets: shadowbench does not deform meshes, so its "
+                     "geometry would differ from the file's", mi, pi));
         span ps = vec3_span(pa->second, "POSITION", mi, pi);
         size_t base = pos.size() / 3, nv = ps.count;
+        // A mesh counts once per node that uses it: a small file can name
+        // far more geometry than it holds.
+        const size_t triangles = (p.indices >= 0 && p.indices < (int)m.accessors.size()
+                                      ? m.accessors[p.indices].count : nv) / 3;
+        if (triangles > SCENE_MAX_TRIANGLES - idx.size() / 3 || nv > 3 * SCENE_MAX_TRIANGLES - base)
+            fail(fmt("the scene holds more than %d triangles or %d vertices (shadowbench's limit; a mesh counts "
+                     "once per node that uses it)", SCENE_MAX_TRIANGLES, 3 * SCENE_MAX_TRIANGLES));
 
         for (size_t v = 0; v < nv; v++) {
             float f[3];
@@ -353,6 +377,10 @@ private:
                                                                                     : 0;
             if (!es || a.type != TINYGLTF_TYPE_SCALAR)
                 fail(fmt("mesh %d primitive %d: indices must be unsigned SCALAR", mi, pi));
+            const int view = a.bufferView;
+            if (view >= 0 && view < (int)m.bufferViews.size() && m.bufferViews[view].byteStride)
+                fail(fmt("mesh %d primitive %d: buffer view %d of the indices has a byteStride (glTF forbids it)",
+                         mi, pi, view));
             span is = accessor_span(p.indices, "index", mi, pi, es);
             if (is.count % 3)
                 fail(fmt("mesh %d primitive %d: %zu indices is not a whole number of triangles", mi,
@@ -477,6 +505,21 @@ bool skip_images(tinygltf::Image *, const int, std::string *, std::string *, int
     return true;  // textures are ignored (DESIGN.md §4)
 }
 
+// An escaped NUL (\u0000) in the JSON text: cJSON and tinygltf would cut
+// the string there, so what is read is not what the file says.
+void check_no_nul_escape(const char *json, size_t size)
+{
+    for (size_t i = 0; i + 6 <= size; i++)
+        if (json[i] == '\\' && json[i + 1] == 'u' && json[i + 2] == '0' && json[i + 3] == '0' &&
+            json[i + 4] == '0' && json[i + 5] == '0') {
+            size_t slashes = 0;  // an escape only after an odd run of backslashes
+            while (slashes <= i && json[i - slashes] == '\\')
+                slashes++;
+            if (slashes % 2)
+                fail(fmt("malformed JSON: a string holds \\u0000 (a NUL character) at byte %zu", i));
+        }
+}
+
 // The first line of a parser's message, in printable ASCII (it may quote
 // the file's own bytes).
 std::string first_line(const std::string &s)
@@ -538,7 +581,22 @@ void check_members(const cJSON *doc, const char *name, const char *key, bool (*o
 }
 
 bool is_vec3(const cJSON *v) { return is_numbers(v, 3); }
-bool is_matrix(const cJSON *v) { return is_numbers(v, 16); }
+// 16 finite numbers of an affine transform: glTF's matrices decompose into
+// translation, rotation and scale, so the bottom row is 0 0 0 1 (column
+// major: elements 3, 7, 11, 15).
+bool is_matrix(const cJSON *v)
+{
+    if (!is_numbers(v, 16))
+        return false;
+    const cJSON *e = v->child;
+    for (int i = 0; i < 16; i++, e = e->next)
+        if (i % 4 == 3 && e->valuedouble != (i == 15 ? 1.0 : 0.0))
+            return false;
+    return true;
+}
+bool is_bool(const cJSON *v) { return cJSON_IsBool(v); }
+bool is_number(const cJSON *v) { return cJSON_IsNumber(v) && std::isfinite(v->valuedouble); }
+bool is_text(const cJSON *v) { return cJSON_IsString(v) && util_valid_utf8(v->valuestring); }
 bool is_indices(const cJSON *v)
 {
     if (!cJSON_IsArray(v))
@@ -557,23 +615,6 @@ bool is_unit_quaternion(const cJSON *v)
     return fabs(sqrt(len2) - 1.0) <= 1e-3;
 }
 bool is_mode(const cJSON *v) { return is_index(v) && v->valuedouble <= 6; }
-
-// A key twice in one object: cJSON reads the first, tinygltf the last.
-// Sorted, in n log n: an object of 80 000 keys is a valid 1.5 MB file.
-// cJSON itself refuses nesting deeper than CJSON_NESTING_LIMIT (1000).
-void check_unique_keys(const cJSON *v)
-{
-    std::vector<const char *> keys;
-    for (const cJSON *a = v ? v->child : nullptr; a; a = a->next) {
-        if (cJSON_IsObject(v) && a->string)
-            keys.push_back(a->string);
-        check_unique_keys(a);
-    }
-    std::sort(keys.begin(), keys.end(), [](const char *x, const char *y) { return strcmp(x, y) < 0; });
-    for (size_t i = 1; i < keys.size(); i++)
-        if (strcmp(keys[i - 1], keys[i]) == 0)
-            fail(fmt("malformed JSON: the key \"%.64s\" appears twice in one object", keys[i]));
-}
 
 // A uri as tinygltf decodes it before opening the file ('+' a space, %XX a
 // byte, a bad hex digit 0), so that the file checked is the file read.
@@ -650,7 +691,10 @@ void check_types(const cJSON *doc)
 {
     if (!cJSON_IsObject(doc))
         fail("malformed glTF: the document is not a JSON object");
-    check_unique_keys(doc);
+    // A key twice in one object: cJSON reads the first, tinygltf the last.
+    // (cJSON itself refuses nesting deeper than CJSON_NESTING_LIMIT, 1000.)
+    if (const char *twice = util_json_duplicate_key(doc))
+        fail(fmt("malformed JSON: the key \"%.64s\" appears twice in one object", twice));
     static const char *const arrays[] = {"scenes", "nodes", "meshes", "accessors", "bufferViews", "buffers",
                                          "cameras", "extensionsRequired"};
     for (const char *name : arrays) {
@@ -678,6 +722,11 @@ void check_types(const cJSON *doc)
             (!cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(p, "yfov")) ||
              !cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(p, "znear"))))
             fail(fmt("malformed glTF: cameras[%d].perspective needs numbers yfov and znear", ci));
+        for (const char *key : {"zfar", "aspectRatio"}) {  // unused, but a wrong type is a wrong file
+            const cJSON *v = cJSON_GetObjectItemCaseSensitive(p, key);
+            if (v && !(is_number(v) && v->valuedouble > 0))
+                fail(fmt("malformed glTF: cameras[%d].perspective.%s must be a positive number", ci, key));
+        }
         ci++;
     }
     // Members of the top-level arrays' objects, where present: (array, key,
@@ -691,7 +740,7 @@ void check_types(const cJSON *doc)
         {"nodes", "children", is_indices, "an array of indices"},
         {"nodes", "mesh", is_index, "an index"},
         {"nodes", "camera", is_index, "an index"},
-        {"nodes", "matrix", is_matrix, "16 finite numbers"},
+        {"nodes", "matrix", is_matrix, "16 finite numbers of an affine transform (bottom row 0 0 0 1)"},
         {"nodes", "translation", is_vec3, "3 finite numbers"},
         {"nodes", "scale", is_vec3, "3 finite numbers"},
         {"nodes", "rotation", is_unit_quaternion, "a unit quaternion (4 numbers)"},
@@ -699,6 +748,7 @@ void check_types(const cJSON *doc)
         {"accessors", "byteOffset", is_count, "a whole number in [0, 2^53]"},
         {"accessors", "count", is_count, "a whole number in [0, 2^53]"},
         {"accessors", "componentType", is_index, "a component type"},
+        {"accessors", "normalized", is_bool, "true or false"},
         {"bufferViews", "buffer", is_index, "an index"},
         {"bufferViews", "byteOffset", is_count, "a whole number in [0, 2^53]"},
         {"bufferViews", "byteLength", is_count, "a whole number in [0, 2^53]"},
@@ -706,6 +756,36 @@ void check_types(const cJSON *doc)
     };
     for (const auto &c : members)
         check_members(doc, c.array, c.key, c.ok, c.must);
+    const cJSON *node;
+    int ni = 0;
+    cJSON_ArrayForEach(node, cJSON_GetObjectItemCaseSensitive(doc, "nodes")) {
+        const bool trs = cJSON_GetObjectItemCaseSensitive(node, "translation") ||
+                         cJSON_GetObjectItemCaseSensitive(node, "rotation") ||
+                         cJSON_GetObjectItemCaseSensitive(node, "scale");
+        if (trs && cJSON_GetObjectItemCaseSensitive(node, "matrix"))
+            fail(fmt("malformed glTF: nodes[%d] has both a matrix and translation/rotation/scale (glTF allows "
+                     "one or the other)", ni));
+        if (cJSON_GetObjectItemCaseSensitive(node, "skin") || cJSON_GetObjectItemCaseSensitive(node, "weights"))
+            fail(fmt("nodes[%d] has a skin or morph weights: shadowbench does not deform meshes, so its geometry "
+                     "would differ from the file's", ni));
+        ni++;
+    }
+    const char *min_version = cJSON_GetStringValue(
+        cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "asset"), "minVersion"));
+    if (min_version && strcmp(min_version, "2.0") != 0)
+        fail(fmt("the scene needs glTF %.16s or later: shadowbench reads glTF 2.0", min_version));
+    // The scene's own text (DESIGN.md §4): strings when present.
+    const cJSON *meta = cJSON_GetObjectItemCaseSensitive(
+        cJSON_GetObjectItemCaseSensitive(
+            cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(doc, "scenes"),
+                               scene ? (int)scene->valuedouble : 0),
+            "extras"),
+        "shadowbench");
+    for (const char *key : {"description", "shows"}) {
+        const cJSON *v = cJSON_GetObjectItemCaseSensitive(meta, key);
+        if (v && !is_text(v))
+            fail(fmt("malformed glTF: extras.shadowbench.%s must be a string of UTF-8 text", key));
+    }
     const cJSON *meshes = cJSON_GetObjectItemCaseSensitive(doc, "meshes"), *mesh;
     int mi = 0;
     cJSON_ArrayForEach(mesh, meshes) {
@@ -822,6 +902,9 @@ cJSON *glb_json(const char *bytes, size_t size)
     if (memcmp(bytes + 16, "JSON", 4) != 0 || length > size - 20)
         fail(fmt("malformed GLB: its first chunk is not JSON of %u bytes within the file's %zu", length, size));
     const char *end = nullptr, *json = bytes + 20;
+    if (memchr(json, '\0', length))  // the chunk is padded with spaces, never NULs
+        fail("malformed GLB: its JSON chunk holds a NUL byte");
+    check_no_nul_escape(json, length);
     cJSON *j = cJSON_ParseWithLengthOpts(json, length, &end, 0);
     while (j && end < json + length && strchr(" \t\r\n", *end))
         end++;
@@ -843,6 +926,7 @@ void load(const char *path, const char *bytes, size_t size, struct scene *s)
         const char *nul = (const char *)memchr(bytes, '\0', size);
         if (nul)
             fail(fmt("malformed JSON: a NUL byte at byte %zu", (size_t)(nul - bytes)));
+        check_no_nul_escape(bytes, size);
         j = cJSON_ParseWithLengthOpts(bytes, size, &end, 0);
         while (j && end < bytes + size && strchr(" \t\r\n", *end))
             end++;

@@ -530,6 +530,27 @@ static int cache_read(const char *path, const char *key, const struct gt_desc *d
         rc = -1;
     }
     free(recorded);
+    /* The pixels too: a damaged entry with the right key must not be
+     * scored against. V, V_weighted and H are shares, E is finite and not
+     * negative, the noise (a signed difference of shares) within 1, the
+     * mask 0 or 1, a distance -1 (no surface) or not negative. */
+    const size_t count = (size_t)d->width * (size_t)d->height;
+    for (size_t i = 0; rc == 0 && i < count; i++) {
+        const float v[GT_CACHE_CHANNELS] = {ch[0].data[i], ch[1].data[i], ch[2].data[i], ch[3].data[i],
+                                            ch[4].data[i], ch[5].data[i], ch[6].data[i]};
+        const bool ok = v[0] >= 0 && v[0] <= 1 && v[1] >= 0 && v[1] <= 1 && v[2] >= 0 && v[2] <= 1 &&
+                        v[3] >= 0 && isfinite(v[3]) && fabsf(v[4]) <= 1 && (v[5] >= 0 || v[5] == -1) &&
+                        (v[6] == 0 || v[6] == 1);
+        if (!ok) {
+            for (int c = 0; c < GT_CACHE_CHANNELS; c++)
+                free(ch[c].data);
+            log_warn("%s: pixel (%zu, %zu) holds values no ground truth has (V %g, V_weighted %g, H %g, E %g, "
+                     "noise %g, distance %g, mask %g)", path, i % (size_t)d->width, i / (size_t)d->width,
+                     (double)v[0], (double)v[1], (double)v[2], (double)v[3], (double)v[4], (double)v[5],
+                     (double)v[6]);
+            rc = -1;
+        }
+    }
     if (rc == 0) {
         *out = (struct gt_image){.width = d->width, .height = d->height, .v = ch[0].data,
                                  .v_weighted = ch[1].data, .h = ch[2].data, .e = ch[3].data,
@@ -549,7 +570,9 @@ int gt_obtain(const struct scene *s, const struct light_frustum *f, const struct
         path = util_printf("%s/%s-%016llx.exr", cache_dir, s->name,
                            (unsigned long long)util_hash(UTIL_HASH_INIT, key, strlen(key)));
     memset(out, 0, sizeof *out);
+    log_errors_as_warnings(true);  /* an unusable entry is rendered again: not an error of the run */
     int rc = path ? cache_read(path, key, &d, out) : -ENOENT;
+    log_errors_as_warnings(false);
     if (rc == 0) {
         log_info("ground truth %s: from cache %s", s->name, path);
     } else {
