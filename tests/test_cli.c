@@ -120,6 +120,14 @@ int main(int argc, char **argv)
                             "starts with '.'", dots);
     expect(2, dots_cmd, dots_line);
     free(dots), free(dots_cmd), free(dots_line), free(src);
+    {   /* a line is never cut: the reason comes after a 5000-byte folder name */
+        char *name = xcalloc(5001, 1);
+        memset(name, 'x', 5000);
+        char *args = util_printf("run --out %s/%s", dir, name), *line = util_printf("%s/%s: cannot create folder: "
+                                                                                    "File name too long", dir, name);
+        expect(2, args, line);
+        free(args), free(line), free(name);
+    }
     expect(2, "run --technique ''", "--technique: '' has an empty name");
     expect(2, "run --technique ,", "--technique: ',' has an empty name");
     expect(2, "run --technique hard,,pcf", "--technique: 'hard,,pcf' has an empty name");

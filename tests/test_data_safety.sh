@@ -79,6 +79,22 @@ for kib in 4 40; do
         ok "a write failing at $kib KiB: '$out'" || fail "a write failing at $kib KiB: exit $rc: $out"
 done
 
+# A folder shadowbench did not make is not used (its report.html and
+# *.tmp.<pid> files could be someone else's): one line, exit 2, untouched.
+mkdir -p "$tmp/mine" && echo keep > "$tmp/mine/report.html" && echo keep > "$tmp/mine/notes.tmp.999999"
+out=$("$sb" run --scene parallel_planes $small --out "$tmp/mine" 2>&1)
+rc=$?
+[ $rc = 2 ] && printf '%s' "$out" | grep -q "was not made by shadowbench" && [ -f "$tmp/mine/report.html" ] &&
+    [ -f "$tmp/mine/notes.tmp.999999" ] && ok "a foreign --out is refused and left as it was" ||
+    fail "a foreign --out: exit $rc: $out"
+
+# run.json is valid JSON whatever bytes the command line holds (a folder
+# named with byte 0xff).
+odd=$(printf "$tmp/odd\377")
+"$sb" run --scene parallel_planes --technique hard $small --out "$odd" >/dev/null 2>&1
+python3 -c 'import json,sys; json.load(open(sys.argv[1], encoding="utf-8"))' "$odd/run.json" 2>/dev/null &&
+    ok "run.json stays UTF-8 with a 0xff byte in --out" || fail "run.json with a 0xff byte in --out is not JSON"
+
 # Scene names that cannot name their folder, refused before any work:
 # climbing or hidden, a run file's, over 200 bytes, not UTF-8, a control
 # character, a bidirectional override (U+202E: "exe.gpj" shows as "jpg.exe").

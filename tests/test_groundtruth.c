@@ -15,12 +15,14 @@
  * another is refused. */
 #include "check.h"
 #include "parallel_planes.h"
+#include "base/image.h"
 #include "base/util.h"
 #include "cli/catalog.h"
 #include "scene/light_frustum.h"
 #include "truth/groundtruth.h"
 
 #include <stdlib.h>
+#include <dirent.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -351,7 +353,34 @@ static void check_cache_key(void)
     CHECK(memcmp(again.v, gb.v, sizeof(float) * 32 * 32) == 0, "rendered again: the same pixels");
     CHECK(memcmp(again.v, ga.v, sizeof(float) * 32 * 32) != 0, "the two scenes differ (else the test "
           "proves nothing)");
-    gt_image_free(&again), gt_image_free(&ga), gt_image_free(&gb);
+    gt_image_free(&again);
+    /* The right key over damaged pixels (V = 5 in one): refused and
+     * rendered again, never scored against. */
+    char *entry = NULL;
+    struct dirent **names;
+    const int n = scandir(b_dir, &names, NULL, alphasort);
+    for (int i = 0; i < n; i++) {
+        if (!entry && strstr(names[i]->d_name, ".exr"))
+            entry = util_printf("%s/%s", b_dir, names[i]->d_name);
+        free(names[i]);
+    }
+    free(names);
+    struct exr_channel ch[] = {{"V", NULL}, {"V_weighted", NULL}, {"H", NULL}, {"E", NULL},
+                               {"noise", NULL}, {"distance", NULL}, {"mask", NULL}};
+    char *key = NULL;
+    CHECK(entry && image_read_exr(entry, 32, 32, ch, 7, &key) == 0, "reading the entry back");
+    if (key) {
+        ch[0].data[17] = 5.0f;
+        CHECK(image_write_exr(entry, 32, 32, ch, 7, key) == 0, "writing the damaged entry");
+        CHECK(gt_obtain(&b, &fb, &d, b_dir, &again) == 0 && !again.cached &&
+                  memcmp(again.v, gb.v, sizeof(float) * 32 * 32) == 0,
+              "an entry with its key and a V of 5 was used");
+        gt_image_free(&again);
+    }
+    for (int i = 0; i < 7; i++)
+        free(ch[i].data);
+    free(key), free(entry);
+    gt_image_free(&ga), gt_image_free(&gb);
     scene_free(&a), scene_free(&b);
     free(cmd);
     cmd = util_printf("rm -r %s %s %s %s", a_dir, b_dir, a_path, b_path);

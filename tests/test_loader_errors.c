@@ -177,6 +177,72 @@ static void image_fifo(cJSON *g)
     cJSON_AddStringToObject(image, "uri", "fifo.bin");
     cJSON_AddItemToArray(cJSON_AddArrayToObject(g, "images"), image);
 }
+/* A fifth hostile pass: what glTF defines and shadowbench would get wrong
+ * without a word (deformations, a matrix beside TRS, a projective matrix),
+ * indices and types that do not hold, and geometry multiplied by reuse. */
+static void morph_targets(cJSON *g)
+{
+    cJSON *target = cJSON_CreateObject();
+    cJSON_AddNumberToObject(target, "POSITION", 0);
+    cJSON_AddItemToArray(cJSON_AddArrayToObject(primitive(g), "targets"), target);
+}
+static void skinned(cJSON *g) { cJSON_AddNumberToObject(at(g, "nodes", 0), "skin", 0); }
+static void matrix_and_trs(cJSON *g)
+{
+    cJSON_AddItemToObject(at(g, "nodes", 1), "translation", cJSON_CreateIntArray((const int[]){0, 0, 0}, 3));
+}
+static void projective(cJSON *g)
+{
+    cJSON_ReplaceItemInArray(cJSON_GetObjectItem(at(g, "nodes", 1), "matrix"), 3, cJSON_CreateNumber(0.5));
+}
+static void min_version(cJSON *g) { cJSON_AddStringToObject(cJSON_GetObjectItem(g, "asset"), "minVersion", "2.5"); }
+static void no_scenes(cJSON *g) { cJSON_DeleteItemFromObject(g, "scenes"); }
+static void camera_99(cJSON *g) { cJSON_AddNumberToObject(at(g, "nodes", 0), "camera", 99); }
+static void texcoord_99(cJSON *g)
+{
+    cJSON_AddNumberToObject(cJSON_GetObjectItem(primitive(g), "attributes"), "TEXCOORD_0", 99);
+}
+static void strided_indices(cJSON *g) { cJSON_AddNumberToObject(at(g, "bufferViews", 1), "byteStride", 4); }
+static void text_zfar(cJSON *g) { cJSON_AddStringToObject(perspective(g), "zfar", "far"); }
+static void text_normalized(cJSON *g) { cJSON_AddStringToObject(at(g, "accessors", 0), "normalized", "yes"); }
+static void number_description(cJSON *g)
+{
+    cJSON *meta = cJSON_GetObjectItem(cJSON_GetObjectItem(at(g, "scenes", 0), "extras"), "shadowbench");
+    cJSON_ReplaceItemInObject(meta, "description", cJSON_CreateNumber(5));
+}
+/* Column 1 of a node's matrix (its Y axis) scaled by f. */
+static void scale_y(cJSON *g, int node, double f)
+{
+    cJSON *m = cJSON_GetObjectItem(at(g, "nodes", node), "matrix");
+    for (int i = 4; i < 7; i++)
+        cJSON_ReplaceItemInArray(m, i, cJSON_CreateNumber(cJSON_GetArrayItem(m, i)->valuedouble * f));
+}
+static void flat_light(cJSON *g) { scale_y(g, 2, 0); }
+static void mirrored_camera(cJSON *g) { scale_y(g, 1, -1); }
+/* The camera turned half a turn about its Y axis: it sees nothing. */
+static void camera_away(cJSON *g)
+{
+    cJSON *m = cJSON_GetObjectItem(at(g, "nodes", 1), "matrix");
+    for (int i = 0; i < 11; i++)
+        if (i < 3 || (i >= 8 && i < 11))
+            cJSON_ReplaceItemInArray(m, i, cJSON_CreateNumber(-cJSON_GetArrayItem(m, i)->valuedouble));
+}
+/* 101 nodes x 100 primitives x the 1000-triangle mesh: 10.1 M triangles
+ * from a 60 KB file. */
+static void amplified(cJSON *g)
+{
+    cJSON *prims = cJSON_GetObjectItem(at(g, "meshes", 0), "primitives");
+    for (int i = 1; i < 100; i++)
+        cJSON_AddItemToArray(prims, cJSON_Duplicate(cJSON_GetArrayItem(prims, 0), true));
+    cJSON *roots = cJSON_GetObjectItem(at(g, "scenes", 0), "nodes");
+    for (int i = 0; i < 100; i++) {
+        cJSON *n = cJSON_CreateObject();
+        cJSON_AddNumberToObject(n, "mesh", 0);
+        cJSON_AddItemToArray(cJSON_GetObjectItem(g, "nodes"), n);
+        cJSON_AddItemToArray(roots, cJSON_CreateNumber(3 + i));
+    }
+}
+
 /* A file of 2000 bytes beside the scene, for a buffer of 48. */
 static void long_file(cJSON *g, const char *uri)
 {
@@ -437,6 +503,86 @@ int main(int argc, char **argv)
     case_mutated("long_uri", long_uri, "malformed buffers: buffers[0].uri 'long.bin' holds 2000 bytes, its byteLength says 48");
     case_mutated("rooted_uri", rooted_uri,
                  "malformed buffers: buffers[0].uri '/long.bin' holds 2000 bytes, its byteLength says 48");
+
+    case_mutated("morph_targets", morph_targets, "mesh 0 primitive 0 has morph targets: shadowbench does not "
+                 "deform meshes, so its geometry would differ from the file's");
+    case_mutated("skinned", skinned, "nodes[0] has a skin or morph weights: shadowbench does not deform meshes, so "
+                 "its geometry would differ from the file's");
+    case_mutated("matrix_and_trs", matrix_and_trs, "malformed glTF: nodes[1] has both a matrix and "
+                 "translation/rotation/scale (glTF allows one or the other)");
+    case_mutated("projective", projective, "malformed glTF: nodes[1].matrix must be 16 finite numbers of an affine "
+                 "transform (bottom row 0 0 0 1)");
+    case_mutated("min_version", min_version, "the scene needs glTF 2.5 or later: shadowbench reads glTF 2.0");
+    case_mutated("no_scenes", no_scenes, "malformed glTF: default scene 0 does not exist");
+    case_mutated("camera_99", camera_99, "malformed glTF: node 0 names camera 99, which does not exist");
+    case_mutated("texcoord_99", texcoord_99, "mesh 0 primitive 0: TEXCOORD_0 accessor 99 does not exist");
+    case_mutated("strided_indices", strided_indices, "mesh 0 primitive 0: buffer view 1 of the indices has a "
+                 "byteStride (glTF forbids it)");
+    case_mutated("text_zfar", text_zfar, "malformed glTF: cameras[0].perspective.zfar must be a positive number");
+    case_mutated("text_normalized", text_normalized, "malformed glTF: accessors[0].normalized must be true or false");
+    case_mutated("number_description", number_description,
+                 "malformed glTF: extras.shadowbench.description must be a string of UTF-8 text");
+    {   /* an escaped NUL would cut the text short where cJSON reads it */
+        char *path = scene_with("nul_description", NULL), *text;
+        size_t size;
+        util_read_file(path, &text, &size);
+        const char *at = strstr(text, "\"one triangle\"");
+        char *edited = util_printf("%.*s\"one\\u0000triangle\"%s", (int)(at - text), text, at + 14);
+        util_write_file_atomic(path, edited, strlen(edited));
+        char *problem = util_printf("malformed JSON: a string holds \\u0000 (a NUL character) at byte %zu",
+                                    (size_t)(at - text) + 4);
+        expect_error(path, problem);
+        free(problem), free(edited), free(text), free(path);
+    }
+    case_mutated("flat_light", flat_light, "area light (node 2): the node has a degenerate or mirrored transform "
+                 "(a zero axis, or a negative scale)");
+    case_mutated("mirrored_camera", mirrored_camera, "camera 0: its node has a degenerate or mirrored transform "
+                 "(a zero axis, or a negative scale)");
+    {
+        struct mesh_builder big = {0};
+        for (int i = 0; i < 1000; i++)
+            mesh_add_triangle(&big, v3(-1, 0, -1), v3(1, 0, -1), v3(0, 0, 1));
+        char *path = util_printf("%s/amplified.gltf", dir);
+        write_valid(path, &big);
+        mesh_free(&big);
+        char *text;
+        size_t size;
+        util_read_file(path, &text, &size);
+        cJSON *g = cJSON_Parse(text);
+        free(text);
+        amplified(g);
+        char *out = cJSON_Print(g);
+        util_write_file_atomic(path, out, strlen(out));
+        cJSON_free(out), cJSON_Delete(g);
+        expect_error(path, "the scene instantiates more than 10000000 triangles (shadowbench's limit; a mesh counts "
+                           "once per node that uses it)");
+        free(path);
+    }
+    {   /* nothing to score: gt says so and exits 1, no NaN noise floor */
+        char *path = scene_with("camera_away", camera_away);
+        char *away = util_printf("%s gt --scene %s --width 16 --height 16 --gt-samples 1 --no-cache --out %s/out",
+                                 shadowbench, path, dir);
+        struct strbuf err = {0}, out = {0};
+        int status = run_cmd(away, &err, &out);
+        char *want = util_printf("shadowbench: error: %s: no pixel to score: the camera sees no surface inside the "
+                                 "light's frustum that sees the light above its horizon\n", path);
+        CHECK(status == 1 && err.data && strstr(err.data, want) && !(out.data && strstr(out.data, "nan")),
+              "gt on a scene with nothing to score: exit %d, %s", status, err.data);
+        strbuf_free(&err), strbuf_free(&out);
+        free(want), free(away), free(path);
+    }
+
+    /* A GLB whose JSON chunk is padded with NULs (the format pads with spaces). */
+    {
+        char *nul_glb = util_printf("%s/nul_padded.glb", dir);
+        const char json[] = "{\"asset\":{\"version\":\"2.0\"}}\0\0";  /* 28 + 2 (+ the literal's own NUL) */
+        char bytes[20 + 32] = {'g', 'l', 'T', 'F', 2, 0, 0, 0, 52, 0, 0, 0, 32, 0, 0, 0, 'J', 'S', 'O', 'N'};
+        memcpy(bytes + 20, json, 30);
+        memcpy(bytes + 50, "\0\0", 2);
+        util_write_file_atomic(nul_glb, bytes, sizeof bytes);
+        expect_error(nul_glb, "malformed GLB: its JSON chunk holds a NUL byte");
+        free(nul_glb);
+    }
 
     /* A GLB of another version. */
     char *glb = util_printf("%s/v1.glb", dir);

@@ -24,6 +24,7 @@ mutate() {
         fi
     fi
     out=$("$sb" check -q --technique "$technique" --shaders "$tmp/shaders" --baselines "$root/results/baselines" \
+              --tuned "$root/results/tuned" \
                 --cache "$cache" --out "$tmp/out" 2>&1)
     rc=$?
     if [ -z "$file" ]; then

@@ -913,7 +913,7 @@ static int check_folders(const struct run_options *o)
         log_error("--out %s: inside the baselines folder %s (its pictures would overwrite them)", o->out_dir,
                   o->baselines_dir);
     free(out), free(base);
-    if (inside || (o->update && run_claim_out_dir(o->baselines_dir) != 0))
+    if (inside || (o->update && run_claim_results_dir(o->baselines_dir, 2) != 0))
         return -1;
     return run_claim_out_dir(o->out_dir);
 }

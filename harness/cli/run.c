@@ -172,6 +172,14 @@ int run_claim_out_dir(const char *dir)
     return 0;
 }
 
+int run_claim_results_dir(const char *dir, int depth)
+{
+    if (run_prepare_out_dir(dir) != 0 || util_lock_dir(dir) != 0)
+        return -1;
+    util_remove_stale_temps(dir, depth);
+    return 0;
+}
+
 int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct scene_setup_desc *d)
 {
     memset(ss, 0, sizeof *ss);
@@ -281,21 +289,32 @@ static void describe_cell(const struct scene_run *sr, const struct run_config *c
     c->params_text = text.data ? text.data : xstrdup("");
 }
 
-/* Renders the cell once more (untimed), scores it and writes its files. */
-static int run_cell(struct scene_run *sr, const struct stage_timer_cell *tc,
-                    const struct run_config *config, const struct stage_times *times, struct cell *c)
+/* Renders the cell (untimed: this also warms it for the timing), scores it
+ * and writes its pictures. */
+static int score_cell(struct scene_run *sr, const struct stage_timer_cell *tc, const struct run_config *config,
+                      struct cell *c)
 {
     struct scene_setup *ss = &sr->ss;
-    c->m = (struct metrics){.ms_shadowmap = times->shadowmap_ms, .ms_filter_prep = times->filter_prep_ms,
-                            .ms_receiver = times->receiver_ms, .ms_total = times->total_ms,
-                            .ms_total_q1 = times->total_q1_ms, .ms_total_q3 = times->total_q3_ms};
+    c->m = (struct metrics){0};
+    describe_cell(sr, config, c);
     if (scene_setup_cell(ss, tc, &c->m) != 0)
         return -1;
-    describe_cell(sr, config, c);
-
     char *dir = util_printf("%s/%s", sr->dir, config->label);
     const struct cell_images im = {ss->width, ss->height, ss->v, ss->distance, ss->gt.v, ss->scored};
-    int rc = output_cell(dir, c, &im);
+    int rc = output_cell_images(dir, &im);
+    free(dir);
+    return rc;
+}
+
+/* The cell's times into its metrics, then its metrics.json and its line. */
+static int finish_cell(struct scene_run *sr, const struct run_config *config, const struct stage_times *times,
+                       struct cell *c)
+{
+    c->m.ms_shadowmap = times->shadowmap_ms, c->m.ms_filter_prep = times->filter_prep_ms;
+    c->m.ms_receiver = times->receiver_ms, c->m.ms_total = times->total_ms;
+    c->m.ms_total_q1 = times->total_q1_ms, c->m.ms_total_q3 = times->total_q3_ms;
+    char *dir = util_printf("%s/%s", sr->dir, config->label);
+    int rc = output_cell_metrics(dir, c);
     free(dir);
     ++*sr->cells_done;
     if (!metrics_scored(&c->m))
@@ -342,9 +361,17 @@ static int run_scene(struct scene_run *sr, const struct scene *scene, struct pro
                                           program_get(programs, o->configs[i].technique, settings,
                                                       scene->light.shape)};
     }
-    int rc = stage_timer_run(&timer, tc, o->config_count, times);
+    /* Each cell rendered and scored first, which warms it (shader JIT,
+     * caches), then every cell timed, interleaved. */
+    int rc = 0, scored = 0;
+    for (; scored < o->config_count && !rc; scored++)
+        rc = score_cell(sr, &tc[scored], &o->configs[scored], &cells[*cell_count + scored]);
+    if (rc)
+        *cell_count += scored;  /* the ones described, for the caller to free */
+    else
+        rc = stage_timer_run(&timer, tc, o->config_count, times);
     for (int i = 0; i < o->config_count && !rc; i++)
-        rc = run_cell(sr, &tc[i], &o->configs[i], &times[i], &cells[(*cell_count)++]);
+        rc = finish_cell(sr, &o->configs[i], &times[i], &cells[(*cell_count)++]);
     free(tc);
     free(times);
 

@@ -32,9 +32,9 @@ enum run_settings_mode { RUN_SETTINGS_BOTH, RUN_SETTINGS_DEFAULT, RUN_SETTINGS_T
 #define BENCH_DEFAULT_SIZE 1024 /* bench: the receiver */
 #define RUN_MIN_SIZE 16
 #define RUN_MAX_SIZE 8192
-#define RUN_DEFAULT_FRAMES 9
+#define RUN_DEFAULT_FRAMES 3
 #define BENCH_DEFAULT_FRAMES 9
-#define RUN_DEFAULT_WARMUP 1
+#define RUN_DEFAULT_WARMUP 0   /* the render that scores a cell warms it first */
 #define BENCH_DEFAULT_WARMUP 3
 #define RUN_MAX_WARMUP 100
 #define RUN_DEFAULT_OUT "results/runs/latest"
@@ -146,6 +146,12 @@ int run_claim_out_dir(const char *dir);
 
 /* The command line, as UTF-8 text (any other byte as U+FFFD); malloc'ed. */
 char *run_command_line(const struct run_options *o);
+
+/* A committed results folder (baselines, tuned settings: files in it and
+ * no .lock in a fresh clone): made if need be, locked, and its own
+ * temporaries (depth levels down) removed; nothing else touched. Returns 0
+ * or -1 (logged). */
+int run_claim_results_dir(const char *dir, int depth);
 
 /* `git describe --always --dirty` of the source tree, or "unknown"; malloc'ed. */
 char *run_git_describe(void);

@@ -499,16 +499,6 @@ static int begin_tune(const struct run_options *o, bool complete, double seconds
     return rc;
 }
 
-/* The tuned folder is committed (no .lock in a fresh clone, files in it):
- * locked, its own temporaries removed, nothing else touched. */
-static int claim_tuned_dir(const char *dir)
-{
-    if (run_prepare_out_dir(dir) != 0 || util_lock_dir(dir) != 0)
-        return -1;
-    util_remove_stale_temps(dir, 1);
-    return 0;
-}
-
 int tune_main(const struct run_options *o)
 {
     const double start = util_now_ms();
@@ -522,7 +512,7 @@ int tune_main(const struct run_options *o)
                   TUNE_MAX_SCENES, scene_count);
         goto out;
     }
-    if (run_claim_out_dir(o->out_dir) != 0 || (o->write_tuned && claim_tuned_dir(o->tuned_dir) != 0) ||
+    if (run_claim_out_dir(o->out_dir) != 0 || (o->write_tuned && run_claim_results_dir(o->tuned_dir, 1) != 0) ||
         begin_tune(o, false, 0) != 0 || shader_init(o->shader_dir) != 0)
         goto out;
     status = EXIT_CHECK_FAILED;

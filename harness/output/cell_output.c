@@ -18,7 +18,7 @@ static int write_visibility_png(const char *dir, const char *name, const float *
     return rc;
 }
 
-int output_cell(const char *dir, const struct cell *c, const struct cell_images *im)
+int output_cell_images(const char *dir, const struct cell_images *im)
 {
     const int w = im->width, h = im->height;
     size_t count = (size_t)w * (size_t)h;
@@ -26,19 +26,27 @@ int output_cell(const char *dir, const struct cell *c, const struct cell_images 
     for (size_t i = 0; i < count; i++)
         error[i] = im->scored[i] > 0.5f ? im->v[i] - im->v_gt[i] : 0.0f;
     char *vis_exr = util_printf("%s/visibility.exr", dir), *err_exr = util_printf("%s/error.exr", dir);
-    char *heat = util_printf("%s/heatmap.png", dir), *json = util_printf("%s/metrics.json", dir);
+    char *heat = util_printf("%s/heatmap.png", dir);
     struct picture hm;
     picture_error_heatmap(im->v, im->v_gt, im->scored, w, h, &hm);
-    cJSON *mj = report_cell_json(c);
     int rc = util_mkdirs(dir) ||
              image_write_exr(vis_exr, w, h, &(struct exr_channel){"V", (float *)im->v}, 1, NULL) ||
              image_write_exr(err_exr, w, h, &(struct exr_channel){"E", error}, 1, NULL) ||
              write_visibility_png(dir, "visibility", im->v, im->distance, NULL, w, h) ||
-             image_write_png(heat, hm.width, hm.height, 3, hm.rgb) || report_write_json(json, mj);
-    cJSON_Delete(mj);
+             image_write_png(heat, hm.width, hm.height, 3, hm.rgb);
     picture_free(&hm);
-    free(vis_exr), free(err_exr), free(heat), free(json), free(error);
+    free(vis_exr), free(err_exr), free(heat), free(error);
     return rc ? -1 : 0;
+}
+
+int output_cell_metrics(const char *dir, const struct cell *c)
+{
+    char *json = util_printf("%s/metrics.json", dir);
+    cJSON *mj = report_cell_json(c);
+    int rc = report_write_json(json, mj);
+    cJSON_Delete(mj);
+    free(json);
+    return rc;
 }
 
 int output_groundtruth(const char *dir, const struct gt_image *gt, const float *mask)

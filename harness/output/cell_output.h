@@ -17,9 +17,11 @@ struct cell_images {
 };
 
 /* <dir>/visibility.exr (V), error.exr (E = V_tech - V_gt where scored, else
- * 0), visibility.png, heatmap.png and metrics.json of cell c. Creates dir.
- * Returns 0 or -1 (logged). */
-int output_cell(const char *dir, const struct cell *c, const struct cell_images *im);
+ * 0), visibility.png and heatmap.png of a cell. Creates dir. Returns 0 or
+ * -1 (logged). */
+int output_cell_images(const char *dir, const struct cell_images *im);
+/* <dir>/metrics.json of c (once its times are in). Returns 0 or -1. */
+int output_cell_metrics(const char *dir, const struct cell *c);
 
 /* <dir>/groundtruth.exr (channels V, V_weighted, mask) and groundtruth.png
  * (V, unscored pixels hatched) of gt, with the scored mask. Returns 0 or -1
