@@ -132,12 +132,13 @@ int params_set(const struct technique *t, void *settings, const char *name, cons
         errno = 0;
         v = strtod(value, &end);
         /* Decimal only: strtod also takes " 1", "0x1p1", "inf". */
-        if (!*value || *end || (errno && fabs(v) >= 1) || !isfinite(v) || strpbrk(value, "xXpP \t") ||
+        const bool underflow = errno == ERANGE && fabs(v) < 1;  /* 1e-400: strtod gives 0 or a denormal */
+        if (!*value || *end || (errno && !underflow) || !isfinite(v) || strpbrk(value, "xXpP \t") ||
             !strchr("+-.0123456789", value[0])) {
             log_error("%s.%s: '%s' is not a number", t->name, name, value);
             return -1;
         }
-        if (v != 0 && (float)fabs(v) < FLT_MIN) {  /* it would become 0 or lose its digits as a float */
+        if (underflow || (v != 0 && (float)fabs(v) < FLT_MIN)) {  /* 0, or digits lost, as a float */
             log_error("%s.%s: %s is too close to 0 for a float (write 0)", t->name, name, value);
             return -1;
         }
@@ -270,11 +271,6 @@ void *params_from_json(const struct technique *t, const cJSON *o)
     const cJSON *item;
     cJSON_ArrayForEach(item, o) {
         char text[64];
-        for (const cJSON *other = o->child; other != item; other = other->next)
-            if (strcmp(other->string, item->string) == 0) {
-                log_error("%s.%s: given twice", t->name, item->string);
-                goto fail;
-            }
         if (cJSON_IsBool(item))
             snprintf(text, sizeof text, "%s", cJSON_IsTrue(item) ? "true" : "false");
         else if (cJSON_IsNumber(item) && isfinite(item->valuedouble))

@@ -37,8 +37,9 @@ int params_check(const struct technique *t, const void *settings);
  * "#define <TECH>_<PARAM>_<CHOICE> <index>" per choice). */
 void params_defines(const struct technique *t, const void *settings, struct strbuf *out);
 
-/* Settings from {"name": value, ...} as params_json writes it: every
- * parameter of t once, no other, each a value of its type in range, the
+/* Settings from {"name": value, ...} as params_json writes it (keys given
+ * twice are the caller's to refuse: util_json_duplicate_key): every
+ * parameter of t, no other, each a value of its type in range, the
  * whole consistent. NULL after one logged line ("lacks t.p", or
  * params_set's and params_check's). */
 void *params_from_json(const struct technique *t, const cJSON *o);

@@ -363,15 +363,15 @@ static int run_scene(struct scene_run *sr, const struct scene *scene, struct pro
     }
     /* Each cell rendered and scored first, which warms it (shader JIT,
      * caches), then every cell timed, interleaved. */
+    const int base = *cell_count;
     int rc = 0, scored = 0;
     for (; scored < o->config_count && !rc; scored++)
-        rc = score_cell(sr, &tc[scored], &o->configs[scored], &cells[*cell_count + scored]);
-    if (rc)
-        *cell_count += scored;  /* the ones described, for the caller to free */
-    else
+        rc = score_cell(sr, &tc[scored], &o->configs[scored], &cells[base + scored]);
+    *cell_count = base + scored;  /* the cells described: the caller frees them whatever happens */
+    if (!rc)
         rc = stage_timer_run(&timer, tc, o->config_count, times);
     for (int i = 0; i < o->config_count && !rc; i++)
-        rc = finish_cell(sr, &o->configs[i], &times[i], &cells[(*cell_count)++]);
+        rc = finish_cell(sr, &o->configs[i], &times[i], &cells[base + i]);
     free(tc);
     free(times);
 
@@ -526,14 +526,9 @@ static void frontiers_build(struct frontiers *f, const struct run_options *o, co
         for (int s = 0; s < scene_count; s++)
             add_curve(f, tu, scenes[s].name, f->scene[s], &f->scene_count[s]);
         if (!f->source) {
-            const cJSON *d = tu->doc;
-            f->source = util_printf("shadowbench tune at %dx%d, a %d^2 shadow map, on %s (%s, %s)",
-                                    cJSON_GetObjectItem(d, "width")->valueint,
-                                    cJSON_GetObjectItem(d, "height")->valueint,
-                                    cJSON_GetObjectItem(d, "shadow_map_size")->valueint,
-                                    cJSON_GetStringValue(cJSON_GetObjectItem(d, "gl_renderer")),
-                                    o->tuned_dir, cJSON_GetStringValue(cJSON_GetObjectItem(d, "date")));
-            f->objective = xstrdup(cJSON_GetStringValue(cJSON_GetObjectItem(d, "objective")));
+            f->source = util_printf("shadowbench tune at %dx%d, a %d^2 shadow map, on %s (%s, %s)", tu->width,
+                                    tu->height, tu->shadow_map_size, tu->gl_renderer, o->tuned_dir, tu->date);
+            f->objective = xstrdup(tu->objective);
         }
     }
 }

@@ -52,6 +52,7 @@ struct tuner {
     const struct technique *t;
     struct tune_dim dims[TUNE_MAX_DIMS];
     int dim_count;
+    int start[TUNE_MAX_DIMS];  /* the defaults, as value indices */
     const struct scene *scenes;
     struct scene_setup *setups;
     int scene_count;
@@ -141,7 +142,7 @@ static int measure(struct tuner *tn, const int *point, int k, int warmup, int fr
     if (m)
         scene_setup_score(ss, m);
     out->ms = times.total_ms, out->ms_q1 = times.total_q1_ms, out->ms_q3 = times.total_q3_ms;
-    out->frames = frames;
+    out->retimed = !m;  /* only the search scores what it times */
     tn->progress->cells++;
     show_progress(tn->progress, tn->t->name);
     return 0;
@@ -156,7 +157,7 @@ static int evaluate(void *user, const int *point, int k, struct tune_sample *out
     const bool refused = tn->t->check && tn->t->check(s, why, sizeof why) != 0;
     free(s);
     if (refused) {  /* a combination the technique refuses */
-        *out = (struct tune_sample){INFINITY, NAN, NAN, NAN, 0};
+        *out = (struct tune_sample){INFINITY, NAN, NAN, NAN, false};
         return 0;
     }
     struct metrics m = {0};
@@ -179,20 +180,24 @@ static cJSON *point_json(struct tune_sample mean)
     return o;
 }
 
-/* Mean of the samples of entry e over the scenes it was evaluated on
- * (count: how many; all must be for the "all scenes" frontier). */
-static struct tune_sample entry_mean(const struct tuner *tn, const struct tune_entry *e, int *count)
+/* Sums of samples, for means over scenes. */
+static void sample_add(struct tune_sample *sum, const struct tune_sample *s)
+{
+    sum->objective += s->objective, sum->ms += s->ms, sum->ms_q1 += s->ms_q1, sum->ms_q3 += s->ms_q3;
+}
+
+static struct tune_sample sample_scaled(struct tune_sample s, double f)
+{
+    return (struct tune_sample){s.objective * f, s.ms * f, s.ms_q1 * f, s.ms_q3 * f, s.retimed};
+}
+
+/* Mean of entry e's samples over every scene (each evaluated: callers check). */
+static struct tune_sample entry_mean(const struct tuner *tn, const struct tune_entry *e)
 {
     struct tune_sample sum = {0};
-    *count = 0;
     for (int k = 0; k < tn->scene_count; k++)
-        if (e->done[k]) {
-            sum.objective += e->s[k].objective, sum.ms += e->s[k].ms;
-            sum.ms_q1 += e->s[k].ms_q1, sum.ms_q3 += e->s[k].ms_q3;
-            ++*count;
-        }
-    const double n = *count ? *count : 1;
-    return (struct tune_sample){sum.objective / n, sum.ms / n, sum.ms_q1 / n, sum.ms_q3 / n, 0};
+        sample_add(&sum, &e->s[k]);
+    return sample_scaled(sum, 1.0 / tn->scene_count);
 }
 
 static cJSON *settings_json(const struct tuner *tn, const int *point)
@@ -204,10 +209,10 @@ static cJSON *settings_json(const struct tuner *tn, const int *point)
 }
 
 /* The Pareto front of error against time over the entries evaluated on
- * scene k (k < 0: the means over every scene), only the cells timed with
- * `frames` frames when frames > 0: into front[] (memo indices, by time) and
- * their samples into means[]; returns the count. */
-static int pareto_entries(const struct tuner *tn, int k, int frames, int *front, struct tune_sample *means)
+ * scene k (k < 0: the means over every scene), only the cells timed again
+ * when retimed: into front[] (memo indices, by time) and their samples into
+ * means[] (may be NULL); returns the count. */
+static int pareto_entries(const struct tuner *tn, int k, bool retimed, int *front, struct tune_sample *means)
 {
     const int n = tn->memo.count;
     double *x = xcalloc((size_t)n + 1, sizeof *x), *y = xcalloc((size_t)n + 1, sizeof *y);
@@ -215,15 +220,12 @@ static int pareto_entries(const struct tuner *tn, int k, int frames, int *front,
     struct tune_sample *all = xcalloc((size_t)n + 1, sizeof *all);
     for (int i = 0; i < n; i++) {
         const struct tune_entry *e = &tn->memo.entries[i];
-        int count = 0;
-        bool timed = true;
+        bool usable = true;  /* evaluated (and timed again, when asked) on every scene that counts */
         for (int j = 0; j < tn->scene_count; j++)
-            if (k < 0 || j == k) {
-                count += e->done[j];
-                timed &= e->done[j] && (frames <= 0 || e->s[j].frames == frames);
-            }
-        struct tune_sample s = k < 0 ? entry_mean(tn, e, &count) : e->s[k];
-        if (count == (k < 0 ? tn->scene_count : 1) && timed && isfinite(s.objective)) {
+            if (k < 0 || j == k)
+                usable &= e->done[j] && (!retimed || e->s[j].retimed);
+        const struct tune_sample s = k < 0 ? entry_mean(tn, e) : e->s[k];
+        if (usable && isfinite(s.objective)) {
             all[m] = s, src[m] = i, x[m] = s.ms, y[m] = s.objective;
             m++;
         }
@@ -245,7 +247,7 @@ static cJSON *frontier_json(const struct tuner *tn, int k)
     const int n = tn->memo.count;
     int *front = xcalloc((size_t)n + 1, sizeof *front);
     struct tune_sample *means = xcalloc((size_t)n + 1, sizeof *means);
-    const int f = pareto_entries(tn, k, tn->o->frames, front, means);
+    const int f = pareto_entries(tn, k, true, front, means);
     cJSON *a = cJSON_CreateArray();
     for (int j = 0; j < f; j++) {
         cJSON *p = point_json(means[j]);
@@ -310,8 +312,7 @@ static cJSON *technique_json(const struct tuner *tn, const int *start, const int
         const struct tune_sample s[4] = {sample_at(tn, start, k), sample_at(tn, fold[k], k),
                                          sample_at(tn, oracle[k], k), sample_at(tn, all, k)};
         for (int i = 0; i < 4; i++)
-            sums[i].objective += s[i].objective, sums[i].ms += s[i].ms, sums[i].ms_q1 += s[i].ms_q1,
-                sums[i].ms_q3 += s[i].ms_q3;
+            sample_add(&sums[i], &s[i]);
         cJSON *f = cJSON_CreateObject();
         cJSON_AddStringToObject(f, "scene", tn->scenes[k].name);
         cJSON_AddItemToObject(f, "settings", settings_json(tn, fold[k]));
@@ -324,11 +325,8 @@ static cJSON *technique_json(const struct tuner *tn, const int *start, const int
     }
     cJSON *summary = cJSON_AddObjectToObject(j, "summary");
     static const char *const names[] = {"default", "tuned", "oracle", "fitted"};
-    for (int i = 0; i < 4; i++) {
-        const double n = tn->scene_count;
-        cJSON_AddItemToObject(summary, names[i], point_json((struct tune_sample){
-            sums[i].objective / n, sums[i].ms / n, sums[i].ms_q1 / n, sums[i].ms_q3 / n, 0}));
-    }
+    for (int i = 0; i < 4; i++)
+        cJSON_AddItemToObject(summary, names[i], point_json(sample_scaled(sums[i], 1.0 / tn->scene_count)));
     cJSON_AddStringToObject(summary, "note",
                             "means over the scenes. default: the defaults; tuned: each scene's setting chosen "
                             "on the other scenes, scored on it (what a user can expect); oracle: each "
@@ -355,8 +353,11 @@ static cJSON *technique_json(const struct tuner *tn, const int *start, const int
 
 /* ---- one technique ---- */
 
-static int build_space(struct tuner *tn, int *start)
+/* The tuned parameters of tn's technique, their values and the defaults'
+ * indices (tn->start), and an empty memo. */
+static int build_space(struct tuner *tn)
 {
+    int *start = tn->start;
     tn->dim_count = 0;
     for (const struct technique_param *p = tn->t->params; p->name; p++) {
         struct tune_dim d = {.p = p};
@@ -390,9 +391,12 @@ static int write_file(const char *dir, const char *name, const cJSON *j)
 }
 
 /* Times again, with --frames after --warmup, the cells the files report:
- * the defaults, the setting chosen on every scene, each fold's on its
- * held-out scene, and the frontiers' candidates (by the search's times). */
-static int retime(struct tuner *tn, const int *start, const int *all, int (*fold)[TUNE_MAX_DIMS])
+ * the defaults, the setting chosen on every scene, each fold's and each
+ * oracle's on its scene, and the frontiers' candidates (chosen by the
+ * search's one-frame times: which cells those are can vary between
+ * tunings, the choices above cannot). */
+static int retime(struct tuner *tn, const int *start, const int *all, int (*fold)[TUNE_MAX_DIMS],
+                  int (*oracle)[TUNE_MAX_DIMS])
 {
     const int n = tn->memo.count, scenes = tn->scene_count;
     bool *mark = xcalloc((size_t)n * (size_t)scenes, sizeof *mark);
@@ -402,9 +406,10 @@ static int retime(struct tuner *tn, const int *start, const int *all, int (*fold
         MARK(tune_find(&tn->memo, start), k);
         MARK(tune_find(&tn->memo, all), k);
         MARK(tune_find(&tn->memo, fold[k]), k);
+        MARK(tune_find(&tn->memo, oracle[k]), k);
     }
     for (int k = -1; k < scenes; k++) {
-        const int f = pareto_entries(tn, k, 0, front, NULL);
+        const int f = pareto_entries(tn, k, false, front, NULL);
         for (int j = 0; j < f; j++)
             for (int i = 0; i < scenes; i++)
                 if (k < 0 || i == k)
@@ -424,11 +429,9 @@ static int retime(struct tuner *tn, const int *start, const int *all, int (*fold
 static int tune_technique(struct tuner *tn)
 {
     const double start_ms = util_now_ms();
-    int start[TUNE_MAX_DIMS] = {0}, all[TUNE_MAX_DIMS], fold[TUNE_MAX_SCENES][TUNE_MAX_DIMS],
-        oracle[TUNE_MAX_SCENES][TUNE_MAX_DIMS];
+    const int *start = tn->start;
+    int all[TUNE_MAX_DIMS], fold[TUNE_MAX_SCENES][TUNE_MAX_DIMS], oracle[TUNE_MAX_SCENES][TUNE_MAX_DIMS];
     double def, best, held_out[TUNE_MAX_SCENES];
-    if (build_space(tn, start) != 0)
-        return EXIT_USAGE;
     log_info("tune %s: %d parameters (%g settings in one round on %d scenes)", tn->t->name, tn->dim_count,
              technique_size(tn) / tn->scene_count, tn->scene_count);
     /* The defaults first, scene by scene: a scene where the objective is
@@ -462,7 +465,13 @@ static int tune_technique(struct tuner *tn)
         }
         cv += held_out[k] / tn->scene_count, or += oracle_score / tn->scene_count;
     }
-    if (retime(tn, start, all, fold) != 0)
+    for (int k = 0; k < tn->scene_count; k++)
+        if (!isfinite(held_out[k])) {  /* a file cannot hold it, and no run should use it */
+            log_error("tune %s: the setting chosen without %s gives NaN, Inf or no %s on it: nothing written",
+                      tn->t->name, tn->scenes[k].name, metric_info[tn->o->objective].key);
+            return EXIT_CHECK_FAILED;
+        }
+    if (retime(tn, start, all, fold, oracle) != 0)
         return EXIT_CHECK_FAILED;
     if (isatty(STDERR_FILENO) && log_get_level() >= LOG_INFO)
         fputc('\n', stderr);
@@ -534,8 +543,7 @@ int tune_main(const struct run_options *o)
     for (int i = 0; i < o->technique_count; i++) {
         tuners[i] = (struct tuner){.o = o, .t = o->techniques[i], .scenes = scenes, .setups = setups,
                                    .scene_count = scene_count, .progress = &progress};
-        int unused[TUNE_MAX_DIMS];
-        if (build_space(&tuners[i], unused) != 0) {
+        if (build_space(&tuners[i]) != 0) {
             status = EXIT_USAGE;
             goto out_gl;
         }

@@ -19,6 +19,8 @@ static void *settings_from_json(const struct technique *t, const cJSON *o, const
     return s;
 }
 
+/* A point: an error (finite, not negative) and times with 0 < q1 <= ms <= q3
+ * (a chart's log axis needs them positive). */
 static bool read_point(const cJSON *o, struct tuned_point *p)
 {
     static const char *const keys[] = {"error", "ms", "ms_q1", "ms_q3"};
@@ -29,20 +31,34 @@ static bool read_point(const cJSON *o, struct tuned_point *p)
             return false;
         *dst[i] = v->valuedouble;
     }
-    return true;
+    return p->ms_q1 > 0 && p->ms_q1 <= p->ms && p->ms <= p->ms_q3;
 }
 
-/* A frontier: an array of points, each with its settings' text. */
+/* A frontier: points with their settings' text, a Pareto front (time
+ * increasing, error decreasing). */
 static bool valid_frontier(const cJSON *a)
 {
     const cJSON *e;
-    struct tuned_point p;
+    struct tuned_point p, last = {INFINITY, 0, 0, 0};
     if (!cJSON_IsArray(a))
         return false;
-    cJSON_ArrayForEach(e, a)
-        if (!read_point(e, &p) || !cJSON_IsString(cJSON_GetObjectItemCaseSensitive(e, "settings")))
+    cJSON_ArrayForEach(e, a) {
+        if (!read_point(e, &p) || !cJSON_IsString(cJSON_GetObjectItemCaseSensitive(e, "settings")) ||
+            p.ms < last.ms || p.error >= last.error)
             return false;
+        last = p;
+    }
     return true;
+}
+
+/* A whole number in [1, 65536] at key of d, or 0. */
+static int whole(const cJSON *d, const char *key)
+{
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(d, key);
+    return cJSON_IsNumber(v) && v->valuedouble >= 1 && v->valuedouble <= 65536 &&
+                   v->valuedouble == floor(v->valuedouble)
+               ? (int)v->valuedouble
+               : 0;
 }
 
 int tuned_load(const char *dir, const struct technique *t, struct tuned *out)
@@ -80,8 +96,21 @@ int tuned_load(const char *dir, const struct technique *t, struct tuned *out)
     }
     if (!(out->settings = settings_from_json(t, cJSON_GetObjectItemCaseSensitive(d, "settings"), out->path, "settings")))
         goto fail;
-    if (!cJSON_IsArray(folds)) {
-        log_error("\"folds\" is not an array");
+    /* One fold per scene the tuning saw, in its order: a scene without its
+     * fold would get the setting fitted on it. */
+    const cJSON *scene_list = cJSON_GetObjectItemCaseSensitive(d, "scenes");
+    bool scenes_ok = cJSON_IsArray(scene_list) && cJSON_IsArray(folds) && cJSON_GetArraySize(scene_list) >= 2 &&
+                     cJSON_GetArraySize(scene_list) == cJSON_GetArraySize(folds);
+    for (const cJSON *a = scene_list ? scene_list->child : NULL, *f = folds ? folds->child : NULL;
+         scenes_ok && a && f; a = a->next, f = f->next) {
+        const char *fold_scene = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(f, "scene"));
+        scenes_ok = cJSON_IsString(a) && fold_scene && strcmp(a->valuestring, fold_scene) == 0;
+        for (const cJSON *b = scene_list->child; scenes_ok && b != a; b = b->next)
+            scenes_ok = strcmp(b->valuestring, a->valuestring) != 0;
+    }
+    if (!scenes_ok) {
+        log_error("\"scenes\" must name 2 or more scenes, each once, and \"folds\" hold one per scene in that "
+                  "order");
         goto fail;
     }
     const int n = cJSON_GetArraySize(folds);
@@ -116,15 +145,15 @@ int tuned_load(const char *dir, const struct technique *t, struct tuned *out)
         log_error("\"summary\" (default, tuned) or \"frontier\" (all, scenes) is missing or malformed");
         goto fail;
     }
-    static const char *const numbers[] = {"width", "height", "shadow_map_size"},
-                             *const texts[] = {"objective", "gl_renderer", "date"};
-    for (int i = 0; i < 3; i++) {
-        const cJSON *v = cJSON_GetObjectItemCaseSensitive(d, numbers[i]);
-        if (!cJSON_IsNumber(v) || !(v->valuedouble >= 1 && v->valuedouble <= 65536) ||
-            !cJSON_IsString(cJSON_GetObjectItemCaseSensitive(d, texts[i]))) {
-            log_error("needs whole numbers width, height, shadow_map_size and texts objective, gl_renderer, date");
-            goto fail;
-        }
+    out->width = whole(d, "width"), out->height = whole(d, "height");
+    out->shadow_map_size = whole(d, "shadow_map_size");
+    out->objective = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(d, "objective"));
+    out->gl_renderer = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(d, "gl_renderer"));
+    out->date = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(d, "date"));
+    if (!out->width || !out->height || !out->shadow_map_size || !out->objective || !out->gl_renderer ||
+        !out->date) {
+        log_error("needs whole numbers width, height, shadow_map_size and texts objective, gl_renderer, date");
+        goto fail;
     }
     log_set_context(NULL);
     return 0;

@@ -25,6 +25,8 @@ struct tuned {
     const struct technique *t;
     char *path;
     cJSON *doc;                /* the whole file, validated */
+    int width, height, shadow_map_size;           /* the tuning's */
+    const char *objective, *gl_renderer, *date;   /* into doc */
     void *settings;            /* chosen on every scene */
     int fold_count;
     const char **fold_scene;   /* into doc */

@@ -252,7 +252,7 @@ void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
     strbuf_printf(out, "</svg>\n");
 }
 
-enum { FRONT_W = 900, FRONT_H = 520, FRONT_L = 80, FRONT_R = 30, FRONT_T = 60, FRONT_B = 80 };
+enum { FRONT_W = 900, FRONT_H = 550, FRONT_L = 80, FRONT_R = 30, FRONT_T = 60, FRONT_B = 100 };
 
 void chart_frontier_svg(struct strbuf *out, const char *title, const char *subtitle,
                         const struct chart_curve *curves, int n, const char *x_label, const char *y_label)

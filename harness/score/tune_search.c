@@ -30,6 +30,8 @@ static struct tune_entry *entry(struct tune_memo *m, const int *point)
 
 int tune_mean(struct tune_memo *m, const int *point, const int *scenes, int n, double *mean)
 {
+    if (n < 1)
+        return -1;  /* a mean of nothing: a caller's error */
     double sum = 0;
     for (int i = 0; i < n; i++) {
         struct tune_entry *e = entry(m, point);

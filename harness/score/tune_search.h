@@ -22,7 +22,7 @@
 struct tune_sample {
     double objective;
     double ms, ms_q1, ms_q3;  /* time per frame: median and quartiles */
-    int frames;               /* how many frames timed it */
+    bool retimed;             /* timed again for the files (cli/tune.c), not by the search */
 };
 
 /* Evaluates point on scene into *s. Returns 0, or -1 to stop the search (an
@@ -45,8 +45,8 @@ struct tune_memo {
     long evaluations;                 /* cells evaluated (calls of eval) */
 };
 
-/* Mean objective of point over scenes[0..n-1] into *mean (evaluating the
- * cells not yet in the memo). Returns 0 or -1. */
+/* Mean objective of point over scenes[0..n-1], n >= 1, into *mean
+ * (evaluating the cells not yet in the memo). Returns 0 or -1. */
 int tune_mean(struct tune_memo *m, const int *point, const int *scenes, int n, double *mean);
 
 /* Coordinate descent over scenes[0..n-1] from start; the best point into
