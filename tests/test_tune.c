@@ -229,6 +229,20 @@ static void command(void)
                        "existed)\n", path);
     expect_fail(run, line);
     free(line);
+    /* An error no visibility has (it hung the chart's axis) */
+    cJSON *summary_tuned = cJSON_GetObjectItem(cJSON_GetObjectItem(j, "summary"), "tuned");
+    const double kept = cJSON_GetObjectItem(summary_tuned, "error")->valuedouble;
+    cJSON_AddNumberToObject((cJSON *)settings, "slope_bias", 1);
+    cJSON_ReplaceItemInObject(summary_tuned, "error", cJSON_CreateNumber(1.7e308));
+    text = cJSON_Print(j);
+    util_write_file_atomic(path, text, strlen(text));
+    cJSON_free(text);
+    line = util_printf("shadowbench: error: %s: \"summary\" (default, tuned) or \"frontier\" (all, scenes) is "
+                       "missing or malformed\n", path);
+    expect_fail(run, line);
+    free(line);
+    cJSON_ReplaceItemInObject(summary_tuned, "error", cJSON_CreateNumber(kept));
+    cJSON_DeleteItemFromObject((cJSON *)settings, "slope_bias");
     /* A fold missing: its scene would get the setting fitted on it. */
     cJSON_AddNumberToObject((cJSON *)settings, "slope_bias", 1);
     cJSON_DeleteItemFromArray(cJSON_GetObjectItem(j, "folds"), 1);
@@ -259,10 +273,38 @@ static void command(void)
                      "has none\n");
     free(bad);
     bad = util_printf("%s run --settings tuned --technique hard --tuned %s/nothing", sb, dir);
-    char *want = util_printf("shadowbench: error: %s/nothing/hard.json: no tuned settings for hard (shadowbench "
-                             "tune --write-tuned makes them)\n", dir);
+    char *want = util_printf("shadowbench: error: --tuned %s/nothing: no such folder\n", dir);
     expect_fail(bad, want);
     free(bad), free(want);
+    char *empty = util_printf("%s/empty", dir);
+    util_mkdirs(empty);
+    bad = util_printf("%s run --settings tuned --technique hard --tuned %s", sb, empty);
+    want = util_printf("shadowbench: error: %s/hard.json: no tuned settings for hard (shadowbench tune "
+                       "--write-tuned makes them)\n", empty);
+    expect_fail(bad, want);
+    free(bad), free(want);
+    /* Not a regular file: said, not taken for "no tuned file". */
+    char *folder = util_printf("%s/hard.json", empty);
+    util_mkdirs(folder);
+    bad = util_printf("%s run --technique hard --tuned %s", sb, empty);
+    want = util_printf("shadowbench: error: %s: cannot read: Is a directory\n", folder);
+    expect_fail(bad, want);
+    free(bad), free(want), free(folder);
+    /* tune writes only into a folder of tuned settings, and only with --write-tuned */
+    char *notes = util_printf("%s/notes.txt", empty);
+    util_write_file_atomic(notes, "mine", 4);
+    bad = util_printf("%s tune --technique hard --scene parallel_planes --scene contact_hardening --write-tuned "
+                      "--tuned %s --out %s/t2", sb, empty, dir);
+    want = util_printf("shadowbench: error: --tuned %s: holds notes.txt, which tune does not write: name a folder "
+                       "of tuned settings\n", empty);
+    expect_fail(bad, want);
+    free(notes), free(bad), free(want), free(empty);
+    bad = util_printf("%s tune --tuned %s/tuned", sb, dir);
+    expect_fail(bad, "shadowbench: error: --tuned: tune writes there only with --write-tuned\n");
+    free(bad);
+    bad = util_printf("%s run --technique hard --set pcf.samples=64", sb);
+    expect_fail(bad, "shadowbench: error: --set: pcf is not among the techniques selected with --technique\n");
+    free(bad);
 }
 
 int main(int argc, char **argv)

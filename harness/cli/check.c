@@ -476,12 +476,12 @@ static int add_cell(struct check *ch, const struct scene *s, const char *label, 
     void *settings;
     if (known_cell(ch, s, label))
         return 0;
+    char name[64];  /* a technique not selected: its cells are not read (a tuned one needs its file) */
+    snprintf(name, sizeof name, "%.*s", (int)strcspn(label, "@"), label);
+    if ((t = technique_find(name)) && !technique_selected(ch->o, t))
+        return 0;
     if (parse_label(label, s, ch->o->tuned_dir, &t, &settings) != 0)
         return -1;
-    if (!technique_selected(ch->o, t)) {
-        free(settings);
-        return 0;
-    }
     if (ch->count == ch->capacity) {
         ch->capacity = ch->capacity ? 2 * ch->capacity : 64;
         ch->cells = xrealloc(ch->cells, (size_t)ch->capacity * sizeof *ch->cells);

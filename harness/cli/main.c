@@ -442,6 +442,7 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
                          struct run_options *o)
 {
     run_options_defaults(o, cmd);
+    bool tuned_given = false;
     int c, index = 0;
     optind = 1;
     opterr = 0;
@@ -498,7 +499,10 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
         case OPT_BASELINES: rc = folder_option("baselines", optarg, &o->baselines_dir); break;
         case OPT_UPDATE: o->update = true; break;
         case OPT_STRICT: o->strict = true; break;
-        case OPT_TUNED: rc = folder_option("tuned", optarg, &o->tuned_dir); break;
+        case OPT_TUNED:
+            rc = folder_option("tuned", optarg, &o->tuned_dir);
+            tuned_given = true;
+            break;
         case OPT_SETTINGS: {
             static const char *const modes[] = {"both", "default", "tuned", NULL};
             int mode;
@@ -533,6 +537,23 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
     if (cmd == RUN_CMD_GT && o->scene_count == 0) {
         log_error("gt: --scene is required (see --help)");
         return -1;
+    }
+    if (tuned_given && cmd == RUN_CMD_TUNE && !o->write_tuned) {
+        log_error("--tuned: tune writes there only with --write-tuned");
+        return -1;
+    }
+    if (tuned_given && cmd != RUN_CMD_TUNE && !util_is_dir(o->tuned_dir)) {  /* a typo would drop every tuned cell */
+        log_error("--tuned %s: no such folder", o->tuned_dir);
+        return -1;
+    }
+    for (int i = 0; technique_list[i] && o->technique_count; i++) {
+        bool selected = false;
+        for (int k = 0; k < o->technique_count; k++)
+            selected |= o->techniques[k] == technique_list[i];
+        if (o->settings[i] && !selected) {  /* set, so meant: as a sweep of it would be */
+            log_error("--set: %s is not among the techniques selected with --technique", technique_list[i]->name);
+            return -1;
+        }
     }
     if (finish_techniques(o) != 0)
         return -1;

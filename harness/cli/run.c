@@ -518,10 +518,20 @@ static void frontiers_build(struct frontiers *f, const struct run_options *o, co
     f->all = xcalloc((size_t)o->config_count + 1, sizeof *f->all);
     for (int s = 0; s < scene_count; s++)
         f->scene[s] = xcalloc((size_t)o->config_count + 1, sizeof *f->scene[s]);
+    const struct tuned *first = NULL;  /* one chart, one tuning: its size, map, scenes and objective */
     for (int i = 0; i < o->config_count; i++) {
         const struct tuned *tu = o->configs[i].tuned;
         if (!tu)
             continue;
+        if (first && (tu->width != first->width || tu->height != first->height ||
+                      tu->shadow_map_size != first->shadow_map_size || strcmp(tu->objective, first->objective) ||
+                      !cJSON_Compare(cJSON_GetObjectItemCaseSensitive(tu->doc, "scenes"),
+                                     cJSON_GetObjectItemCaseSensitive(first->doc, "scenes"), true))) {
+            log_warn("%s: tuned at another size, map, objective or set of scenes than %s: its cell runs, its "
+                     "frontier is left out of the chart", tu->path, first->path);
+            continue;
+        }
+        first = first ? first : tu;
         add_curve(f, tu, NULL, f->all, &f->all_count);
         for (int s = 0; s < scene_count; s++)
             add_curve(f, tu, scenes[s].name, f->scene[s], &f->scene_count[s]);

@@ -10,6 +10,7 @@
 #include "score/tune_search.h"
 #include "techniques/params.h"
 
+#include <dirent.h>
 #include <math.h>
 #include <stdlib.h>
 #include <stdio.h>
@@ -495,6 +496,29 @@ static int tune_technique(struct tuner *tn)
 
 /* ---- the command ---- */
 
+/* --write-tuned writes into a folder of tuned settings: one holding
+ * anything else (someone's own files) is refused. */
+static int tuned_dir_ours(const char *dir)
+{
+    DIR *d = opendir(dir);
+    const char *stranger = NULL;
+    for (struct dirent *e; d && !stranger && (e = readdir(d));) {
+        const char *n = e->d_name, *dot = strrchr(n, '.');
+        bool ours = !strcmp(n, ".") || !strcmp(n, "..") || !strcmp(n, ".lock") || strstr(n, UTIL_TEMP_SUFFIX);
+        for (int i = 0; technique_list[i] && !ours && dot && !strcmp(dot, ".json"); i++)
+            ours = strlen(technique_list[i]->name) == (size_t)(dot - n) &&
+                   !strncmp(n, technique_list[i]->name, (size_t)(dot - n));
+        if (!ours)
+            stranger = n;
+    }
+    if (stranger)
+        log_error("--tuned %s: holds %s, which tune does not write: name a folder of tuned settings", dir,
+                  stranger);
+    if (d)
+        closedir(d);
+    return stranger ? -1 : 0;
+}
+
 static int begin_tune(const struct run_options *o, bool complete, double seconds)
 {
     cJSON *j = cJSON_CreateObject();
@@ -521,7 +545,8 @@ int tune_main(const struct run_options *o)
                   TUNE_MAX_SCENES, scene_count);
         goto out;
     }
-    if (run_claim_out_dir(o->out_dir) != 0 || (o->write_tuned && run_claim_results_dir(o->tuned_dir, 1) != 0) ||
+    if ((o->write_tuned && tuned_dir_ours(o->tuned_dir) != 0) || run_claim_out_dir(o->out_dir) != 0 ||
+        (o->write_tuned && run_claim_results_dir(o->tuned_dir, 1) != 0) ||
         begin_tune(o, false, 0) != 0 || shader_init(o->shader_dir) != 0)
         goto out;
     status = EXIT_CHECK_FAILED;

@@ -3,6 +3,7 @@
 #include "base/util.h"
 #include "techniques/params.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -31,7 +32,10 @@ static bool read_point(const cJSON *o, struct tuned_point *p)
             return false;
         *dst[i] = v->valuedouble;
     }
-    return p->ms_q1 > 0 && p->ms_q1 <= p->ms && p->ms <= p->ms_q3;
+    /* Errors are shares of visibility (shaded_rmse may pass 1, not by 1e3);
+     * times from a microsecond to an hour: what a chart's axes can hold. */
+    return p->error <= TUNED_MAX_ERROR && p->ms_q1 >= 1e-3 && p->ms_q1 <= p->ms && p->ms <= p->ms_q3 &&
+           p->ms_q3 <= 3.6e6;
 }
 
 /* A frontier: points with their settings' text, a Pareto front (time
@@ -40,7 +44,7 @@ static bool valid_frontier(const cJSON *a)
 {
     const cJSON *e;
     struct tuned_point p, last = {INFINITY, 0, 0, 0};
-    if (!cJSON_IsArray(a))
+    if (!cJSON_IsArray(a) || cJSON_GetArraySize(a) > TUNED_MAX_FRONTIER)
         return false;
     cJSON_ArrayForEach(e, a) {
         if (!read_point(e, &p) || !cJSON_IsString(cJSON_GetObjectItemCaseSensitive(e, "settings")) ||
@@ -66,19 +70,26 @@ int tuned_load(const char *dir, const struct technique *t, struct tuned *out)
     memset(out, 0, sizeof *out);
     out->t = t;
     out->path = util_printf("%s/%s.json", dir, t->name);
-    if (!util_file_exists(out->path)) {
-        tuned_free(out);
-        return 1;
-    }
     char *text = NULL;
     size_t size;
     int rc = util_read_file(out->path, &text, &size);
+    if (rc == -ENOENT) {
+        tuned_free(out);
+        return 1;
+    }
     log_set_context(out->path);
-    if (rc) {
+    if (rc) {  /* a folder, a FIFO, a device, a loop of links: said, not taken for "none" */
         log_error("cannot read: %s", util_read_error(rc));
         goto fail;
     }
-    out->doc = cJSON_ParseWithLength(text, size);
+    const char *end = NULL;  /* the whole file is the document: nothing after it, no NUL */
+    out->doc = memchr(text, '\0', size) ? NULL : cJSON_ParseWithLengthOpts(text, size, &end, 0);
+    while (out->doc && end < text + size && strchr(" \t\r\n", *end))
+        end++;
+    if (out->doc && end != text + size) {
+        cJSON_Delete(out->doc);
+        out->doc = NULL;
+    }
     free(text);
     const cJSON *d = out->doc, *folds = cJSON_GetObjectItemCaseSensitive(d, "folds"), *f;
     const char *technique = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(d, "technique"));
@@ -151,8 +162,10 @@ int tuned_load(const char *dir, const struct technique *t, struct tuned *out)
     out->gl_renderer = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(d, "gl_renderer"));
     out->date = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(d, "date"));
     if (!out->width || !out->height || !out->shadow_map_size || !out->objective || !out->gl_renderer ||
-        !out->date) {
-        log_error("needs whole numbers width, height, shadow_map_size and texts objective, gl_renderer, date");
+        !out->date || !(strcmp(out->objective, "penumbra_rmse") == 0 || strcmp(out->objective, "rmse") == 0 ||
+                        strcmp(out->objective, "shaded_rmse") == 0)) {
+        log_error("needs whole numbers width, height, shadow_map_size, texts gl_renderer and date, and an "
+                  "objective of penumbra_rmse, rmse or shaded_rmse");
         goto fail;
     }
     log_set_context(NULL);

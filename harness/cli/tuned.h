@@ -15,6 +15,8 @@
 
 #define TUNED_DEFAULT_DIR "results/tuned"
 #define TUNED_SUFFIX "@tuned"  /* a tuned cell's name: <technique>@tuned */
+#define TUNED_MAX_ERROR 1e3      /* what a file may hold: errors, */
+#define TUNED_MAX_FRONTIER 10000 /* and points in one frontier */
 
 /* A point of a frontier chart: mean error and time over scenes. */
 struct tuned_point {

@@ -19,7 +19,7 @@ static double drawable(double v) { return isfinite(v) && v > 0 ? v : 0; }
 /* A round tick step giving about five ticks up to max, and the axis end. */
 static double nice_axis(double max, double *step)
 {
-    if (!(max > 0))
+    if (!(max > 0) || !isfinite(max) || max > 1e30)  /* an axis it can tick */
         max = 1;
     double raw = max / 5, mag = pow(10, floor(log10(raw))), f = raw / mag;
     *step = (f <= 1 ? 1 : f <= 2 ? 2 : f <= 5 ? 5 : 10) * mag;
