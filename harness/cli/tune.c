@@ -22,8 +22,8 @@
 /* The search renders each cell once, timed, and scores that frame (a new
  * program is first rendered once untimed, so the JIT compile is not
  * timed); the cells a file reports (the frontiers' candidates, the
- * defaults, the tuned settings) are timed again with --frames after
- * --warmup. */
+ * defaults, the tuned and oracle settings) are timed again with --frames
+ * after --warmup. */
 #define TUNE_SEARCH_FRAMES 1
 
 struct tune_dim {
@@ -64,8 +64,8 @@ struct tuner {
 };
 
 /* Starting guess of the cells per unit of size: coordinate descent runs
- * about two rounds, and the folds and the per-scene searches add about as
- * much again (measured: 2.5-4 on the shipped scenes). */
+ * two or three rounds, and the folds add some more (measured: 2.5-4 on the
+ * shipped scenes). */
 #define TUNE_PER_SIZE_GUESS 3.5
 
 /* The cells one search round costs: one point per value of each parameter,
