@@ -141,6 +141,13 @@ static cJSON *read_json(const char *path)
     return j;
 }
 
+static void write_json(const char *path, const cJSON *j)
+{
+    char *text = cJSON_Print(j);
+    util_write_file_atomic(path, text, strlen(text));
+    cJSON_free(text);
+}
+
 static void expect_fail(const char *cmd, const char *line)
 {
     struct strbuf err = {0};
@@ -183,9 +190,7 @@ static void command(void)
      * made to differ from the all-scene setting and the other fold's. */
     cJSON_ReplaceItemInObject(cJSON_GetObjectItem(cJSON_GetArrayItem(folds, 0), "settings"), "slope_bias",
                               cJSON_CreateNumber(3.5));
-    char *edited = cJSON_Print(j);
-    util_write_file_atomic(path, edited, strlen(edited));
-    cJSON_free(edited);
+    write_json(path, j);
     cmd = util_printf("%s run --technique hard --scene parallel_planes --settings tuned --width 64 --height 64 "
                       "--gt-samples 16 --frames 1 --warmup 0 --no-cache -q --tuned %s/tuned --out %s/run", sb, dir,
                       dir);
@@ -204,9 +209,7 @@ static void command(void)
     const cJSON *settings = cJSON_GetObjectItem(j, "settings");
     cJSON *slope = cJSON_DetachItemFromObject((cJSON *)settings, "slope_bias");
     cJSON_AddItemToObject((cJSON *)settings, "slope_bias_renamed", slope);
-    char *text = cJSON_Print(j);
-    util_write_file_atomic(path, text, strlen(text));
-    cJSON_free(text);
+    write_json(path, j);
     char *run = util_printf("%s run --technique hard --scene parallel_planes --tuned %s/tuned --out %s/run2", sb,
                             dir, dir);
     char *line = util_printf("shadowbench: error: %s: settings: hard.slope_bias_renamed: unknown parameter (hard "
@@ -215,16 +218,12 @@ static void command(void)
     free(line);
     cJSON_DeleteItemFromObject((cJSON *)settings, "slope_bias_renamed");
     cJSON_AddNumberToObject((cJSON *)settings, "slope_bias", 99);
-    text = cJSON_Print(j);
-    util_write_file_atomic(path, text, strlen(text));
-    cJSON_free(text);
+    write_json(path, j);
     line = util_printf("shadowbench: error: %s: settings: hard.slope_bias: 99 is out of range [0.0, 16.0]\n", path);
     expect_fail(run, line);
     free(line);
     cJSON_DeleteItemFromObject((cJSON *)settings, "slope_bias");
-    text = cJSON_Print(j);
-    util_write_file_atomic(path, text, strlen(text));
-    cJSON_free(text);
+    write_json(path, j);
     line = util_printf("shadowbench: error: %s: settings: lacks hard.slope_bias (recorded before the parameter "
                        "existed)\n", path);
     expect_fail(run, line);
@@ -234,9 +233,7 @@ static void command(void)
     const double kept = cJSON_GetObjectItem(summary_tuned, "error")->valuedouble;
     cJSON_AddNumberToObject((cJSON *)settings, "slope_bias", 1);
     cJSON_ReplaceItemInObject(summary_tuned, "error", cJSON_CreateNumber(1.7e308));
-    text = cJSON_Print(j);
-    util_write_file_atomic(path, text, strlen(text));
-    cJSON_free(text);
+    write_json(path, j);
     line = util_printf("shadowbench: error: %s: \"summary\" (default, tuned) or \"frontier\" (all, scenes) is "
                        "missing or malformed\n", path);
     expect_fail(run, line);
@@ -246,9 +243,7 @@ static void command(void)
     /* A fold missing: its scene would get the setting fitted on it. */
     cJSON_AddNumberToObject((cJSON *)settings, "slope_bias", 1);
     cJSON_DeleteItemFromArray(cJSON_GetObjectItem(j, "folds"), 1);
-    text = cJSON_Print(j);
-    util_write_file_atomic(path, text, strlen(text));
-    cJSON_free(text);
+    write_json(path, j);
     line = util_printf("shadowbench: error: %s: \"scenes\" must name 2 or more scenes, each once, and \"folds\" "
                        "hold one per scene in that order\n", path);
     expect_fail(run, line);

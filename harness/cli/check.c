@@ -356,14 +356,6 @@ static int read_baseline(struct cell *c)
     return rc ? -1 : 0;
 }
 
-static char *utc_date(void)
-{
-    char date[64];
-    time_t now = time(NULL);
-    strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", gmtime(&now));
-    return xstrdup(date);
-}
-
 static void quantize(const float *v, size_t count, uint16_t *out)
 {
     for (size_t i = 0; i < count; i++) {
@@ -956,7 +948,7 @@ int check_main(const struct run_options *o)
     if (gl_context_create() != 0)
         goto out;
     git = run_git_describe();
-    date = utc_date();
+    date = run_utc_date();
 
     printf("check: %d cells on %d scene(s) against %s%s\n", ch.count, scene_count, o->baselines_dir,
            o->update ? " (recording them anew)" : "");

@@ -227,37 +227,24 @@ void scene_setup_free(struct scene_setup *ss)
     memset(ss, 0, sizeof *ss);
 }
 
-/* The receiver programs of a run, one per technique, settings and light
- * shape: a tuned cell's settings differ by scene, and are often the same. */
-struct program_cache {
-    struct program_cache_entry {
-        const struct technique *t;
-        void *settings;
-        enum light_shape shape;
-        GLuint program;
-    } *entries;
-    int count;
-};
-
-/* The program, compiled on first use; 0 after a logged compile error. */
-static GLuint program_get(struct program_cache *pc, const struct technique *t, const void *settings,
-                          enum light_shape shape)
+GLuint run_program_get(struct run_programs *pc, const struct technique *t, const void *settings,
+                       enum light_shape shape)
 {
     for (int i = 0; i < pc->count; i++) {
-        const struct program_cache_entry *e = &pc->entries[i];
+        const struct run_program *e = &pc->entries[i];
         if (e->t == t && e->shape == shape && memcmp(e->settings, settings, t->settings_size) == 0)
             return e->program;
     }
     GLuint program = receiver_program(t, settings, shape);
     if (program) {
         pc->entries = xrealloc(pc->entries, sizeof *pc->entries * (size_t)(pc->count + 1));
-        pc->entries[pc->count++] = (struct program_cache_entry){
+        pc->entries[pc->count++] = (struct run_program){
             t, memcpy(xmalloc(t->settings_size), settings, t->settings_size), shape, program};
     }
     return program;
 }
 
-static void program_cache_free(struct program_cache *pc)
+void run_programs_free(struct run_programs *pc)
 {
     for (int i = 0; i < pc->count; i++) {
         glDeleteProgram(pc->entries[i].program);
@@ -338,7 +325,7 @@ static void timing_progress(void *user, int round, int rounds)
                 round == rounds ? "\n" : "");
 }
 
-static int run_scene(struct scene_run *sr, const struct scene *scene, struct program_cache *programs,
+static int run_scene(struct scene_run *sr, const struct scene *scene, struct run_programs *programs,
                      struct cell *cells, int *cell_count)
 {
     const struct run_options *o = sr->o;
@@ -358,7 +345,7 @@ static int run_scene(struct scene_run *sr, const struct scene *scene, struct pro
     for (int i = 0; i < o->config_count; i++) {
         const void *settings = run_config_settings(&o->configs[i], scene);
         tc[i] = (struct stage_timer_cell){o->configs[i].technique, settings,
-                                          program_get(programs, o->configs[i].technique, settings,
+                                          run_program_get(programs, o->configs[i].technique, settings,
                                                       scene->light.shape)};
     }
     /* Each cell rendered and scored first, which warms it (shader JIT,
@@ -395,6 +382,14 @@ char *run_command_line(const struct run_options *o)
     char *text = util_utf8_copy(cmd.data ? cmd.data : "");
     strbuf_free(&cmd);
     return text;
+}
+
+char *run_utc_date(void)
+{
+    char date[64];
+    time_t now = time(NULL);
+    strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", gmtime(&now));
+    return xstrdup(date);
 }
 
 char *run_git_describe(void)
@@ -443,10 +438,9 @@ static cJSON *run_json(const struct run_options *o, double seconds)
     cJSON_AddStringToObject(r, "openexr_version", OPENEXR_VERSION_STRING);
     cJSON_AddStringToObject(r, "cpu", cpu);
     cJSON_AddNumberToObject(r, "cpu_threads", (double)sysconf(_SC_NPROCESSORS_ONLN));
-    char date[64];
-    time_t now = time(NULL);
-    strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", gmtime(&now));
+    char *date = run_utc_date();
     cJSON_AddStringToObject(r, "date", date);
+    free(date);
     cJSON_AddNumberToObject(r, "width", o->width);
     cJSON_AddNumberToObject(r, "height", o->height);
     cJSON_AddNumberToObject(r, "gt_samples", o->gt_samples);
@@ -560,7 +554,7 @@ int run_main(const struct run_options *o)
     int scene_count = 0, status = EXIT_CHECK_FAILED;
     struct cell *cells = NULL;
     int cell_count = 0;
-    struct program_cache programs = {0};
+    struct run_programs programs = {0};
     struct frontiers frontiers = {0};
     struct report_scene rs[RUN_MAX_SCENES] = {0};
 
@@ -584,7 +578,7 @@ int run_main(const struct run_options *o)
         goto out_free_scenes;
     for (int s = 0; s < scene_count; s++)  /* every program first: a compile error fails at once */
         for (int i = 0; i < o->config_count; i++)
-            if (!program_get(&programs, o->configs[i].technique, run_config_settings(&o->configs[i], &scenes[s]),
+            if (!run_program_get(&programs, o->configs[i].technique, run_config_settings(&o->configs[i], &scenes[s]),
                              scenes[s].light.shape))
                 goto out_free_gl;
 
@@ -650,7 +644,7 @@ int run_main(const struct run_options *o)
     free(cells);
     frontiers_free(&frontiers, scene_count);
 out_free_gl:
-    program_cache_free(&programs);
+    run_programs_free(&programs);
     gl_context_destroy();
 out_free_scenes:
     for (int s = 0; s < scene_count; s++)

@@ -59,6 +59,24 @@ struct run_config {
     struct tuned *tuned;  /* owned; a tuned cell: its settings differ by scene (tuned.h) */
 };
 
+/* The receiver programs of a command, one per technique, settings (their
+ * bytes) and light shape, compiled on first use: a tuned cell's settings
+ * differ by scene and are often the same. Zero-initialise. */
+struct run_programs {
+    struct run_program {
+        const struct technique *t;
+        void *settings;
+        enum light_shape shape;
+        GLuint program;
+    } *entries;
+    int count;
+};
+
+/* The program, compiled on first use; 0 after a logged compile error. */
+GLuint run_program_get(struct run_programs *pc, const struct technique *t, const void *settings,
+                       enum light_shape shape);
+void run_programs_free(struct run_programs *pc);
+
 /* The settings of config c on scene s: a tuned cell's for that scene. */
 const void *run_config_settings(const struct run_config *c, const struct scene *s);
 
@@ -152,6 +170,9 @@ char *run_command_line(const struct run_options *o);
  * temporaries (depth levels down) removed; nothing else touched. Returns 0
  * or -1 (logged). */
 int run_claim_results_dir(const char *dir, int depth);
+
+/* Now, in UTC, as the outputs write it: "2026-11-23T22:28:48Z"; malloc'ed. */
+char *run_utc_date(void);
 
 /* `git describe --always --dirty` of the source tree, or "unknown"; malloc'ed. */
 char *run_git_describe(void);

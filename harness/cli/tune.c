@@ -6,7 +6,6 @@
 #include "gl/shader.h"
 #include "output/chart.h"
 #include "output/report.h"
-#include "render/receiver.h"
 #include "score/tune_search.h"
 #include "techniques/params.h"
 
@@ -32,12 +31,6 @@ struct tune_dim {
     int count;
 };
 
-/* A compiled receiver program per point and light shape. */
-struct program_entry {
-    int point[TUNE_MAX_DIMS];
-    GLuint program[LIGHT_SHAPE_COUNT];
-};
-
 /* Progress over the whole command, for the ETA. */
 struct tune_progress {
     double start_ms, last_line_ms;
@@ -57,8 +50,7 @@ struct tuner {
     const struct scene *scenes;
     struct scene_setup *setups;
     int scene_count;
-    struct program_entry *programs;
-    int program_count;
+    struct run_programs programs;
     struct tune_memo memo;
     struct tune_progress *progress;
 };
@@ -86,25 +78,17 @@ static void *settings_of(const struct tuner *tn, const int *point)
     return s;
 }
 
-/* The program of point for a light shape; a new one is rendered once on
- * scene k, untimed, before any frame of it is timed. 0 on failure. */
-static GLuint program_for(struct tuner *tn, const int *point, const void *settings, int k)
+/* The program of these settings for scene k's light; a new one is
+ * rendered once on scene k, untimed, before any frame of it is timed. 0 on
+ * failure. */
+static GLuint program_for(struct tuner *tn, const void *settings, int k)
 {
-    const enum light_shape shape = tn->scenes[k].light.shape;
-    struct program_entry *e = NULL;
-    for (int i = 0; i < tn->program_count && !e; i++)
-        if (memcmp(tn->programs[i].point, point, sizeof(int) * (size_t)tn->dim_count) == 0)
-            e = &tn->programs[i];
-    if (!e) {
-        tn->programs = xrealloc(tn->programs, sizeof *tn->programs * (size_t)(tn->program_count + 1));
-        e = &tn->programs[tn->program_count++];
-        memset(e, 0, sizeof *e);
-        memcpy(e->point, point, sizeof(int) * (size_t)tn->dim_count);
-    }
-    if (!e->program[shape] && (e->program[shape] = receiver_program(tn->t, settings, shape)) &&
-        stage_timer_render(&tn->setups[k].timer, &(struct stage_timer_cell){tn->t, settings, e->program[shape]}) != 0)
+    const int known = tn->programs.count;
+    const GLuint program = run_program_get(&tn->programs, tn->t, settings, tn->scenes[k].light.shape);
+    if (program && tn->programs.count > known &&
+        stage_timer_render(&tn->setups[k].timer, &(struct stage_timer_cell){tn->t, settings, program}) != 0)
         return 0;
-    return e->program[shape];
+    return program;
 }
 
 static void show_progress(struct tune_progress *p, const char *technique)
@@ -132,7 +116,7 @@ static int measure(struct tuner *tn, const int *point, int k, int warmup, int fr
 {
     void *s = settings_of(tn, point);
     struct scene_setup *ss = &tn->setups[k];
-    const struct stage_timer_cell cell = {tn->t, s, program_for(tn, point, s, k)};
+    const struct stage_timer_cell cell = {tn->t, s, program_for(tn, s, k)};
     struct stage_timer timer = ss->timer;
     timer.warmup = warmup, timer.frames = frames;
     struct stage_times times;
@@ -269,14 +253,6 @@ static struct tune_sample sample_at(const struct tuner *tn, const int *point, in
     return tune_find(&tn->memo, point)->s[k];
 }
 
-static char *utc_now(void)
-{
-    char date[64];
-    time_t now = time(NULL);
-    strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", gmtime(&now));
-    return xstrdup(date);
-}
-
 static cJSON *technique_json(const struct tuner *tn, const int *start, const int *all, int (*fold)[TUNE_MAX_DIMS],
                              int (*oracle)[TUNE_MAX_DIMS], double seconds)
 {
@@ -344,7 +320,7 @@ static cJSON *technique_json(const struct tuner *tn, const int *start, const int
     char *cmd = run_command_line(o);
     cJSON_AddStringToObject(j, "command", cmd);
     free(cmd);
-    char *date = utc_now(), *git = run_git_describe();
+    char *date = run_utc_date(), *git = run_git_describe();
     cJSON_AddStringToObject(j, "date", date);
     cJSON_AddStringToObject(j, "git_describe", git);
     cJSON_AddStringToObject(j, "gl_renderer", gl_context_renderer());
@@ -577,11 +553,7 @@ int tune_main(const struct run_options *o)
     status = EXIT_OK;
     for (int i = 0; i < o->technique_count && status == EXIT_OK; i++) {
         status = tune_technique(&tuners[i]);
-        for (int k = 0; k < tuners[i].program_count; k++)
-            for (int s = 0; s < LIGHT_SHAPE_COUNT; s++)
-                if (tuners[i].programs[k].program[s])
-                    glDeleteProgram(tuners[i].programs[k].program[s]);
-        free(tuners[i].programs);
+        run_programs_free(&tuners[i].programs);
         tune_memo_free(&tuners[i].memo);
     }
     if (status == EXIT_OK) {
