@@ -19,12 +19,20 @@ float sm_lit_2x2(vec2 uv, float ref)
     return textureLod(sm_depth_compare, vec3(uv, ref), 0.0);
 }
 
+// The frame index the noise is animated by (the receiver sets it: 0 unless
+// `shadowbench stability` animates it). A program that does not read it
+// (no noise) is deterministic from frame to frame.
+uniform float sm_noise_frame;
+
 // Per-pixel random numbers in [0, 1): interleaved gradient noise (Jimenez
 // 2014, "Next generation post processing in Call of Duty"), decorrelated
-// for the second coordinate by a shifted window position.
+// for the second coordinate by a shifted window position, and animated as
+// that talk does, by moving the window position 5.588238 pixels a frame
+// (frame 0: the still pattern every other command scores).
 vec2 sm_pixel_noise(vec2 frag_coord)
 {
     const vec3 k = vec3(0.06711056, 0.00583715, 52.9829189);
+    frag_coord += 5.588238 * sm_noise_frame;
     return vec2(fract(k.z * fract(dot(frag_coord, k.xy))),
                 fract(k.z * fract(dot(frag_coord + vec2(47.0, 17.0), k.xy))));
 }

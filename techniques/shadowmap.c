@@ -350,6 +350,25 @@ void shadowmap_shader_defines(struct strbuf *out)
     }
 }
 
+static int fit(struct shadowmap *sm, const struct scene *s, const struct light_frustum *window)
+{
+    if ((window ? light_frustum_fit_window(s, window, &sm->frustum) : light_frustum_fit(s, &sm->frustum)) != 0)
+        return -1;
+    if (sm->desc.near_scale > 1)
+        light_frustum_widen(&sm->frustum, s, sm->desc.near_scale);
+    fill_block(sm, s);
+    return 0;
+}
+
+int shadowmap_refit(struct shadowmap *sm, const struct scene *s, const struct light_frustum *window)
+{
+    if (fit(sm, s, window) != 0)
+        return -1;
+    glBindBuffer(GL_UNIFORM_BUFFER, sm->ubo);
+    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof sm->block, &sm->block);
+    return 0;
+}
+
 int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct shadowmap_desc *desc)
 {
     memset(sm, 0, sizeof *sm);
@@ -361,10 +380,10 @@ int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct s
     sm->desc = *desc;
     if (!sm->desc.size_texels)
         sm->desc.size_texels = SHADOWMAP_DEFAULT_SIZE;
-    if (light_frustum_fit(s, &sm->frustum) != 0)
+    if (!(sm->desc.near_scale >= 1))
+        sm->desc.near_scale = 1;
+    if (fit(sm, s, NULL) != 0)
         return -1;
-
-    fill_block(sm, s);
     glGenBuffers(1, &sm->ubo);
     glBindBuffer(GL_UNIFORM_BUFFER, sm->ubo);
     glBufferData(GL_UNIFORM_BUFFER, sizeof sm->block, &sm->block, GL_DYNAMIC_DRAW);

@@ -55,7 +55,9 @@ _Static_assert(offsetof(struct shadowmap_block, sat_format) == 196, "std140 layo
 
 /* Zero means default (sokol style); shadowmap_create fills the defaults. */
 struct shadowmap_desc {
-    int size_texels;  /* square map, [SHADOWMAP_MIN_SIZE, SHADOWMAP_MAX_SIZE] */
+    int size_texels;   /* square map, [SHADOWMAP_MIN_SIZE, SHADOWMAP_MAX_SIZE] */
+    float near_scale;  /* >= 1: the fitted near plane pulled in to near / near_scale
+                          (light_frustum_widen); default 1 */
 };
 
 /* One product's GL objects: the product itself (a texture or a storage
@@ -82,6 +84,12 @@ struct shadowmap {
 /* Fits the frustum to s and creates what every product shares (the uniform
  * block, the comparison sampler). Returns 0 or -1 (logged). */
 int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct shadowmap_desc *desc);
+
+/* Fits the frustum to s (the same scene in another pose: its light moved),
+ * keeping window's angular window when window is given
+ * (light_frustum_fit_window), and uploads the uniform block; the products
+ * are rendered afresh by the next frame. Returns 0 or -1 (logged). */
+int shadowmap_refit(struct shadowmap *sm, const struct scene *s, const struct light_frustum *window);
 
 /* Appends the #defines that the layer's shaders and the receiver pass share
  * with C: the bindings (SM_BINDING_<PRODUCT>, _BLOCK, _PASS_SOURCE), the

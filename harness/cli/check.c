@@ -483,7 +483,7 @@ static int add_cell(struct check *ch, const struct scene *s, const char *label, 
                        .from_table = from_table};
     c->settings = memcpy(xmalloc(t->settings_size), settings, t->settings_size);
     c->desc = (struct scene_setup_desc){CHECK_SIZE, CHECK_SIZE, SHADOWMAP_DEFAULT_SIZE, CHECK_GT_SAMPLES,
-                                        CHECK_GT_SEED, ch->o->cache_dir};
+                                        CHECK_GT_SEED, ch->o->cache_dir, 0};
     c->json_path = util_printf("%s/%s/%s.json", ch->o->baselines_dir, s->name, label);
     c->png_path = util_printf("%s/%s/%s.png", ch->o->baselines_dir, s->name, label);
     return 0;
@@ -809,7 +809,7 @@ static int check_scene(struct check *ch, const struct scene *s, const char *git,
         bool comparable = c->baseline != NULL;
         if (o->update) {  /* recorded anew: today's settings for its name */
             const struct scene_setup_desc fresh = {CHECK_SIZE, CHECK_SIZE, SHADOWMAP_DEFAULT_SIZE,
-                                                   CHECK_GT_SAMPLES, CHECK_GT_SEED, o->cache_dir};
+                                                   CHECK_GT_SAMPLES, CHECK_GT_SEED, o->cache_dir, 0};
             comparable = comparable && same_desc(&c->desc, &fresh) &&
                          same_params(c->t, c->settings, c->label_settings);
             memcpy(c->settings, c->label_settings, c->t->settings_size);

@@ -4,6 +4,7 @@
 #include "check.h"
 #include "catalog.h"
 #include "run.h"
+#include "stability.h"
 #include "sweep.h"
 #include "tune.h"
 #include "tuned.h"
@@ -40,6 +41,8 @@ static const char usage_main[] =
     "  check  the regression check: every baseline cell rendered again and compared\n"
     "  tune   each technique's parameters explored: its frontier (error against\n"
     "         time) and a setting per scene chosen on the other scenes\n"
+    "  stability  flicker under motion, and where each technique breaks as the\n"
+    "         shadow map, the light or a parameter varies\n"
     "  list   techniques with every parameter (default, range, meaning), and scenes\n"
     "\n"
     "'shadowbench <command> --help' explains each command's options.\n"
@@ -234,6 +237,88 @@ static const char usage_tune[] =
     "The default (every technique on every shipped scene) takes about 10 minutes\n"
     "on a 2-core CPU with llvmpipe; progress and an ETA go to stderr.\n";
 
+static const char usage_stability[] =
+    "usage: shadowbench stability [options]\n"
+    "\n"
+    "Where methods fail, on purpose. Two modes, both run when neither is named:\n"
+    "\n"
+    "--motion: the scene moves for --frames frames; every frame is ray traced\n"
+    "anew (cached per pose) and rendered by every technique. Per technique:\n"
+    "  flicker       mean over pixels and frame pairs of |dV_tech - dV_gt|, i.e.\n"
+    "                of |e_t - e_(t-1)| with e = V_tech - V_gt: the change of the\n"
+    "                error from frame to frame. Pixels scored in both frames of a\n"
+    "                pair count; one that enters or leaves the mask is left out\n"
+    "                (counted: mask_changes)\n"
+    "  flicker_p99   its 99th percentile\n"
+    "  flicker_floor the ground truth's own frame-to-frame noise, from its two\n"
+    "                halves of samples: a flicker not above it is marked not\n"
+    "                meaningful\n"
+    "  rmse_mean, rmse_max  the frames' rmse\n"
+    "Techniques with per-pixel noise (pcf's disk, pcss) are measured with the\n"
+    "noise still (T) and animated by the frame index (T~anim, Jimenez 2014), and\n"
+    "each also accumulated by the moving average TAA keeps (T+ema, T~anim+ema),\n"
+    "reprojected where the camera moves.\n"
+    "  --motion M[=STEP]     (repeatable) one of:\n"
+    "      static            nothing moves: every deterministic technique's flicker\n"
+    "                        is exactly the floor (0)\n"
+    "      light_shift=S     the light along its own x axis, S shadow-map texels per\n"
+    "                        frame at the depth of the scene's centre (default 0.125)\n"
+    "      light_rotate=D    the light turned about its own y axis, D degrees per\n"
+    "                        frame (default 0.01)\n"
+    "      camera_shift=P    the camera along its own x axis, P pixels per frame at\n"
+    "                        the depth of the scene's centre (default 0.25)\n"
+    "  --frames K            frames of each motion, " RUN_STR(STABILITY_MIN_FRAMES) ".." RUN_STR(STABILITY_MAX_FRAMES)
+    " (default " RUN_STR(STABILITY_DEFAULT_FRAMES) ")\n"
+    "  --accumulate A        the new frame's weight in the moving average, (0, 1]\n"
+    "                        (default " RUN_STR(STABILITY_DEFAULT_ACCUMULATE) ")\n"
+    "\n"
+    "--vary: one thing takes each listed value (the reference value is added when\n"
+    "not listed); every technique's rmse, penumbra_rmse, leak_fraction and\n"
+    "dark_fraction against it, and where it breaks:\n"
+    "  --vary NAME=V1,V2,... (repeatable) NAME is one of:\n"
+    "      shadow_map_size   the map's side, " RUN_STR(SHADOWMAP_MIN_SIZE) ".." RUN_STR(SHADOWMAP_MAX_SIZE)
+    " (reference: --shadow-map-size)\n"
+    "      light_scale       the light's size times this, 1/64..64 (reference 1); the\n"
+    "                        ground truth follows\n"
+    "      depth_range       the map's near plane pulled in to near / this, 1..1e6\n"
+    "                        (reference 1): the scene fills less of the map's depth\n"
+    "                        range, as with an engine's fixed small near plane\n"
+    "      T.P               a parameter of technique T (its values as for --set),\n"
+    "                        e.g. pcf.radius_texels=1,2,4,8; reference: its setting\n"
+    "  A value breaks a technique where its V has any NaN/Inf, or, against the\n"
+    "  reference value, its rmse is at least " RUN_STR(STABILITY_BREAK_RMSE_FACTOR) " times as large and "
+    RUN_STR(STABILITY_BREAK_RMSE_RISE) " larger,\n"
+    "  or its leak_fraction or dark_fraction " RUN_STR(STABILITY_BREAK_FRACTION_RISE) " larger. Its break points: the first\n"
+    "  broken value below and above the reference.\n"
+    "\n"
+    "With neither: --motion static, light_shift, light_rotate and camera_shift at\n"
+    "their default steps, and --vary shadow_map_size=256,512,1024,2048,4096,\n"
+    "light_scale=0.25,0.5,1,2,4 and depth_range=1,10,100,1000,10000, on the\n"
+    "scenes floating_box_sphere and overlapping_occluders.\n"
+    "\n"
+    "Writes, under --out: stability.html (open it in a browser: tables, charts,\n"
+    "each motion's frames with a slider), stability.csv (one row per technique x\n"
+    "motion variant or varied value), stability.json (the same, the break points,\n"
+    "the rule), charts/*.svg, and <scene>/<motion>/<row>/visibility_frames.png and\n"
+    "error_frames.png (the frames side by side).\n"
+    "\n"
+    "other options:\n"
+    "  --scene S             (repeatable; default as above)\n"
+    "  --technique T[,T...]  (default: all)\n"
+    "  --set T.P=V           as for run (repeatable)\n"
+    "  --width W, --height H image size, " SIZE_RANGE " (default " RUN_STR(STABILITY_DEFAULT_SIZE) " x "
+    RUN_STR(STABILITY_DEFAULT_SIZE) ")\n"
+    "  --gt-samples N        light samples per pixel of the ground truth (default "
+    RUN_STR(GT_DEFAULT_SAMPLES) ")\n"
+    "  --shadow-map-size N   texels, " MAP_RANGE " (default " RUN_STR(SHADOWMAP_DEFAULT_SIZE) ")\n"
+    "  --out DIR             (default " STABILITY_DEFAULT_OUT ")\n"
+    "  --cache DIR, --no-cache   ground-truth cache, as for run\n"
+    "  --shaders DIR         GLSL folder, as for run\n"
+    "  -q, --quiet, -v, --verbose\n"
+    "\n"
+    "exit status: 0 done; 1 a technique produced NaN/Inf or a motion had nothing\n"
+    "to score, or a runtime error; 2 bad usage or input.\n";
+
 static const char usage_list[] =
     "usage: shadowbench list\n"
     "\n"
@@ -244,6 +329,7 @@ enum {
     OPT_SCENE = 256, OPT_TECHNIQUE, OPT_SET, OPT_WIDTH, OPT_HEIGHT, OPT_GT_SAMPLES,
     OPT_SM_SIZE, OPT_FRAMES, OPT_WARMUP, OPT_OUT, OPT_CACHE, OPT_NO_CACHE, OPT_SHADERS, OPT_SWEEP,
     OPT_BASELINES, OPT_UPDATE, OPT_STRICT, OPT_TUNED, OPT_SETTINGS, OPT_OBJECTIVE, OPT_WRITE_TUNED,
+    OPT_MOTION, OPT_VARY, OPT_ACCUMULATE,
 };
 
 static const struct option long_options[] = {
@@ -268,6 +354,9 @@ static const struct option long_options[] = {
     {"settings", required_argument, NULL, OPT_SETTINGS},
     {"objective", required_argument, NULL, OPT_OBJECTIVE},
     {"write-tuned", no_argument, NULL, OPT_WRITE_TUNED},
+    {"motion", required_argument, NULL, OPT_MOTION},
+    {"vary", required_argument, NULL, OPT_VARY},
+    {"accumulate", required_argument, NULL, OPT_ACCUMULATE},
     {"quiet", no_argument, NULL, 'q'},
     {"verbose", no_argument, NULL, 'v'},
     {"help", no_argument, NULL, 'h'},
@@ -367,6 +456,8 @@ static bool takes(enum run_command cmd, int c)
     bool check = c == OPT_BASELINES || c == OPT_UPDATE || c == OPT_STRICT;
     if (c == OPT_SWEEP || c == OPT_SETTINGS)
         return cmd == RUN_CMD_RUN;
+    if (c == OPT_MOTION || c == OPT_VARY || c == OPT_ACCUMULATE)
+        return cmd == RUN_CMD_STABILITY;
     if (c == OPT_OBJECTIVE || c == OPT_WRITE_TUNED)
         return cmd == RUN_CMD_TUNE;
     if (c == OPT_TUNED)
@@ -376,6 +467,7 @@ static bool takes(enum run_command cmd, int c)
     case RUN_CMD_TUNE: return !check && c != OPT_SET;  /* the search starts from the defaults */
     case RUN_CMD_GT: return !gl && !check;
     case RUN_CMD_BENCH: return !gt && !check;
+    case RUN_CMD_STABILITY: return !check && c != OPT_WARMUP && c != OPT_TUNED;
     case RUN_CMD_CHECK:  /* the settings are the baselines' */
         return check || c == OPT_SCENE || c == OPT_TECHNIQUE || c == OPT_OUT || c == OPT_CACHE ||
                c == OPT_NO_CACHE || c == OPT_SHADERS;
@@ -397,7 +489,7 @@ static int parse_gt_samples(const char *text, int *out)
     return 0;
 }
 
-static const char *const command_names[] = {"run", "gt", "bench", "check", "tune"};
+static const char *const command_names[] = {"run", "gt", "bench", "check", "tune", "stability"};
 
 static int parse_choice(const char *opt, const char *text, const char *const *names, int *out)
 {
@@ -490,7 +582,32 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
             rc = parse_int("shadow-map-size", optarg, SHADOWMAP_MIN_SIZE, SHADOWMAP_MAX_SIZE,
                            &o->shadow_map_size);
             break;
-        case OPT_FRAMES: rc = parse_int("frames", optarg, 1, STAGE_TIMER_MAX_FRAMES, &o->frames); break;
+        case OPT_FRAMES:
+            rc = cmd == RUN_CMD_STABILITY
+                     ? parse_int("frames", optarg, STABILITY_MIN_FRAMES, STABILITY_MAX_FRAMES, &o->frames)
+                     : parse_int("frames", optarg, 1, STAGE_TIMER_MAX_FRAMES, &o->frames);
+            break;
+        case OPT_MOTION:
+        case OPT_VARY: {
+            const bool motion = c == OPT_MOTION;
+            int *n = motion ? &o->motion_count : &o->vary_count;
+            if (*n == (motion ? RUN_MAX_MOTIONS : RUN_MAX_VARIES)) {
+                log_error("--%s: at most %d", motion ? "motion" : "vary", motion ? RUN_MAX_MOTIONS : RUN_MAX_VARIES);
+                return -1;
+            }
+            (motion ? o->motions : o->varies)[(*n)++] = optarg;
+            break;
+        }
+        case OPT_ACCUMULATE: {
+            char *end;
+            errno = 0;
+            o->accumulate = strtod(optarg, &end);
+            if (!*optarg || *end || errno || !(o->accumulate > 0 && o->accumulate <= 1)) {
+                log_error("--accumulate: '%s' is not a number in (0, 1]", optarg);
+                return -1;
+            }
+            break;
+        }
         case OPT_WARMUP: rc = parse_int("warmup", optarg, 0, RUN_MAX_WARMUP, &o->warmup); break;
         case OPT_OUT: rc = folder_option("out", optarg, &o->out_dir); break;
         case OPT_CACHE: rc = folder_option("cache", optarg, &o->cache_dir); break;
@@ -611,14 +728,16 @@ int main(int argc, char **argv)
     }
     if (strcmp(cmd, "list") == 0)
         return cmd_list(argc - 1, argv + 1);
-    static const char *const usages[] = {usage_run, usage_gt, usage_bench, usage_check, usage_tune};
+    static const char *const usages[] = {usage_run, usage_gt, usage_bench, usage_check, usage_tune,
+                                         usage_stability};
     static int (*const mains[])(const struct run_options *) = {run_main, run_gt, bench_main, check_main,
-                                                               tune_main};
+                                                               tune_main, stability_main};
+    const int commands = (int)(sizeof mains / sizeof *mains);
     int k = 0;
-    while (k < 5 && strcmp(cmd, command_names[k]) != 0)
+    while (k < commands && strcmp(cmd, command_names[k]) != 0)
         k++;
-    if (k == 5) {
-        log_error("unknown command '%s' (commands: run, gt, bench, check, tune, list; see --help)", cmd);
+    if (k == commands) {
+        log_error("unknown command '%s' (commands: run, gt, bench, check, tune, stability, list; see --help)", cmd);
         return EXIT_USAGE;
     }
     struct run_options o = {.argc = argc, .argv = argv};

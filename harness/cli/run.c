@@ -29,20 +29,27 @@
 
 void run_options_defaults(struct run_options *o, enum run_command cmd)
 {
-    bool bench = cmd == RUN_CMD_BENCH, tune = cmd == RUN_CMD_TUNE;
-    o->width = o->height = bench ? BENCH_DEFAULT_SIZE : tune ? TUNE_DEFAULT_SIZE : RUN_DEFAULT_SIZE;
+    bool bench = cmd == RUN_CMD_BENCH, tune = cmd == RUN_CMD_TUNE, stability = cmd == RUN_CMD_STABILITY;
+    o->width = o->height = bench ? BENCH_DEFAULT_SIZE : tune ? TUNE_DEFAULT_SIZE
+                         : stability                  ? STABILITY_DEFAULT_SIZE
+                                                      : RUN_DEFAULT_SIZE;
     o->gt_samples = GT_DEFAULT_SAMPLES;
     o->shadow_map_size = SHADOWMAP_DEFAULT_SIZE;
-    o->frames = bench ? BENCH_DEFAULT_FRAMES : tune ? TUNE_DEFAULT_FRAMES : RUN_DEFAULT_FRAMES;
+    o->frames = bench       ? BENCH_DEFAULT_FRAMES
+                : tune      ? TUNE_DEFAULT_FRAMES
+                : stability ? STABILITY_DEFAULT_FRAMES
+                            : RUN_DEFAULT_FRAMES;
     o->warmup = bench ? BENCH_DEFAULT_WARMUP : tune ? TUNE_DEFAULT_WARMUP : RUN_DEFAULT_WARMUP;
     o->out_dir = cmd == RUN_CMD_GT      ? GT_DEFAULT_OUT
                  : cmd == RUN_CMD_CHECK ? CHECK_DEFAULT_OUT
                  : tune                 ? TUNE_DEFAULT_OUT
+                 : stability            ? STABILITY_DEFAULT_OUT
                                         : RUN_DEFAULT_OUT;
     o->cache_dir = RUN_DEFAULT_CACHE;
     o->baselines_dir = CHECK_DEFAULT_BASELINES;
     o->tuned_dir = TUNED_DEFAULT_DIR;
     o->objective = METRIC_penumbra_rmse;
+    o->accumulate = STABILITY_DEFAULT_ACCUMULATE;
 }
 
 const void *run_config_settings(const struct run_config *c, const struct scene *s)
@@ -186,7 +193,8 @@ int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct
     ss->scene = s;
     ss->width = d->width, ss->height = d->height;
     scene_mesh_upload(s, &ss->mesh);
-    if (shadowmap_create(&ss->sm, s, &(struct shadowmap_desc){.size_texels = d->shadow_map_size}) ||
+    if (shadowmap_create(&ss->sm, s,
+                         &(struct shadowmap_desc){.size_texels = d->shadow_map_size, .near_scale = d->near_scale}) ||
         receiver_create(&ss->receiver, s, d->width, d->height) ||
         gt_obtain(s, &ss->sm.frustum,
                   &(struct gt_desc){.width = d->width, .height = d->height, .samples = d->gt_samples,
@@ -334,7 +342,7 @@ static int run_scene(struct scene_run *sr, const struct scene *scene, struct run
     if (util_mkdirs(sr->dir) != 0 ||
         scene_setup_open(&sr->ss, scene,
                          &(struct scene_setup_desc){o->width, o->height, o->shadow_map_size,
-                                                    o->gt_samples, 0, o->cache_dir}) != 0)
+                                                    o->gt_samples, 0, o->cache_dir, 0}) != 0)
         return -1;
     struct stage_timer timer = sr->ss.timer;
     timer.warmup = o->warmup, timer.frames = o->frames;

@@ -19,7 +19,7 @@ enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_USAGE = 2 };
 #define RUN_MAX_CONFIGS 256
 
 /* The commands that render: they share struct run_options. */
-enum run_command { RUN_CMD_RUN, RUN_CMD_GT, RUN_CMD_BENCH, RUN_CMD_CHECK, RUN_CMD_TUNE };
+enum run_command { RUN_CMD_RUN, RUN_CMD_GT, RUN_CMD_BENCH, RUN_CMD_CHECK, RUN_CMD_TUNE, RUN_CMD_STABILITY };
 
 /* Which cells of each technique run makes (--settings). */
 enum run_settings_mode { RUN_SETTINGS_BOTH, RUN_SETTINGS_DEFAULT, RUN_SETTINGS_TUNED };
@@ -46,6 +46,14 @@ enum run_settings_mode { RUN_SETTINGS_BOTH, RUN_SETTINGS_DEFAULT, RUN_SETTINGS_T
 #define TUNE_DEFAULT_SIZE 256   /* tune: --width, --height */
 #define TUNE_DEFAULT_FRAMES 3   /* the cells the files report, timed again (the search: 1) */
 #define TUNE_DEFAULT_WARMUP 0   /* the cells timed again were rendered before */
+#define STABILITY_DEFAULT_OUT "results/stability/latest"
+#define STABILITY_DEFAULT_SIZE 256    /* stability: --width, --height */
+#define STABILITY_DEFAULT_FRAMES 16   /* stability: frames of each motion */
+#define STABILITY_DEFAULT_ACCUMULATE 0.1  /* stability: a new frame's weight in the moving average */
+#define STABILITY_MIN_FRAMES 2
+#define STABILITY_MAX_FRAMES 256
+#define RUN_MAX_MOTIONS 16
+#define RUN_MAX_VARIES 16
 #define RUN_STR_(x) #x
 #define RUN_STR(x) RUN_STR_(x)  /* a default as text, for --help: plain literals only */
 
@@ -107,6 +115,11 @@ struct run_options {
     enum run_settings_mode settings_mode;  /* run: default, tuned or both cells */
     int objective;                       /* tune: the metric minimised (METRIC_*) */
     bool write_tuned;                    /* tune: write tuned_dir/<technique>.json */
+    const char *motions[RUN_MAX_MOTIONS];  /* stability: --motion specs as given */
+    int motion_count;
+    const char *varies[RUN_MAX_VARIES];    /* stability: --vary specs as given */
+    int vary_count;
+    double accumulate;                   /* stability: the accumulation's weight of a new frame */
     int argc;                            /* the command line, for run.json */
     char **argv;
 };
@@ -124,6 +137,7 @@ struct scene_setup_desc {
     int width, height, shadow_map_size, gt_samples;
     uint32_t gt_seed;       /* 0: the ground truth's default */
     const char *cache_dir;  /* NULL: no ground-truth cache */
+    float near_scale;       /* the shadow map's (shadowmap_desc); 0: 1 */
 };
 
 struct scene_setup {

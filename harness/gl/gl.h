@@ -64,6 +64,7 @@
     X(PFNGLUSEPROGRAMPROC, glUseProgram) \
     X(PFNGLGETUNIFORMLOCATIONPROC, glGetUniformLocation) \
     X(PFNGLUNIFORM1IPROC, glUniform1i) \
+    X(PFNGLUNIFORM1FPROC, glUniform1f) \
     X(PFNGLUNIFORM3FPROC, glUniform3f) \
     X(PFNGLUNIFORMMATRIX4FVPROC, glUniformMatrix4fv) \
     X(PFNGLDEBUGMESSAGECALLBACKPROC, glDebugMessageCallback) \

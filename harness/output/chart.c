@@ -228,6 +228,9 @@ void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
         char label[128];
         snprintf(label, sizeof label, "%s (%s)", s->name, s->unit);
         y_axis(out, x0, y0, w, h, max, step, label);
+        if (s->floor_name && isfinite(s->floor) && s->floor > 0) {
+            max = nice_axis(fmax(max, s->floor), &step);  /* the floor stays on the axis */
+        }
         const double slot = (double)w / n, bw = fmin(0.7 * slot, 40);
         for (int i = 0; i < n; i++) {
             double v = drawable(s->values[i]), bh = v / max * h, cx = x0 + (i + 0.5) * slot;
@@ -247,9 +250,112 @@ void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
             strbuf_xml(out, items[i].label);
             strbuf_printf(out, "</text>\n");
         }
+        if (s->floor_name && isfinite(s->floor) && s->floor > 0) {
+            const double fy = y0 + h - s->floor / max * h;
+            strbuf_printf(out, "<line class=\"floor\" x1=\"%d\" x2=\"%d\" y1=\"%.1f\" y2=\"%.1f\" stroke=\"#a00\" "
+                               "stroke-dasharray=\"5 3\"/><text x=\"%d\" y=\"%.1f\" text-anchor=\"end\" "
+                               "font-size=\"10\" fill=\"#a00\">", x0, x0 + w, fy, fy, x0 + w, fy - 3);
+            strbuf_xml(out, s->floor_name);
+            strbuf_printf(out, " %.3g</text>\n", s->floor);
+        }
     }
     legend(out, items, n, 20, height - 12);
     strbuf_printf(out, "</svg>\n");
+}
+
+enum { LINE_W = 470, LINE_PLOT_H = 220, LINE_PAD_B = 56 };
+
+void chart_lines_svg(struct strbuf *out, const char *title, const char *subtitle, const char *x_label, bool log_x,
+                     double reference_x, const char *marked_text, const struct chart_panel *panels,
+                     int panel_count)
+{
+    double x_lo = INFINITY, x_hi = -INFINITY;
+    for (int k = 0; k < panel_count; k++)
+        for (int c = 0; c < panels[k].n; c++)
+            for (int i = 0; i < panels[k].lines[c].n; i++) {
+                const double x = panels[k].lines[c].x[i];
+                if (isfinite(x) && (!log_x || x > 0))
+                    x_lo = fmin(x_lo, x), x_hi = fmax(x_hi, x);
+            }
+    if (!(x_hi > x_lo))  /* one value (or none): an axis around it */
+        x_lo = isfinite(x_lo) ? (log_x ? x_lo / 2 : x_lo - 1) : (log_x ? 1 : 0),
+        x_hi = isfinite(x_hi) ? (log_x ? x_hi * 2 : x_hi + 1) : (log_x ? 10 : 1);
+    const double a = log_x ? log10(x_lo) : x_lo, b = log_x ? log10(x_hi) : x_hi;
+    const int panel_h = PAD_T + LINE_PLOT_H + LINE_PAD_B, rows = (panel_count + 1) / 2;
+    const int width = 2 * LINE_W, height = TOP + rows * panel_h + 30;
+    begin(out, width, height, title, subtitle);
+    for (int k = 0; k < panel_count; k++) {
+        const struct chart_panel *p = &panels[k];
+        const int x0 = (k % 2) * LINE_W + PAD_L, y0 = TOP + (k / 2) * panel_h + PAD_T,
+                  w = LINE_W - PAD_L - PAD_R, h = LINE_PLOT_H;
+        double y_max = 0, y_step;
+        for (int c = 0; c < p->n; c++)
+            for (int i = 0; i < p->lines[c].n; i++)
+                y_max = fmax(y_max, drawable(p->lines[c].y[i]));
+        y_max = nice_axis(y_max, &y_step);
+        panel_title(out, x0, w, y0 - 12, p->name, "");
+        char label[128];
+        snprintf(label, sizeof label, "%s (%s)", p->name, p->unit);
+        y_axis(out, x0, y0, w, h, y_max, y_step, label);
+#define LX(v) (x0 + ((log_x ? log10(v) : (v)) - a) / (b - a) * w)
+#define LY(v) (y0 + h - fmin(drawable(v), y_max) / y_max * h)
+        /* x ticks: the values the lines have (the varied values) */
+        const struct chart_line *first = p->n ? &p->lines[0] : NULL;
+        for (int i = 0; first && i < first->n; i++)
+            if (isfinite(first->x[i]) && (!log_x || first->x[i] > 0))
+                strbuf_printf(out, "<line x1=\"%.1f\" x2=\"%.1f\" y1=\"%d\" y2=\"%d\" stroke=\"#333\"/>"
+                                   "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%g</text>\n",
+                              LX(first->x[i]), LX(first->x[i]), y0 + h, y0 + h + 5, LX(first->x[i]), y0 + h + 18,
+                              first->x[i]);
+        strbuf_printf(out, "<text x=\"%d\" y=\"%d\" text-anchor=\"middle\">", x0 + w / 2, y0 + h + 38);
+        strbuf_xml(out, x_label);
+        strbuf_printf(out, "%s</text>\n", log_x ? " (log scale)" : "");
+        if (isfinite(reference_x) && (!log_x || reference_x > 0))
+            strbuf_printf(out, "<line class=\"reference\" x1=\"%.1f\" x2=\"%.1f\" y1=\"%d\" y2=\"%d\" "
+                               "stroke=\"#777\" stroke-dasharray=\"4 3\"/>\n",
+                          LX(reference_x), LX(reference_x), y0, y0 + h);
+        for (int c = 0; c < p->n; c++) {
+            const struct chart_line *l = &p->lines[c];
+            const char *col = colour(l->item.group);
+            strbuf_printf(out, "<path class=\"line\" d=\"");
+            bool pen = false;
+            for (int i = 0; i < l->n; i++) {
+                if (!isfinite(l->y[i]) || !isfinite(l->x[i]) || (log_x && !(l->x[i] > 0))) {
+                    pen = false;
+                    continue;
+                }
+                strbuf_printf(out, "%s%.1f %.1f ", pen ? "L" : "M", LX(l->x[i]), LY(l->y[i]));
+                pen = true;
+            }
+            strbuf_printf(out, "\" fill=\"none\" stroke=\"%s\" stroke-width=\"2\"/>\n", col);
+            for (int i = 0; i < l->n; i++) {
+                if (!isfinite(l->y[i]) || !isfinite(l->x[i]) || (log_x && !(l->x[i] > 0)))
+                    continue;
+                const bool ring = l->marked && l->marked[i];
+                strbuf_printf(out, "<circle%s cx=\"%.1f\" cy=\"%.1f\" r=\"%d\" fill=\"%s\" stroke=\"%s\" "
+                                   "stroke-width=\"2\"><title>", ring ? " class=\"marked\"" : "", LX(l->x[i]),
+                              LY(l->y[i]), ring ? 6 : 3, ring ? "white" : col, col);
+                strbuf_xml(out, l->item.label);
+                strbuf_printf(out, " at %g: %s %.4g%s%s</title></circle>\n", l->x[i], p->name, l->y[i],
+                              ring ? ", " : "", ring ? marked_text : "");
+            }
+        }
+#undef LX
+#undef LY
+    }
+    int lx = 20;
+    const struct chart_panel *p0 = panel_count ? &panels[0] : NULL;
+    for (int c = 0; p0 && c < p0->n; c++) {
+        strbuf_printf(out, "<rect x=\"%d\" y=\"%d\" width=\"14\" height=\"3\" fill=\"%s\"/><text x=\"%d\" "
+                           "y=\"%d\">", lx, height - 17, colour(p0->lines[c].item.group), lx + 18, height - 12);
+        strbuf_xml(out, p0->lines[c].item.label);
+        strbuf_printf(out, "</text>\n");
+        lx += 30 + 7 * (int)strlen(p0->lines[c].item.label);
+    }
+    strbuf_printf(out, "<text x=\"%d\" y=\"%d\" text-anchor=\"end\" fill=\"#555\">ringed: ", width - 10,
+                  height - 12);
+    strbuf_xml(out, marked_text);
+    strbuf_printf(out, "; dashed: the reference value</text>\n</svg>\n");
 }
 
 enum { FRONT_W = 900, FRONT_H = 550, FRONT_L = 80, FRONT_R = 30, FRONT_T = 60, FRONT_B = 100 };

@@ -24,6 +24,9 @@ struct chart_series {
     const double *values;  /* one per item; NAN: nothing to show (unscored) */
     const double *lo, *hi; /* the spread behind each value (may be NULL): drawn as an error
                               bar along the time axis */
+    const char *floor_name;  /* bars: a dashed line across the panel at floor, so named (NULL:
+                                none), e.g. the ground truth's own noise */
+    double floor;
 };
 
 /* Scatter panels side by side, one per error series, each against the same
@@ -57,6 +60,29 @@ struct chart_curve {
  * filled diamond. */
 void chart_frontier_svg(struct strbuf *out, const char *title, const char *subtitle,
                         const struct chart_curve *curves, int n, const char *x_label, const char *y_label);
+
+/* One line of a line chart: a technique's metric against a varied value. */
+struct chart_line {
+    struct chart_item item;  /* label: the technique */
+    int n;
+    const double *x, *y;     /* in increasing x; a NAN y: no point there (unscored) */
+    const bool *marked;      /* may be NULL: points drawn with a ring (e.g. "broken") */
+};
+
+/* One panel of a line chart: a metric. */
+struct chart_panel {
+    const char *name, *unit;
+    const struct chart_line *lines;
+    int n;
+};
+
+/* Panels in a grid of two columns sharing one x axis (logarithmic with
+ * log_x: values that span decades), each a line per technique through its
+ * points, marked points ringed (what the ring means: marked_text), a
+ * dashed vertical line at reference_x (NAN: none). */
+void chart_lines_svg(struct strbuf *out, const char *title, const char *subtitle, const char *x_label, bool log_x,
+                     double reference_x, const char *marked_text, const struct chart_panel *panels,
+                     int panel_count);
 
 /* Indices of the Pareto-optimal items for minimising both x and y, in
  * increasing x; returns their count. Ties in x keep the lower y. */

@@ -38,7 +38,7 @@ int report_write_json(const char *path, const cJSON *value)
     return rc ? -1 : 0;
 }
 
-static void csv_field(struct strbuf *sb, const char *s)
+void report_csv_field(struct strbuf *sb, const char *s)
 {
     strbuf_append(sb, "\"", 1);
     for (; *s; s++)
@@ -57,19 +57,19 @@ static int write_matrix(const struct report *r)
     cJSON *cells = cJSON_AddArrayToObject(matrix, "cells");
     for (int i = 0; i < r->cell_count; i++) {
         cJSON *row = report_cell_json(&r->cells[i]);
-        csv_field(&csv, r->cells[i].scene);
+        report_csv_field(&csv, r->cells[i].scene);
         strbuf_printf(&csv, ",");
-        csv_field(&csv, r->cells[i].technique->name);
+        report_csv_field(&csv, r->cells[i].technique->name);
         strbuf_printf(&csv, ",");
-        csv_field(&csv, r->cells[i].params_text);
+        report_csv_field(&csv, r->cells[i].params_text);
         for (int k = 0; k < METRIC_COUNT; k++) {
             double v = metrics_value(&r->cells[i].m, k);
             strbuf_printf(&csv, isnan(v) ? "," : ",%.9g", v);  /* null: an empty field */
         }
         strbuf_printf(&csv, ",");
-        csv_field(&csv, r->cells[i].gl_renderer);
+        report_csv_field(&csv, r->cells[i].gl_renderer);
         strbuf_printf(&csv, ",");
-        csv_field(&csv, r->cells[i].label);
+        report_csv_field(&csv, r->cells[i].label);
         strbuf_printf(&csv, ",%s\n", metrics_scored(&r->cells[i].m) ? "true" : "false");
         cJSON_AddItemToArray(cells, row);
     }
@@ -99,7 +99,6 @@ static struct chart_item item_of(const struct cell *c)
     return (struct chart_item){c->label, c->technique->name, technique_index(c->technique)};
 }
 
-static void url(struct strbuf *h, const char *s);
 
 /* A scene's own text, escaped, and cut at REPORT_TEXT_MAX bytes (at a
  * character boundary) with a note: a file's text is not the report's to
@@ -128,9 +127,9 @@ static int emit_chart(const struct report *r, const char *name, struct strbuf *s
     int rc = util_write_file_atomic(path, svg->data, svg->len);
     /* name holds a scene's name, i.e. a file name: escaped wherever it goes. */
     strbuf_printf(html, "<figure class=\"chart\" id=\"chart-");
-    url(html, name);
+    report_url(html, name);
     strbuf_printf(html, "\">\n%s<figcaption><a href=\"charts/", svg->data);
-    url(html, name);
+    report_url(html, name);
     strbuf_printf(html, ".svg\">charts/");
     strbuf_xml(html, name);
     strbuf_printf(html, ".svg</a></figcaption></figure>\n");
@@ -187,12 +186,12 @@ static int scene_charts(const struct report *r, const char *scene, const char *d
         p.leak[p.n] = c->m.leak_fraction, p.dark[p.n] = c->m.dark_fraction;
         p.n++;
     }
-    const struct chart_series time = {"ms_total", "ms", p.ms, p.q1, p.q3};
-    const struct chart_series bars[] = {{"rmse", "visibility", p.rmse, NULL, NULL},  /* the first two: errors */
-                                        {"penumbra_rmse", "visibility", p.pen, NULL, NULL},
-                                        {"shaded_rmse", "share of mean irradiance", p.shaded, NULL, NULL},
-                                        {"leak_fraction", "share of scored pixels", p.leak, NULL, NULL},
-                                        {"dark_fraction", "share of scored pixels", p.dark, NULL, NULL}};
+    const struct chart_series time = {"ms_total", "ms", p.ms, p.q1, p.q3, NULL, NAN};
+    const struct chart_series bars[] = {{"rmse", "visibility", p.rmse, NULL, NULL, NULL, NAN},  /* the first two: errors */
+                                        {"penumbra_rmse", "visibility", p.pen, NULL, NULL, NULL, NAN},
+                                        {"shaded_rmse", "share of mean irradiance", p.shaded, NULL, NULL, NULL, NAN},
+                                        {"leak_fraction", "share of scored pixels", p.leak, NULL, NULL, NULL, NAN},
+                                        {"dark_fraction", "share of scored pixels", p.dark, NULL, NULL, NULL, NAN}};
     char *title = util_printf("%s: error against time per frame", scene), *sub = chart_subtitle(device, "");
     struct strbuf svg = {0};
     chart_tradeoff_svg(&svg, title, sub, p.items, p.n, &time, bars, 2);
@@ -230,9 +229,9 @@ static int overall_chart(const struct report *r, const char *device, struct strb
         p.ms[k] /= p.count[k], p.q1[k] /= p.count[k], p.q3[k] /= p.count[k];
         p.rmse[k] /= p.count[k], p.pen[k] /= p.count[k];
     }
-    const struct chart_series time = {"mean ms_total", "ms", p.ms, p.q1, p.q3};
-    const struct chart_series errors[] = {{"mean rmse", "visibility", p.rmse, NULL, NULL},
-                                          {"mean penumbra_rmse", "visibility", p.pen, NULL, NULL}};
+    const struct chart_series time = {"mean ms_total", "ms", p.ms, p.q1, p.q3, NULL, NAN};
+    const struct chart_series errors[] = {{"mean rmse", "visibility", p.rmse, NULL, NULL, NULL, NAN},
+                                          {"mean penumbra_rmse", "visibility", p.pen, NULL, NULL, NULL, NAN}};
     char *title = util_printf("All %d scenes: mean error against mean time per frame", r->scene_count);
     char *sub = chart_subtitle(device, "; each point one technique configuration, its bar the mean "
                                        "quartiles");
@@ -265,7 +264,7 @@ static int frontier_chart(const struct report *r, const char *scene, const struc
 
 /* ---- report.html -------------------------------------------------------- */
 
-static const char style[] =
+const char report_style[] =
     "body{font:14px/1.45 system-ui,sans-serif;margin:1.5em 2em;color:#222;max-width:1400px}\n"
     "h2{margin-top:1.8em;border-bottom:1px solid #ccc}\n"
     "table{border-collapse:collapse;font-size:12.5px}td,th{border:1px solid #ccc;padding:2px 6px;"
@@ -299,7 +298,7 @@ static const char script[] =
 
 /* A path segment or fragment of a URL: anything but unreserved characters
  * and @ = , + percent-encoded (a scene file may be named anything). */
-static void url(struct strbuf *h, const char *s)
+void report_url(struct strbuf *h, const char *s)
 {
     for (; *s; s++) {
         unsigned char ch = (unsigned char)*s;
@@ -315,7 +314,7 @@ static void url(struct strbuf *h, const char *s)
 static void scene_anchor(struct strbuf *h, const char *scene)
 {
     strbuf_printf(h, "scene-");
-    url(h, scene);
+    report_url(h, scene);
 }
 
 /* <img src="SCENE[/CELL]/FILE"> that marks itself when it does not load */
@@ -323,10 +322,10 @@ static void picture(struct strbuf *h, const char *scene, const char *cell, const
                     const char *alt)
 {
     strbuf_printf(h, "<img src=\"");
-    url(h, scene);
+    report_url(h, scene);
     if (cell) {
         strbuf_printf(h, "/");
-        url(h, cell);
+        report_url(h, cell);
     }
     strbuf_printf(h, "/%s\" alt=\"%s\" onerror=\"this.classList.add('missing')\">", file, alt);
 }
@@ -404,7 +403,7 @@ static void heatmap_legend(struct strbuf *h, int id)
         strbuf_printf(h, "<stop offset=\"%d%%\" stop-color=\"rgb(%d,%d,%d)\"/>", 10 * k, c[0], c[1], c[2]);
     }
     strbuf_printf(h, "</linearGradient></defs><rect x=\"10\" y=\"4\" width=\"200\" height=\"12\" "
-                     "fill=\"url(#diverging%d)\"/>"
+                     "fill=\"report_url(#diverging%d)\"/>"
                      "<text x=\"10\" y=\"29\">-%.2g too dark</text><text x=\"110\" y=\"29\" "
                      "text-anchor=\"middle\">0</text><text x=\"210\" y=\"29\" text-anchor=\"end\">"
                      "+%.2g too bright</text><text x=\"10\" y=\"46\">e = V_tech &#8722; V_gt; grey: "
@@ -454,7 +453,7 @@ static int write_html(const struct report *r)
                       "each point's horizon that no other geometry hides (shadowing, not N&middot;L). "
                       "Times are medians per frame in milliseconds, the cells of a scene timed "
                       "interleaved, with their quartiles, on <b>",
-                  style, r->scene_count, r->scene_count ? r->cell_count / r->scene_count : 0,
+                  report_style, r->scene_count, r->scene_count ? r->cell_count / r->scene_count : 0,
                   r->width, r->height);
     strbuf_xml(&h, device ? device : "unknown");
     strbuf_printf(&h, "</b>%s. Scenes:",
@@ -506,6 +505,16 @@ static int write_html(const struct report *r)
         rc |= scene_charts(r, sc->name, device, &h);
         rc |= frontier_chart(r, sc->name, sc->frontier, sc->frontier_count, &h);
     }
+    /* Stability (motion, sensitivity) is its own page: linked where it lies
+     * beside this one in the default layout (results/runs/latest and
+     * results/stability/latest). */
+    char *stability = util_printf("%s/../../stability/latest/stability.html", r->out_dir);
+    strbuf_printf(&h, "<h2 id=\"stability\">Stability</h2>\n<p>Flicker under motion and where each technique "
+                      "breaks as the map, the light or a parameter varies: <code>shadowbench stability</code>%s</p>\n",
+                  util_file_exists(stability)
+                      ? ", whose last page is <a href=\"../../stability/latest/stability.html\">stability.html</a>."
+                      : " writes its own page (results/stability/latest/stability.html by default).");
+    free(stability);
     char *env = cJSON_Print(r->run);
     strbuf_printf(&h, "<h2 id=\"environment\">Environment (run.json)</h2>\n<pre>");
     strbuf_xml(&h, env);

@@ -51,6 +51,16 @@ cJSON *report_cell_json(const struct cell *c);
 /* Writes a JSON value atomically (pretty-printed). Returns 0 or -1. */
 int report_write_json(const char *path, const cJSON *value);
 
+/* A CSV field, quoted (a quote doubled). */
+void report_csv_field(struct strbuf *sb, const char *s);
+
+/* A path segment or fragment of a URL: anything but unreserved characters
+ * and @ = , + percent-encoded (a scene file may be named anything). */
+void report_url(struct strbuf *h, const char *s);
+
+/* The pages' style sheet (report.html, stability.html). */
+extern const char report_style[];
+
 /* matrix.csv, matrix.json, run.json, report.html and the charts in
  * <out>/charts/. Returns 0 or -1. */
 int report_write(const struct report *r);

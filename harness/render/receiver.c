@@ -23,11 +23,7 @@ int receiver_create(struct receiver *r, const struct scene *s, int width, int he
     memset(r, 0, sizeof *r);
     r->width = width;
     r->height = height;
-    const struct scene_camera *c = &s->camera;
-    float t = c->znear * tanf(0.5f * c->yfov_rad), rr = t * (float)width / (float)height;
-    r->view_proj = m4_mul(m4_frustum_reversed_z(-rr, rr, -t, t, c->znear, INFINITY),
-                          m4_view(c->pos, c->x, c->y, c->z));
-    r->camera_pos = c->pos;
+    receiver_set_camera(r, s);
 
     r->visibility = target(GL_R32F, width, height, "receiver: visibility");
     r->distance = target(GL_R32F, width, height, "receiver: camera distance");
@@ -43,6 +39,20 @@ int receiver_create(struct receiver *r, const struct scene *s, int width, int he
         return -1;
     }
     return 0;
+}
+
+void receiver_set_camera(struct receiver *r, const struct scene *s)
+{
+    const struct scene_camera *c = &s->camera;
+    float t = c->znear * tanf(0.5f * c->yfov_rad), rr = t * (float)r->width / (float)r->height;
+    r->view_proj = m4_mul(m4_frustum_reversed_z(-rr, rr, -t, t, c->znear, INFINITY),
+                          m4_view(c->pos, c->x, c->y, c->z));
+    r->camera_pos = c->pos;
+}
+
+bool receiver_program_animated(GLuint program)
+{
+    return glGetUniformLocation(program, "sm_noise_frame") >= 0;
 }
 
 GLuint receiver_program(const struct technique *t, const void *settings, enum light_shape shape)
@@ -75,6 +85,7 @@ void receiver_render(const struct receiver *r, GLuint program, const struct scen
                        r->view_proj.m);
     GLint cam = glGetUniformLocation(program, "u_camera_pos");
     glUniform3f(cam, r->camera_pos.x, r->camera_pos.y, r->camera_pos.z);
+    glUniform1f(glGetUniformLocation(program, "sm_noise_frame"), r->noise_frame);  /* -1 (unused): ignored */
     shadowmap_bind(sm);
     scene_mesh_draw(mesh);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -10,14 +10,24 @@
 #include "techniques/shadowmap.h"
 #include "techniques/technique.h"
 
+#include <stdbool.h>
+
 struct receiver {
     int width, height;
     GLuint fbo, visibility, distance, depth;
     struct mat4 view_proj;  /* camera: reversed Z, infinite far */
     struct vec3 camera_pos;
+    float noise_frame;      /* the frame index tap noise is animated by (sm_noise_frame); 0: still */
 };
 
 int receiver_create(struct receiver *r, const struct scene *s, int width, int height);
+
+/* Points the receiver's camera at s's camera (a scene in another pose). */
+void receiver_set_camera(struct receiver *r, const struct scene *s);
+
+/* Whether program reads the frame index (its technique's noise can be
+ * animated); a program that does not is the same every frame. */
+bool receiver_program_animated(GLuint program);
 
 /* The receiver program for technique t with these settings (its parameters
  * become #defines) and a light of this shape (SM_LIGHT_SHAPE: the PCSS

@@ -25,6 +25,15 @@ static int clip_front(const struct light_point in[3], float d_min, struct light_
     return n;
 }
 
+/* The projection and the light's size at the near plane, from the window. */
+static void project(struct light_frustum *f, const struct scene_light *L)
+{
+    struct mat4 proj = m4_frustum_reversed_z(f->l, f->r, f->b, f->t, f->near_world, f->far_world);
+    f->view_proj = m4_mul(proj, f->view);
+    f->light_size_uv[0] = L->width / (f->r - f->l);  /* a disk's: its diameter */
+    f->light_size_uv[1] = L->height / (f->t - f->b);
+}
+
 int light_frustum_fit(const struct scene *s, struct light_frustum *f)
 {
     const struct scene_light *L = &s->light;
@@ -65,11 +74,25 @@ int light_frustum_fit(const struct scene *s, struct light_frustum *f)
     f->r = (fminf(tx_hi + mx, t_max)) * f->near_world;
     f->b = (fmaxf(ty_lo - my, -t_max)) * f->near_world;
     f->t = (fminf(ty_hi + my, t_max)) * f->near_world;
-    struct mat4 proj = m4_frustum_reversed_z(f->l, f->r, f->b, f->t, f->near_world, f->far_world);
-    f->view_proj = m4_mul(proj, f->view);
-    f->light_size_uv[0] = L->width / (f->r - f->l);
-    f->light_size_uv[1] = L->height / (f->t - f->b);
+    project(f, L);
     return 0;
+}
+
+int light_frustum_fit_window(const struct scene *s, const struct light_frustum *window, struct light_frustum *f)
+{
+    if (light_frustum_fit(s, f) != 0)
+        return -1;
+    const float k = f->near_world / window->near_world;
+    f->l = window->l * k, f->r = window->r * k, f->b = window->b * k, f->t = window->t * k;
+    project(f, &s->light);
+    return 0;
+}
+
+void light_frustum_widen(struct light_frustum *f, const struct scene *s, float k)
+{
+    f->l /= k, f->r /= k, f->b /= k, f->t /= k;
+    f->near_world /= k;
+    project(f, &s->light);
 }
 
 bool light_frustum_inside(const struct light_frustum *f, struct vec3 p)

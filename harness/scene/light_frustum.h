@@ -27,6 +27,19 @@ struct light_frustum {
  * the light. */
 int light_frustum_fit(const struct scene *s, struct light_frustum *f);
 
+/* Fits near and far to s, and keeps window's angular window (its l/near,
+ * r/near, b/near, t/near): the map's texel grid attached to the light, as a
+ * spot light's shadow map moves with it, rather than refitted to the
+ * scene's bounds (which holds the grid still on the scene). Returns 0 or
+ * -1 (logged). */
+int light_frustum_fit_window(const struct scene *s, const struct light_frustum *window, struct light_frustum *f);
+
+/* Pulls the near plane towards the light: near / k (k >= 1), far kept, the
+ * same cone (the window scales with near). What an engine with a fixed,
+ * too-small near plane does: the scene's depths then fill less of [near,
+ * far] (`shadowbench stability --vary depth_range`). */
+void light_frustum_widen(struct light_frustum *f, const struct scene *s, float k);
+
 /* Is the world point inside the frustum (and so covered by the map)? */
 bool light_frustum_inside(const struct light_frustum *f, struct vec3 p);
 

@@ -1,0 +1,33 @@
+/* A scene in another pose: its light moved, turned or scaled, its camera
+ * moved (`shadowbench stability`: motions and sensitivities). A posed
+ * scene shares the base scene's geometry: never scene_free it. */
+#ifndef SB_POSE_H
+#define SB_POSE_H
+
+#include "scene.h"
+
+/* Zero is the base pose. */
+struct scene_pose {
+    float light_shift;     /* the light moved along its own x axis, world units */
+    float light_turn_rad;  /* the light turned about its own y axis, through its centre */
+    float camera_shift;    /* the camera moved along its own x axis, world units */
+    float light_scale;     /* the light's size times this (0: 1): width, height, radius */
+};
+
+/* base in pose p: the same geometry (shared, not copied), the light and
+ * camera moved, and a hash of its own (the ground-truth cache key). */
+void scene_posed(const struct scene *base, const struct scene_pose *p, struct scene *out);
+
+/* The world size of one shadow-map texel of a map of size texels whose
+ * window at the near plane is window_world wide, at planar depth d from the
+ * light (a perspective map's texels grow with depth). */
+float pose_texel_world(float window_world, float near_world, int size, float d);
+
+/* The planar depth from the light of the centre of s's bounds. */
+float pose_light_depth_of_centre(const struct scene *s);
+
+/* The world size of one pixel of an image height pixels high at the depth
+ * of the centre of s's bounds from the camera. */
+float pose_pixel_world(const struct scene *s, int height);
+
+#endif

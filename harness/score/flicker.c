@@ -1,0 +1,96 @@
+#include "flicker.h"
+#include "metrics.h"
+#include "base/util.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void flicker_add(struct flicker *f, const float *v_tech, const float *v_gt, const float *noise,
+                 const float *scored, size_t count)
+{
+    if (!f->prev_e) {
+        f->prev_e = xmalloc(sizeof(float) * count);
+        f->prev_noise = xmalloc(sizeof(float) * count);
+        f->prev_scored = xmalloc(sizeof(float) * count);
+        f->prev_gt = xmalloc(sizeof(float) * count);
+    }
+    double sum = 0;
+    long n = 0;
+    for (size_t i = 0; i < count; i++) {
+        const float e = v_tech[i] - v_gt[i];
+        const bool now = scored[i] > 0.5f && isfinite(e);
+        if (now)
+            sum += (double)e * e, n++;
+        if (f->frames > 0) {
+            const bool before = f->prev_scored[i] > 0.5f;
+            if (now && before) {
+                if (f->count == f->capacity) {
+                    f->capacity = f->capacity ? 2 * f->capacity : count;
+                    f->d = xrealloc(f->d, sizeof(double) * f->capacity);
+                }
+                const double d = fabs((double)e - f->prev_e[i]), fl = fabs((double)noise[i] - f->prev_noise[i]);
+                f->d[f->count++] = d;
+                f->floor_sum += fl;
+                if ((v_gt[i] > METRICS_PENUMBRA_LO && v_gt[i] < METRICS_PENUMBRA_HI) ||
+                    (f->prev_gt[i] > METRICS_PENUMBRA_LO && f->prev_gt[i] < METRICS_PENUMBRA_HI))
+                    f->band_sum += d, f->band_floor_sum += fl, f->band_count++;
+            } else if (now != before) {
+                f->mask_changes++;
+            }
+        }
+        f->prev_e[i] = e, f->prev_noise[i] = noise[i], f->prev_scored[i] = now ? 1.0f : 0.0f;
+        f->prev_gt[i] = v_gt[i];
+    }
+    const double rmse = n ? sqrt(sum / (double)n) : NAN;
+    f->rmse_sum += rmse;  /* NAN (a frame with nothing scored) spoils the mean, as it should */
+    f->rmse_max = f->frames == 0 ? rmse : fmax(f->rmse_max, rmse);
+    f->frames++;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+void flicker_finish(struct flicker *f, struct flicker_result *r)
+{
+    memset(r, 0, sizeof *r);
+    r->frames = f->frames;
+    r->pairs_pixels = (long)f->count;
+    r->mask_changes = f->mask_changes;
+    r->rmse_mean = f->frames ? f->rmse_sum / f->frames : NAN;
+    r->rmse_max = f->frames ? f->rmse_max : NAN;
+    r->band_pixels = f->band_count;
+    r->flicker_penumbra = f->band_count ? f->band_sum / (double)f->band_count : NAN;
+    r->floor_penumbra = f->band_count ? f->band_floor_sum / (double)f->band_count : NAN;
+    if (!f->count) {
+        r->flicker = r->flicker_p99 = r->floor = NAN;
+        return;
+    }
+    double sum = 0;
+    for (size_t i = 0; i < f->count; i++)
+        sum += f->d[i];
+    r->flicker = sum / (double)f->count;
+    r->floor = f->floor_sum / (double)f->count;
+    r->meaningful = r->flicker > r->floor;
+    /* nearest rank, as the metrics' p99_abs: the smallest value >= 99% of them */
+    qsort(f->d, f->count, sizeof *f->d, cmp_double);
+    const size_t rank = (size_t)ceil(0.99 * (double)f->count);
+    r->flicker_p99 = f->d[rank ? rank - 1 : 0];
+}
+
+void flicker_free(struct flicker *f)
+{
+    free(f->d), free(f->prev_e), free(f->prev_noise), free(f->prev_scored), free(f->prev_gt);
+    memset(f, 0, sizeof *f);
+}
+
+void flicker_accumulate(float *history, const float *prev_history, const float *v, const int *from,
+                        float alpha, size_t count)
+{
+    for (size_t i = 0; i < count; i++)
+        history[i] = from[i] >= 0 ? prev_history[from[i]] + alpha * (v[i] - prev_history[from[i]]) : v[i];
+    /* (in that form a still pixel stays exactly still: h + a (h - h) = h) */
+}

@@ -1,0 +1,62 @@
+/* Temporal stability (`shadowbench stability --motion`): how much a
+ * technique's error changes from frame to frame beyond what the truth's
+ * own change explains. With e_t = V_tech,t - V_gt,t at a pixel,
+ * |ΔV_tech - ΔV_gt| = |e_t - e_(t-1)|: the flicker a viewer sees on that
+ * pixel, which a still error (a constant offset) does not cause.
+ *
+ * Pixels: a pair of frames counts a pixel scored in both frames; one scored
+ * in one frame only (it entered or left the mask: the camera or the frustum
+ * moved) is left out and counted in mask_changes. The ground truth's own
+ * frame-to-frame noise, estimated the same way from its per-pixel noise
+ * samples (two halves of its light samples, groundtruth.h), is the floor:
+ * a flicker at or below it is not a meaningful number. */
+#ifndef SB_FLICKER_H
+#define SB_FLICKER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+struct flicker {
+    double *d;         /* |e_t - e_(t-1)| of every counted pixel of every pair */
+    size_t count, capacity;
+    double floor_sum;  /* sum of |noise_t - noise_(t-1)| over the same pixels */
+    double band_sum, band_floor_sum;  /* the same two sums over the penumbra band's pixels */
+    long band_count;
+    long mask_changes; /* pixels scored in one frame of a pair only */
+    double rmse_sum, rmse_max;  /* of each frame's rmse */
+    int frames;        /* frames added */
+    float *prev_e, *prev_noise, *prev_scored, *prev_gt;  /* the last frame's */
+};
+
+/* The summary of a run of frames. */
+struct flicker_result {
+    double flicker;      /* mean |e_t - e_(t-1)| over the counted pixels: NAN if none */
+    double flicker_p99;  /* its 99th percentile (nearest rank) */
+    double floor;        /* the ground truth's: mean |noise_t - noise_(t-1)| */
+    double flicker_penumbra, floor_penumbra;  /* both over the pixels where V_gt is in the penumbra band
+                                                 (METRICS_PENUMBRA_LO..HI, undilated) in either frame of
+                                                 the pair: where edges move. NAN if none */
+    bool meaningful;     /* flicker > floor */
+    double rmse_mean, rmse_max;  /* over the frames (each frame's rmse over its scored pixels) */
+    long pairs_pixels, band_pixels, mask_changes;
+    int frames;
+};
+
+/* Adds frame t: V_tech, V_gt, the ground truth's noise sample and the
+ * scored mask (1 = scored), count pixels each. */
+void flicker_add(struct flicker *f, const float *v_tech, const float *v_gt, const float *noise,
+                 const float *scored, size_t count);
+
+/* Sorts f's differences (for the percentile). */
+void flicker_finish(struct flicker *f, struct flicker_result *r);
+
+void flicker_free(struct flicker *f);
+
+/* The exponential moving average that temporal accumulation (TAA) keeps:
+ * history = alpha * v + (1 - alpha) * history[from[i]], where from[i] is the
+ * pixel of the last frame that pixel i saw (reprojection), or -1 (no
+ * history there: history = v). */
+void flicker_accumulate(float *history, const float *prev_history, const float *v, const int *from,
+                        float alpha, size_t count);
+
+#endif
