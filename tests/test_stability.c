@@ -241,7 +241,7 @@ static void bad_input(const char *scene)
         "--vary light_scale=",     "--vary light_scale=1,,2",    "--technique hard --vary pcf.radius_texels=1",
         "--vary depth_range=0.5",  "--frames 1",                 "--accumulate 0",
         "--accumulate 1.5",        "--warmup 1",                 "--sweep pcf.samples=16",
-        "--vary zzz.a=1",
+        "--vary zzz.a=1",             "--gt-samples 1",
     };
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
         char *cmd = util_printf("%s stability --scene %s %s --out %s/bad --no-cache", sb, scene, bad[i], dir);

@@ -677,6 +677,7 @@ static int write_data(struct stab *st, cJSON *run)
         cJSON_AddStringToObject(j, "noise", r->animated ? "animated" : "still");
         cJSON_AddBoolToObject(j, "accumulated", r->accumulated);
         cJSON_AddNumberToObject(j, "frames", r->r.frames);
+        cJSON_AddNumberToObject(j, "scored_frames", r->r.scored_frames);
         add_number(j, "flicker", r->r.flicker);
         add_number(j, "flicker_p99", r->r.flicker_p99);
         add_number(j, "flicker_floor", r->r.floor);
@@ -1075,6 +1076,7 @@ static cJSON *run_info(const struct stab *st, double seconds)
 
 int stability_main(const struct run_options *o)
 {
+    static const char *const stale[] = {"stability.json", "stability.csv", "stability.html"};
     const double start = util_now_ms();
     struct stab st = {.o = o};
     static struct scene scenes[RUN_MAX_SCENES];
@@ -1118,14 +1120,20 @@ int stability_main(const struct run_options *o)
         if (light_frustum_fit(&scenes[s], &f) != 0)
             goto out;
     }
+    if (o->gt_samples < 4) {  /* the floor compares two halves of the samples */
+        log_error("--gt-samples: stability needs at least 4 (its noise floor compares two halves of the samples)");
+        goto out;
+    }
     if (shader_init(o->shader_dir) != 0)
         goto out;
     status = EXIT_CHECK_FAILED;
     if (gl_context_create() != 0)
         goto out;
-    char *stale = util_printf("%s/stability.json", o->out_dir);  /* this run's, or none */
-    unlink(stale);
-    free(stale);
+    for (size_t i = 0; i < sizeof stale / sizeof *stale; i++) {  /* this run's, or none */
+        char *path = util_printf("%s/%s", o->out_dir, stale[i]);
+        unlink(path);
+        free(path);
+    }
     log_info("stability: %d scene(s), %d technique(s), %d motion(s) of %d frames, %d variation(s), %dx%d, %d GT "
              "samples, %d^2 shadow map, on %s", st.scene_count, o->technique_count, st.motion_count, o->frames,
              st.var_count, o->width, o->height, o->gt_samples, o->shadow_map_size, gl_context_renderer());
@@ -1150,16 +1158,23 @@ int stability_main(const struct run_options *o)
         char *charts = util_printf("%s/charts", o->out_dir);
         rc = util_mkdirs(charts) || write_data(&st, run) || write_html(&st, run);
         free(charts);
+        for (size_t i = 0; rc && i < sizeof stale / sizeof *stale; i++) {  /* none, rather than a mixed set */
+            char *path = util_printf("%s/%s", o->out_dir, stale[i]);
+            unlink(path);
+            free(path);
+        }
         cJSON_Delete(run);
     }
     if (!rc) {
         long bad = 0;
         for (int i = 0; i < st.row_count; i++)
-            bad += st.rows[i].nonfinite > 0 || !isfinite(st.rows[i].r.flicker);
+            bad += st.rows[i].nonfinite > 0 || !isfinite(st.rows[i].r.flicker) ||
+                   st.rows[i].r.scored_frames < st.rows[i].r.frames;
         for (int i = 0; i < st.point_count; i++)
-            bad += st.points[i].m.nonfinite > 0;
+            bad += st.points[i].m.nonfinite > 0 || !metrics_scored(&st.points[i].m);
         if (bad)
-            log_error("%ld row(s) with NaN/Inf visibility or nothing scored (see stability.csv)", bad);
+            log_error("%ld row(s) with NaN/Inf visibility, or a frame or value with nothing to score (see "
+                      "stability.csv: scored_frames, empty metrics)", bad);
         status = bad ? EXIT_CHECK_FAILED : EXIT_OK;
         printf("report: %s/stability.html\ndata: %s/stability.csv\n", o->out_dir, o->out_dir);
         log_info("stability finished in %.1f s", (util_now_ms() - start) * 1e-3);

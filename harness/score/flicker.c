@@ -42,9 +42,12 @@ void flicker_add(struct flicker *f, const float *v_tech, const float *v_gt, cons
         f->prev_e[i] = e, f->prev_noise[i] = noise[i], f->prev_scored[i] = now ? 1.0f : 0.0f;
         f->prev_gt[i] = v_gt[i];
     }
-    const double rmse = n ? sqrt(sum / (double)n) : NAN;
-    f->rmse_sum += rmse;  /* NAN (a frame with nothing scored) spoils the mean, as it should */
-    f->rmse_max = f->frames == 0 ? rmse : fmax(f->rmse_max, rmse);
+    if (n) {
+        const double rmse = sqrt(sum / (double)n);
+        f->rmse_sum += rmse;
+        f->rmse_max = f->scored_frames ? fmax(f->rmse_max, rmse) : rmse;
+        f->scored_frames++;
+    }
     f->frames++;
 }
 
@@ -60,8 +63,9 @@ void flicker_finish(struct flicker *f, struct flicker_result *r)
     r->frames = f->frames;
     r->pairs_pixels = (long)f->count;
     r->mask_changes = f->mask_changes;
-    r->rmse_mean = f->frames ? f->rmse_sum / f->frames : NAN;
-    r->rmse_max = f->frames ? f->rmse_max : NAN;
+    r->scored_frames = f->scored_frames;
+    r->rmse_mean = f->scored_frames ? f->rmse_sum / f->scored_frames : NAN;
+    r->rmse_max = f->scored_frames ? f->rmse_max : NAN;
     r->band_pixels = f->band_count;
     r->flicker_penumbra = f->band_count ? f->band_sum / (double)f->band_count : NAN;
     r->floor_penumbra = f->band_count ? f->band_floor_sum / (double)f->band_count : NAN;

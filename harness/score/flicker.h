@@ -23,8 +23,8 @@ struct flicker {
     double band_sum, band_floor_sum;  /* the same two sums over the penumbra band's pixels */
     long band_count;
     long mask_changes; /* pixels scored in one frame of a pair only */
-    double rmse_sum, rmse_max;  /* of each frame's rmse */
-    int frames;        /* frames added */
+    double rmse_sum, rmse_max;  /* of the rmse of each frame with pixels scored */
+    int frames, scored_frames;  /* frames added; of them, with pixels scored */
     float *prev_e, *prev_noise, *prev_scored, *prev_gt;  /* the last frame's */
 };
 
@@ -37,9 +37,9 @@ struct flicker_result {
                                                  (METRICS_PENUMBRA_LO..HI, undilated) in either frame of
                                                  the pair: where edges move. NAN if none */
     bool meaningful;     /* flicker > floor */
-    double rmse_mean, rmse_max;  /* over the frames (each frame's rmse over its scored pixels) */
+    double rmse_mean, rmse_max;  /* over the frames with pixels scored (each frame's rmse over them) */
     long pairs_pixels, band_pixels, mask_changes;
-    int frames;
+    int frames, scored_frames;  /* scored_frames < frames: some frame had nothing to score */
 };
 
 /* Adds frame t: V_tech, V_gt, the ground truth's noise sample and the
