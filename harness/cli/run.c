@@ -431,7 +431,7 @@ static char *cpu_model(void)
     return model ? model : xstrdup("unknown");
 }
 
-static cJSON *run_json(const struct run_options *o, double seconds)
+cJSON *run_json(const struct run_options *o, double seconds)
 {
     cJSON *r = cJSON_CreateObject();
     char *cmd = run_command_line(o);

@@ -10,6 +10,8 @@
 #include "techniques/technique.h"
 #include "truth/groundtruth.h"
 
+#include <cjson/cJSON.h>
+
 /* Exit statuses (DESIGN.md §10). */
 enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_USAGE = 2 };
 
@@ -187,6 +189,10 @@ int run_claim_results_dir(const char *dir, int depth);
 
 /* Now, in UTC, as the outputs write it: "2026-11-23T22:28:48Z"; malloc'ed. */
 char *run_utc_date(void);
+
+/* What run.json records of a command: its line, the versions, the device,
+ * the date, the sizes, frames and the seconds it took. */
+cJSON *run_json(const struct run_options *o, double seconds);
 
 /* `git describe --always --dirty` of the source tree, or "unknown"; malloc'ed. */
 char *run_git_describe(void);

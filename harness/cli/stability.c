@@ -1039,37 +1039,12 @@ static int write_html(struct stab *st, cJSON *run)
             }
         }
     }
-    char *env = cJSON_Print(run);
-    strbuf_printf(&h, "<h2 id=\"environment\">Environment</h2>\n<pre>");
-    strbuf_xml(&h, env);
-    strbuf_printf(&h, "</pre>\n<script>\n%s</script>\n</body></html>\n", slider_script);
-    cJSON_free(env);
+    report_html_end(&h, "Environment", run, slider_script);
     char *path = util_printf("%s/stability.html", o->out_dir);
     rc |= util_write_file_atomic(path, h.data, h.len);
     free(path);
     strbuf_free(&h);
     return rc ? -1 : 0;
-}
-
-static cJSON *run_info(const struct stab *st, double seconds)
-{
-    const struct run_options *o = st->o;
-    cJSON *r = cJSON_CreateObject();
-    char *cmd = run_command_line(o), *git = run_git_describe(), *date = run_utc_date();
-    cJSON_AddStringToObject(r, "command_line", cmd);
-    cJSON_AddStringToObject(r, "shadowbench_version", SB_VERSION);
-    cJSON_AddStringToObject(r, "git_describe", git);
-    cJSON_AddStringToObject(r, "gl_renderer", gl_context_renderer());
-    cJSON_AddStringToObject(r, "date", date);
-    cJSON_AddNumberToObject(r, "width", o->width);
-    cJSON_AddNumberToObject(r, "height", o->height);
-    cJSON_AddNumberToObject(r, "gt_samples", o->gt_samples);
-    cJSON_AddNumberToObject(r, "shadow_map_size", o->shadow_map_size);
-    cJSON_AddNumberToObject(r, "frames", o->frames);
-    cJSON_AddNumberToObject(r, "accumulate", o->accumulate);
-    cJSON_AddNumberToObject(r, "seconds", seconds);
-    free(cmd), free(git), free(date);
-    return r;
 }
 
 /* ---- the command -------------------------------------------------------- */
@@ -1154,7 +1129,8 @@ int stability_main(const struct run_options *o)
             const struct vary_point *ref = find_point(&st, p->scene, p->variation, st.vars[p->variation].reference, p->t);
             p->broken = ref && broken(p, ref);
         }
-        cJSON *run = run_info(&st, (util_now_ms() - start) * 1e-3);
+        cJSON *run = run_json(o, (util_now_ms() - start) * 1e-3);
+        cJSON_AddNumberToObject(run, "accumulate", o->accumulate);
         char *charts = util_printf("%s/charts", o->out_dir);
         rc = util_mkdirs(charts) || write_data(&st, run) || write_html(&st, run);
         free(charts);

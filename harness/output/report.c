@@ -441,6 +441,17 @@ static void scene_grid(const struct report *r, const struct report_scene *sc, st
     strbuf_printf(h, "</div>\n");
 }
 
+void report_html_end(struct strbuf *h, const char *heading, const cJSON *run, const char *script)
+{
+    char *env = cJSON_Print(run);
+    strbuf_printf(h, "<h2 id=\"environment\">");
+    strbuf_xml(h, heading);
+    strbuf_printf(h, "</h2>\n<pre>");
+    strbuf_xml(h, env);
+    strbuf_printf(h, "</pre>\n<script>\n%s</script>\n</body></html>\n", script);
+    cJSON_free(env);
+}
+
 static int write_html(const struct report *r)
 {
     const char *device = cJSON_GetStringValue(cJSON_GetObjectItem(r->run, "gl_renderer"));
@@ -515,11 +526,7 @@ static int write_html(const struct report *r)
                       ? ", whose last page is <a href=\"../../stability/latest/stability.html\">stability.html</a>."
                       : " writes its own page (results/stability/latest/stability.html by default).");
     free(stability);
-    char *env = cJSON_Print(r->run);
-    strbuf_printf(&h, "<h2 id=\"environment\">Environment (run.json)</h2>\n<pre>");
-    strbuf_xml(&h, env);
-    strbuf_printf(&h, "</pre>\n<script>\n%s</script>\n</body></html>\n", script);
-    cJSON_free(env);
+    report_html_end(&h, "Environment (run.json)", r->run, script);
 
     char *path = util_printf("%s/report.html", r->out_dir);
     rc |= util_write_file_atomic(path, h.data, h.len);

@@ -61,6 +61,10 @@ void report_url(struct strbuf *h, const char *s);
 /* The pages' style sheet (report.html, stability.html). */
 extern const char report_style[];
 
+/* Ends a page: its environment (run, pretty-printed) under a heading, then
+ * script, then the closing tags. */
+void report_html_end(struct strbuf *h, const char *heading, const cJSON *run, const char *script);
+
 /* matrix.csv, matrix.json, run.json, report.html and the charts in
  * <out>/charts/. Returns 0 or -1. */
 int report_write(const struct report *r);
