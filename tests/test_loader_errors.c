@@ -210,6 +210,16 @@ static void number_description(cJSON *g)
     cJSON *meta = cJSON_GetObjectItem(cJSON_GetObjectItem(at(g, "scenes", 0), "extras"), "shadowbench");
     cJSON_ReplaceItemInObject(meta, "description", cJSON_CreateNumber(5));
 }
+static void motions_object(cJSON *g)
+{
+    cJSON *meta = cJSON_GetObjectItem(cJSON_GetObjectItem(at(g, "scenes", 0), "extras"), "shadowbench");
+    cJSON_AddObjectToObject(meta, "motions");
+}
+static void motions_number(cJSON *g)
+{
+    cJSON *meta = cJSON_GetObjectItem(cJSON_GetObjectItem(at(g, "scenes", 0), "extras"), "shadowbench");
+    cJSON_AddItemToObject(meta, "motions", cJSON_CreateIntArray((const int[]){1}, 1));
+}
 /* Column 1 of a node's matrix (its Y axis) scaled by f. */
 static void scale_y(cJSON *g, int node, double f)
 {
@@ -522,6 +532,11 @@ int main(int argc, char **argv)
     case_mutated("text_normalized", text_normalized, "malformed glTF: accessors[0].normalized must be true or false");
     case_mutated("number_description", number_description,
                  "malformed glTF: extras.shadowbench.description must be a string of UTF-8 text");
+    case_mutated("motions_object", motions_object,
+                 "malformed glTF: extras.shadowbench.motions must be an array of at most 16 strings");
+    case_mutated("motions_number", motions_number,
+                 "malformed glTF: extras.shadowbench.motions must hold strings of UTF-8 text, 1 to 200 bytes "
+                 "(motions as `shadowbench stability --motion` takes them)");
     {   /* an escaped NUL would cut the text short where cJSON reads it */
         char *path = scene_with("nul_description", NULL), *text;
         size_t size;

@@ -3,7 +3,11 @@
  *   edges are diagonal staircases in a coarse map, its true penumbra
  *   about 4 texels wide),
  *   with the light moving by 1/8 texel a frame, hard flickers far more
- *   than pcf with a wide kernel;
+ *   than pcf with a wide kernel, and so it does with the plate moving
+ *   (the scene's own motion, from its extras);
+ * - a caster moved far keeps the rasterised and the ray-traced scene
+ *   together (the error does not grow with the distance moved), and a
+ *   re-run into the same folder leaves none of the last run's frames;
  * - with nothing moving, every technique with its noise still flickers
  *   exactly at the ground truth's floor (0: the same pose gives the same
  *   truth and the same picture), and animated noise flickers above it,
@@ -22,6 +26,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static const char *sb;
 static char dir[] = "/tmp/sb_test_stability_XXXXXX";
@@ -98,8 +103,11 @@ static cJSON *motion_row(cJSON *doc, const char *motion, const char *label)
 static char *shimmer_scene(void)
 {
     struct mesh_builder m = {0};
+    static const char *const motions[] = {"caster_shift:plate=0.125", NULL};
+    mesh_begin_part(&m, "ground");
     mesh_add_quad(&m, v3(-4, 0, -4), v3(0, 0, 8), v3(8, 0, 0));  /* ground, normal +y */
     const float c = cosf(0.5236f), s = sinf(0.5236f);             /* a 2 x 2 plate turned 30 degrees */
+    mesh_begin_part(&m, "plate");
     mesh_add_quad(&m, v3(-c + s, 1, -s - c), v3(-2 * s, 0, 2 * c), v3(2 * c, 0, 2 * s));
     char *path = util_printf("%s/shimmer.gltf", dir);
     CHECK(gltf_write(path, &m,
@@ -108,7 +116,8 @@ static char *shimmer_scene(void)
                                                .camera_pos = v3(0, 6, 3), .camera_target = v3(0, 0, 0),
                                                .camera_yfov_rad = 0.9f, .camera_znear = 0.1f,
                                                .light_pos = v3(0, 5, 0), .light_target = v3(0, 0, 0),
-                                               .light_width = 1.0f, .light_height = 1.0f}) == 0,
+                                               .light_width = 1.0f, .light_height = 1.0f,
+                                               .motions = motions}) == 0,
           "writing %s", path);
     mesh_free(&m);
     return path;
@@ -118,7 +127,7 @@ static void motion(const char *scene)
 {
     char *out = util_printf("%s/motion", dir);
     char *cmd = util_printf("%s stability --scene %s --technique hard,pcf --set pcf.radius_texels=4 "
-                            "--set pcf.samples=64 --motion static --motion light_shift=0.125 --frames 8 "
+                            "--set pcf.samples=64 --motion static --motion light_shift=0.125 --motion scene --frames 8 "
                             "--width 128 --height 128 --shadow-map-size 64 --gt-samples 256 --no-cache -q --out %s",
                             sb, scene, out);
     struct strbuf err = {0};
@@ -152,6 +161,20 @@ static void motion(const char *scene)
           num(p, "flicker_penumbra"), num(p, "flicker_floor_penumbra"));
     CHECK(num(h, "flicker") > num(p, "flicker") && num(p, "flicker") > num(p, "flicker_floor"),
           "light_shift: hard %g, pcf %g, floor %g", num(h, "flicker"), num(p, "flicker"), num(p, "flicker_floor"));
+    /* The plate moving by 1/8 texel a frame (the scene's own motion): the
+     * same staircase edges jump. Less apart than under light_shift (2.6x
+     * measured, 2x required): the true shadow moves about 4x farther a
+     * frame here (a caster 4 below the light and 1 above the ground moves
+     * its shadow 5/4 of its step, a light 1/4 of its; each step is 1/8 of
+     * a texel at its own depth, 4 and 4.5), and
+     * a penumbra shaped unlike the truth (pcf's too) carries its error
+     * along as it moves, which both techniques pay. */
+    h = motion_row(doc, "caster_shift", "hard"), p = motion_row(doc, "caster_shift", "pcf");
+    CHECK(h && !strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(h, "node")) ?: "", "plate"), "the row names its node");
+    CHECK(num(h, "flicker_penumbra") > 2 * num(p, "flicker_penumbra") &&
+              num(p, "flicker_penumbra") > num(p, "flicker_floor_penumbra"),
+          "caster_shift, in the band: hard %g, pcf %g, floor %g", num(h, "flicker_penumbra"),
+          num(p, "flicker_penumbra"), num(p, "flicker_floor_penumbra"));
     cJSON_Delete(doc);
 
     /* The CSV: a header and a row per motion row (2 motions x 6 rows). */
@@ -161,7 +184,7 @@ static void motion(const char *scene)
         int lines = 0;
         for (char *p = csv; *p; p++)
             lines += *p == '\n';
-        CHECK(lines == 1 + 2 * 6, "stability.csv has %d lines", lines);
+        CHECK(lines == 1 + 3 * 6, "stability.csv has %d lines", lines);
         CHECK(!strncmp(csv, "scene,technique,mode,name,value,row,noise,accumulated,frames,flicker,", 69),
               "the CSV header");
     }
@@ -180,14 +203,53 @@ static void motion(const char *scene)
         int strips = 0;
         for (const char *p = dom.data; (p = strstr(p, "class=\"strip\"")); p++)
             strips++;
-        /* 2 motions x (hard, pcf, pcf~anim) x (V, error) */
-        CHECK(strips == 12, "%d frame strips on the page", strips);
+        /* 3 motions x (hard, pcf, pcf~anim) x (V, error) */
+        CHECK(strips == 18, "%d frame strips on the page", strips);
         CHECK(!strstr(dom.data, "strip missing") && !strstr(dom.data, "class=\"missing\""),
               "a strip or chart did not load");
         CHECK(strstr(dom.data, "type=\"range\""), "the frame slider");
     }
     strbuf_free(&dom), strbuf_free(&err);
     free(html), free(dom_cmd), free(path), free(cmd), free(out);
+}
+
+/* A caster moved 3 texels a frame, 12 in all: if the rasterised and the
+ * ray-traced plate did not move together, the error would grow frame by
+ * frame. Then a second run into the same folder, with fewer techniques and
+ * motions: none of the first run's frames or charts is left. */
+static void caster(const char *scene)
+{
+    char *out = util_printf("%s/caster", dir);
+    char *cmd = util_printf("%s stability --scene %s --technique hard,pcf --motion static --motion "
+                            "caster_shift:plate=3 --frames 5 --width 96 --height 96 --shadow-map-size 64 "
+                            "--gt-samples 64 --no-cache -q --out %s", sb, scene, out);
+    struct strbuf err = {0};
+    int status = run_cmd(cmd, &err, NULL);
+    CHECK(status == 0, "stability exit %d: %s", status, err.data);
+    char *path = util_printf("%s/stability.json", out);
+    cJSON *doc = read_json(path);
+    const double still = num(motion_row(doc, "static", "pcf"), "rmse_mean"),
+                 moved = num(motion_row(doc, "caster_shift", "pcf"), "rmse_max"),
+                 hard = num(motion_row(doc, "caster_shift", "hard"), "flicker");
+    /* The same plate over the same ground, moved: the same error (measured
+     * 1.0003x; 8x with the rasterised plate left behind). */
+    CHECK(moved < 1.5 * still, "pcf's rmse with the plate moved: at most %g, still %g", moved, still);
+    CHECK(hard > 0.01, "the plate moved: hard's flicker %g", hard);
+    cJSON_Delete(doc);
+    char *strip = util_printf("%s/shimmer/caster_shift:plate=3/hard/visibility_frames.png", out);
+    CHECK(util_file_exists(strip), "%s: written", strip);
+    free(cmd);
+    cmd = util_printf("%s stability --scene %s --technique pcf --motion static --frames 2 --width 32 --height 32 "
+                      "--gt-samples 16 --no-cache -q --out %s", sb, scene, out);
+    strbuf_free(&err);
+    CHECK((status = run_cmd(cmd, &err, NULL)) == 0, "stability exit %d: %s", status, err.data);
+    char *kept = util_printf("%s/shimmer/static/pcf/visibility_frames.png", out),
+         *gone = util_printf("%s/shimmer/caster_shift:plate=3", out),
+         *hard_dir = util_printf("%s/shimmer/static/hard", out);
+    CHECK(util_file_exists(kept) && access(gone, F_OK) != 0 && access(hard_dir, F_OK) != 0,
+          "after the second run: its strip kept, the first run's other folders gone");
+    strbuf_free(&err);
+    free(kept), free(gone), free(hard_dir), free(strip), free(path), free(cmd), free(out);
 }
 
 static void vary(const char *scene)
@@ -241,10 +303,29 @@ static void bad_input(const char *scene)
         "--vary light_scale=",     "--vary light_scale=1,,2",    "--technique hard --vary pcf.radius_texels=1",
         "--vary depth_range=0.5",  "--frames 1",                 "--accumulate 0",
         "--accumulate 1.5",        "--warmup 1",                 "--sweep pcf.samples=16",
-        "--vary zzz.a=1",             "--gt-samples 1",
+        "--vary zzz.a=1",             "--gt-samples 1",             "--motion caster_shift",
+        "--motion caster_shift:nope", "--motion light_shift:plate=1", "--motion caster_shift:=1",
+        "--motion caster_shift:plate=0", "--scene BADMOTION --motion scene", "--scene NONODE --motion scene",
     };
+    /* scenes whose own motions are bad: not a motion; a node it lacks */
+    char *bad_scenes[2];
+    static const char *const bad_motions[2][2] = {{"wobble", NULL}, {"caster_shift:chimney", NULL}};
+    for (int i = 0; i < 2; i++) {
+        struct mesh_builder m = {0};
+        mesh_add_quad(&m, v3(-4, 0, -4), v3(0, 0, 8), v3(8, 0, 0));
+        bad_scenes[i] = util_printf("%s/bad_motion_%d.gltf", dir, i);
+        CHECK(gltf_write(bad_scenes[i], &m,
+                         &(struct gltf_scene_desc){.description = "", .shows = "", .camera_pos = v3(0, 6, 3),
+                                                   .camera_yfov_rad = 0.9f, .camera_znear = 0.1f,
+                                                   .light_pos = v3(0, 5, 0), .light_width = 1, .light_height = 1,
+                                                   .motions = bad_motions[i]}) == 0, "writing");
+        mesh_free(&m);
+    }
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
-        char *cmd = util_printf("%s stability --scene %s %s --out %s/bad --no-cache", sb, scene, bad[i], dir);
+        const char *sub = strstr(bad[i], "BADMOTION") ? bad_scenes[0] : strstr(bad[i], "NONODE") ? bad_scenes[1] : NULL;
+        char *arg = sub ? util_printf("--scene %s --motion scene", sub) : xstrdup(bad[i]);
+        char *cmd = util_printf("%s stability --scene %s %s --out %s/bad --no-cache", sb, scene, arg, dir);
+        free(arg);
         struct strbuf err = {0};
         int status = run_cmd(cmd, &err, NULL);
         int lines = 0;
@@ -255,6 +336,18 @@ static void bad_input(const char *scene)
         strbuf_free(&err);
         free(cmd);
     }
+    free(bad_scenes[0]), free(bad_scenes[1]);
+    /* A light turned until the scene is behind it: the error names the
+     * motion and the frame, not only the scene's file. */
+    char *cmd = util_printf("%s stability --scene %s --technique hard --motion light_rotate=5 --frames 40 --width 32 "
+                            "--height 32 --gt-samples 16 --no-cache -q --out %s/bad", sb, scene, dir);
+    struct strbuf err = {0};
+    int status = run_cmd(cmd, &err, NULL);
+    CHECK(status == 1 && err.data && strstr(err.data, "(motion light_rotate=5, frame ") &&
+              strchr(err.data, '\n') == err.data + err.len - 1,
+          "light turned away: exit %d: %s", status, err.data);
+    strbuf_free(&err);
+    free(cmd);
 }
 
 int main(int argc, char **argv)
@@ -266,6 +359,7 @@ int main(int argc, char **argv)
     char *scene = shimmer_scene();
     bad_input(scene);
     motion(scene);
+    caster(scene);
     vary(scene);
     free(scene);
     char *rm = util_printf("rm -rf '%s'", dir);

@@ -132,22 +132,50 @@ static cJSON *look_at_matrix(struct vec3 pos, struct vec3 target)
     return cJSON_CreateDoubleArray(m, 16);
 }
 
+void mesh_begin_part(struct mesh_builder *m, const char *name)
+{
+    if (m->part_count == MESH_MAX_PARTS) {
+        log_error("gltf_writer: more than %d parts", MESH_MAX_PARTS);
+        abort();  /* a recipe's mistake, not input */
+    }
+    m->parts[m->part_count++] = (struct mesh_part){name, m->vertex_count, m->index_count};
+}
+
 int gltf_write(const char *path, const struct mesh_builder *m, const struct gltf_scene_desc *d)
 {
+    /* The parts: what came before the first named one is "geometry". */
+    struct mesh_part parts[MESH_MAX_PARTS + 1];
+    int n = 0;
+    if (!m->part_count || m->parts[0].first_index > 0)
+        parts[n++] = (struct mesh_part){"geometry", 0, 0};
+    for (int i = 0; i < m->part_count; i++)
+        parts[n++] = m->parts[i];
+    size_t first_vertex[MESH_MAX_PARTS + 2], first_index[MESH_MAX_PARTS + 2];
+    for (int i = 0; i < n; i++)
+        first_vertex[i] = parts[i].first_vertex, first_index[i] = parts[i].first_index;
+    first_vertex[n] = m->vertex_count, first_index[n] = m->index_count;
+
+    /* Indices are relative to their part's vertices, which they must stay
+     * within when there are parts (one part is written as given: the
+     * loader's tests write bad indices on purpose). */
     size_t pos_bytes = m->vertex_count * 12, idx_bytes = m->index_count * 4;
     unsigned char *buf = xmalloc(pos_bytes + idx_bytes);
     memcpy(buf, m->positions, pos_bytes);
-    memcpy(buf + pos_bytes, m->indices, idx_bytes);
+    for (int i = 0; i < n; i++)
+        for (size_t k = first_index[i]; k < first_index[i + 1]; k++) {
+            const uint32_t v = m->indices[k];
+            if (n > 1 && (v < first_vertex[i] || v >= first_vertex[i + 1])) {
+                log_error("%s: part %s indexes vertex %u, which is not its own", path, parts[i].name, v);
+                free(buf);
+                return -1;
+            }
+            const uint32_t rel = v - (uint32_t)first_vertex[i];
+            memcpy(buf + pos_bytes + 4 * k, &rel, 4);
+        }
     char *b64 = base64(buf, pos_bytes + idx_bytes);
     char *uri = util_printf("data:application/octet-stream;base64,%s", b64);
     free(b64);
     free(buf);
-
-    float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (size_t i = 0; i < m->vertex_count * 3; i++) {
-        lo[i % 3] = fminf(lo[i % 3], m->positions[i]);
-        hi[i % 3] = fmaxf(hi[i % 3], m->positions[i]);
-    }
 
     cJSON *g = cJSON_CreateObject();
     cJSON *asset = cJSON_AddObjectToObject(g, "asset");
@@ -156,15 +184,27 @@ int gltf_write(const char *path, const struct mesh_builder *m, const struct gltf
     cJSON_AddNumberToObject(g, "scene", 0);
     cJSON *scene = cJSON_CreateObject();
     cJSON_AddItemToArray(cJSON_AddArrayToObject(g, "scenes"), scene);
-    cJSON_AddItemToObject(scene, "nodes", cJSON_CreateIntArray((const int[]){0, 1, 2}, 3));
+    int roots[MESH_MAX_PARTS + 3];
+    for (int i = 0; i < n + 2; i++)
+        roots[i] = i;
+    cJSON_AddItemToObject(scene, "nodes", cJSON_CreateIntArray(roots, n + 2));
     cJSON *meta = cJSON_AddObjectToObject(cJSON_AddObjectToObject(scene, "extras"), "shadowbench");
     cJSON_AddStringToObject(meta, "description", d->description);
     cJSON_AddStringToObject(meta, "shows", d->shows);
+    if (d->motions) {
+        cJSON *motions = cJSON_AddArrayToObject(meta, "motions");
+        for (const char *const *mo = d->motions; *mo; mo++)
+            cJSON_AddItemToArray(motions, cJSON_CreateString(*mo));
+    }
 
     cJSON *nodes = cJSON_AddArrayToObject(g, "nodes");
-    cJSON *n_mesh = cJSON_CreateObject(), *n_cam = cJSON_CreateObject(), *n_light = cJSON_CreateObject();
-    cJSON_AddStringToObject(n_mesh, "name", "geometry");
-    cJSON_AddNumberToObject(n_mesh, "mesh", 0);
+    for (int i = 0; i < n; i++) {
+        cJSON *node = cJSON_CreateObject();
+        cJSON_AddStringToObject(node, "name", parts[i].name);
+        cJSON_AddNumberToObject(node, "mesh", i);
+        cJSON_AddItemToArray(nodes, node);
+    }
+    cJSON *n_cam = cJSON_CreateObject(), *n_light = cJSON_CreateObject();
     cJSON_AddStringToObject(n_cam, "name", "camera");
     cJSON_AddNumberToObject(n_cam, "camera", 0);
     cJSON_AddItemToObject(n_cam, "matrix", look_at_matrix(d->camera_pos, d->camera_target));
@@ -177,7 +217,6 @@ int gltf_write(const char *path, const struct mesh_builder *m, const struct gltf
     } else {
         cJSON_AddItemToObject(al, "size", cJSON_CreateFloatArray((const float[]){d->light_width, d->light_height}, 2));
     }
-    cJSON_AddItemToArray(nodes, n_mesh);
     cJSON_AddItemToArray(nodes, n_cam);
     cJSON_AddItemToArray(nodes, n_light);
 
@@ -188,28 +227,42 @@ int gltf_write(const char *path, const struct mesh_builder *m, const struct gltf
     cJSON_AddNumberToObject(persp, "znear", d->camera_znear);
     cJSON_AddItemToArray(cJSON_AddArrayToObject(g, "cameras"), cam);
 
-    cJSON *prim = cJSON_CreateObject();
-    cJSON_AddNumberToObject(cJSON_AddObjectToObject(prim, "attributes"), "POSITION", 0);
-    cJSON_AddNumberToObject(prim, "indices", 1);
-    cJSON_AddNumberToObject(prim, "mode", 4);
-    cJSON *mesh = cJSON_CreateObject();
-    cJSON_AddItemToArray(cJSON_AddArrayToObject(mesh, "primitives"), prim);
-    cJSON_AddItemToArray(cJSON_AddArrayToObject(g, "meshes"), mesh);
+    cJSON *meshes = cJSON_AddArrayToObject(g, "meshes");
+    for (int i = 0; i < n; i++) {
+        cJSON *prim = cJSON_CreateObject();
+        cJSON_AddNumberToObject(cJSON_AddObjectToObject(prim, "attributes"), "POSITION", 2 * i);
+        cJSON_AddNumberToObject(prim, "indices", 2 * i + 1);
+        cJSON_AddNumberToObject(prim, "mode", 4);
+        cJSON *mesh = cJSON_CreateObject();
+        cJSON_AddItemToArray(cJSON_AddArrayToObject(mesh, "primitives"), prim);
+        cJSON_AddItemToArray(meshes, mesh);
+    }
 
     cJSON *acc = cJSON_AddArrayToObject(g, "accessors");
-    cJSON *a0 = cJSON_CreateObject(), *a1 = cJSON_CreateObject();
-    cJSON_AddNumberToObject(a0, "bufferView", 0);
-    cJSON_AddNumberToObject(a0, "componentType", 5126);
-    cJSON_AddNumberToObject(a0, "count", (double)m->vertex_count);
-    cJSON_AddStringToObject(a0, "type", "VEC3");
-    cJSON_AddItemToObject(a0, "min", cJSON_CreateFloatArray(lo, 3));
-    cJSON_AddItemToObject(a0, "max", cJSON_CreateFloatArray(hi, 3));
-    cJSON_AddNumberToObject(a1, "bufferView", 1);
-    cJSON_AddNumberToObject(a1, "componentType", 5125);
-    cJSON_AddNumberToObject(a1, "count", (double)m->index_count);
-    cJSON_AddStringToObject(a1, "type", "SCALAR");
-    cJSON_AddItemToArray(acc, a0);
-    cJSON_AddItemToArray(acc, a1);
+    for (int i = 0; i < n; i++) {
+        float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (size_t k = 3 * first_vertex[i]; k < 3 * first_vertex[i + 1]; k++) {
+            lo[k % 3] = fminf(lo[k % 3], m->positions[k]);
+            hi[k % 3] = fmaxf(hi[k % 3], m->positions[k]);
+        }
+        cJSON *a0 = cJSON_CreateObject(), *a1 = cJSON_CreateObject();
+        cJSON_AddNumberToObject(a0, "bufferView", 0);
+        if (first_vertex[i])
+            cJSON_AddNumberToObject(a0, "byteOffset", (double)(12 * first_vertex[i]));
+        cJSON_AddNumberToObject(a0, "componentType", 5126);
+        cJSON_AddNumberToObject(a0, "count", (double)(first_vertex[i + 1] - first_vertex[i]));
+        cJSON_AddStringToObject(a0, "type", "VEC3");
+        cJSON_AddItemToObject(a0, "min", cJSON_CreateFloatArray(lo, 3));
+        cJSON_AddItemToObject(a0, "max", cJSON_CreateFloatArray(hi, 3));
+        cJSON_AddNumberToObject(a1, "bufferView", 1);
+        if (first_index[i])
+            cJSON_AddNumberToObject(a1, "byteOffset", (double)(4 * first_index[i]));
+        cJSON_AddNumberToObject(a1, "componentType", 5125);
+        cJSON_AddNumberToObject(a1, "count", (double)(first_index[i + 1] - first_index[i]));
+        cJSON_AddStringToObject(a1, "type", "SCALAR");
+        cJSON_AddItemToArray(acc, a0);
+        cJSON_AddItemToArray(acc, a1);
+    }
 
     cJSON *views = cJSON_AddArrayToObject(g, "bufferViews");
     cJSON *v0 = cJSON_CreateObject(), *v1 = cJSON_CreateObject();

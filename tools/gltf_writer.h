@@ -1,6 +1,6 @@
-/* Writes shadowbench scenes as glTF 2.0 with an embedded buffer: one mesh of
- * triangles, a perspective camera and an area light, each placed by a
- * look-at. Used by tools/make_scenes.c (the shipped scenes) and by the tests
+/* Writes shadowbench scenes as glTF 2.0 with an embedded buffer: the
+ * triangles as one node named "geometry", or one named node per part, a
+ * perspective camera and an area light, each placed by a look-at. Used by tools/make_scenes.c (the shipped scenes) and by the tests
  * (scenes generated on the fly, e.g. the closed-form parallel planes). */
 #ifndef SB_GLTF_WRITER_H
 #define SB_GLTF_WRITER_H
@@ -10,11 +10,24 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#define MESH_MAX_PARTS 8
+
 struct mesh_builder {
     float *positions;
     uint32_t *indices;
     size_t vertex_count, index_count;
+    /* Named parts, each a node of its own (what a caster motion moves):
+     * part i is what was added from its mesh_begin_part to the next. */
+    int part_count;
+    struct mesh_part {
+        const char *name;  /* not copied */
+        size_t first_vertex, first_index;
+    } parts[MESH_MAX_PARTS];
 };
+
+/* Starts a part: what is added from now on is the node `name`. Before the
+ * first call (or without one) everything is the node "geometry". */
+void mesh_begin_part(struct mesh_builder *m, const char *name);
 
 /* Returns the new vertex's index. */
 uint32_t mesh_add_vertex(struct mesh_builder *m, struct vec3 p);
@@ -37,6 +50,7 @@ struct gltf_scene_desc {
     struct vec3 light_pos, light_target;  /* the light faces its target */
     int light_disk;                       /* 0: rect width x height, 1: disk of radius */
     float light_width, light_height, light_radius;
+    const char *const *motions;           /* extras.shadowbench.motions, NULL-terminated, or NULL */
 };
 
 /* Returns 0 or -1 (logged). */

@@ -28,8 +28,12 @@ static void plate(struct mesh_builder *m, float x0, float z0, float x1, float z1
  * different widths (the higher sphere's is wider) on a flat receiver. */
 static int floating_box_sphere(struct mesh_builder *m, struct gltf_scene_desc *d)
 {
+    static const char *const motions[] = {"caster_shift:sphere=0.25", NULL};
+    mesh_begin_part(m, "ground");
     ground(m, -6, -6, 6, 6);
+    mesh_begin_part(m, "box");
     mesh_add_box(m, v3(-2.0f, 1.0f, -0.5f), v3(-1.0f, 2.0f, 0.5f));
+    mesh_begin_part(m, "sphere");
     mesh_add_sphere(m, v3(1.5f, 2.6f, 0.0f), 0.6f, 48);
     *d = (struct gltf_scene_desc){
         .description = "A box (bottom 1 above the ground) and a sphere (bottom 2 above) over a "
@@ -40,6 +44,7 @@ static int floating_box_sphere(struct mesh_builder *m, struct gltf_scene_desc *d
         .camera_yfov_rad = 0.75f, .camera_znear = 0.1f,
         .light_pos = v3(0.5f, 6.0f, 0.0f), .light_target = v3(0.5f, 0.0f, 0.0f),
         .light_width = 1.2f, .light_height = 1.2f,
+        .motions = motions,
     };
     return 0;
 }
@@ -109,8 +114,12 @@ static int contact_hardening(struct mesh_builder *m, struct gltf_scene_desc *d)
  * the two depths into one that belongs to neither. */
 static int overlapping_occluders(struct mesh_builder *m, struct gltf_scene_desc *d)
 {
+    static const char *const motions[] = {"caster_shift:lower_plate=0.25", NULL};
+    mesh_begin_part(m, "ground");
     ground(m, -4, -3, 4, 3);
+    mesh_begin_part(m, "upper_plate");
     plate(m, -3, -3, -1.4f, 3, 3.0f);    /* A: x in -3..-1.4, all in front of the light */
+    mesh_begin_part(m, "lower_plate");
     plate(m, -0.8f, -1, 0.4f, 1, 1.0f);  /* B: x in -0.8..0.4 */
     *d = (struct gltf_scene_desc){
         .description = "Two plates, one 3 and one 1 above the ground, overlapping as the 0.5 x 0.5 "
@@ -121,6 +130,7 @@ static int overlapping_occluders(struct mesh_builder *m, struct gltf_scene_desc 
         .camera_yfov_rad = 0.6f, .camera_znear = 0.05f,
         .light_pos = v3(-2, 4, 0), .light_target = v3(0.5f, 0, 0),
         .light_width = 0.5f, .light_height = 0.5f,
+        .motions = motions,
     };
     return 0;
 }

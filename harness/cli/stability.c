@@ -16,11 +16,14 @@
 #include "score/metrics.h"
 #include "techniques/params.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <dirent.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #define MAX_VALUES 32
@@ -60,7 +63,10 @@ static const struct {
 struct motion {
     enum motion_kind kind;
     double step;      /* in the kind's unit */
-    char label[64];   /* "light_shift=0.125": its folder */
+    char node[65];    /* caster_shift: the name of the node it moves */
+    int scene;        /* the scene whose extras define it, or -1: every scene */
+    char where[320];  /* its source, for errors: "--motion" or the scene's extras */
+    char label[128];  /* "light_shift=0.125", "caster_shift:sphere=0.25": its folder */
 };
 
 struct variation {
@@ -98,7 +104,7 @@ struct stab {
     const struct run_options *o;
     struct scene *scenes;
     int scene_count;
-    struct motion motions[RUN_MAX_MOTIONS];
+    struct motion *motions;
     int motion_count;
     struct variation vars[RUN_MAX_VARIES];
     int var_count;
@@ -131,10 +137,17 @@ static int parse_number(const char *what, const char *text, double *out)
     return 0;
 }
 
-static int parse_motion(const char *spec, struct motion *m)
+/* Parses spec, NAME[:NODE][=STEP], into m; what names its source in errors
+ * ("--motion", or a scene's extras). */
+static int parse_motion(const char *what, const char *spec, int scene, struct motion *m)
 {
-    const char *eq = strchr(spec, '=');
-    const size_t len = eq ? (size_t)(eq - spec) : strlen(spec);
+    memset(m, 0, sizeof *m);
+    m->scene = scene;
+    snprintf(m->where, sizeof m->where, "%s", what);
+    const char *colon = strchr(spec, ':'), *eq = strrchr(spec, '=');
+    if (eq && colon && eq < colon)  /* NAME=...:... : the ':' is the step's */
+        colon = NULL;
+    const size_t len = colon ? (size_t)(colon - spec) : eq ? (size_t)(eq - spec) : strlen(spec);
     int k = 0;
     while (k < MOTION_KIND_COUNT && !(strlen(motion_kinds[k].name) == len && !strncmp(spec, motion_kinds[k].name, len)))
         k++;
@@ -142,27 +155,70 @@ static int parse_motion(const char *spec, struct motion *m)
         struct strbuf known = {0};
         for (int i = 0; i < MOTION_KIND_COUNT; i++)
             strbuf_list_printf(&known, ", ", "%s", motion_kinds[i].name);
-        log_error("--motion: '%s' is not a motion (motions: %s; see --help)", spec, known.data);
+        log_error("%s: '%s' is not a motion (motions: %s; see --help)", what, spec, known.data);
         strbuf_free(&known);
         return -1;
     }
     m->kind = (enum motion_kind)k;
     m->step = motion_kinds[k].def;
-    if (eq && k == MOTION_STATIC) {
-        log_error("--motion: '%s': static takes no step", spec);
+    if ((k == MOTION_CASTER_SHIFT) != (colon != NULL)) {
+        log_error("%s: '%s': %s", what, spec, colon ? "only caster_shift names a node (NAME:NODE)"
+                                                    : "caster_shift names the node it moves: caster_shift:NODE[=STEP]");
         return -1;
     }
-    if (eq && parse_number("--motion", eq + 1, &m->step) != 0)
+    if (colon) {
+        const size_t n = (eq ? (size_t)(eq - colon) : strlen(colon)) - 1;
+        if (n == 0 || n >= sizeof m->node) {
+            log_error("%s: '%s': a node's name is 1 to %zu bytes", what, spec, sizeof m->node - 1);
+            return -1;
+        }
+        memcpy(m->node, colon + 1, n);
+    }
+    if (eq && k == MOTION_STATIC) {
+        log_error("%s: '%s': static takes no step", what, spec);
+        return -1;
+    }
+    if (eq && parse_number(what, eq + 1, &m->step) != 0)
         return -1;
     if (k != MOTION_STATIC && !(m->step != 0 && fabs(m->step) <= motion_kinds[k].max)) {
-        log_error("--motion: '%s': the step must be non-zero and at most %g %s in size", spec, motion_kinds[k].max,
+        log_error("%s: '%s': the step must be non-zero and at most %g %s in size", what, spec, motion_kinds[k].max,
                   motion_kinds[k].unit);
         return -1;
     }
     if (k == MOTION_STATIC)
         snprintf(m->label, sizeof m->label, "static");
     else
-        snprintf(m->label, sizeof m->label, "%s=%g", motion_kinds[k].name, m->step);
+        snprintf(m->label, sizeof m->label, "%s%s%s=%g", motion_kinds[k].name, colon ? ":" : "", m->node, m->step);
+    for (char *c = m->label; *c; c++)  /* the label is a folder's name */
+        if (!(isalnum((unsigned char)*c) || strchr("_.:=+-", *c)))
+            *c = '_';
+    return 0;
+}
+
+/* Whether motion m runs on scene s. */
+static bool motion_on(const struct motion *m, int s) { return m->scene < 0 || m->scene == s; }
+
+/* The node each caster motion moves, found in every scene it runs on.
+ * Returns 0 or -1 (logged). */
+static int check_motion_nodes(const struct stab *st)
+{
+    for (int m = 0; m < st->motion_count; m++)
+        for (int s = 0; s < st->scene_count; s++) {
+            const struct motion *mo = &st->motions[m];
+            const struct scene *sc = &st->scenes[s];
+            int count;
+            if (mo->kind != MOTION_CASTER_SHIFT || !motion_on(mo, s) || pose_find_node(sc, mo->node, &count) >= 0)
+                continue;
+            struct strbuf names = {0};
+            for (size_t i = 0; i < sc->node_count; i++)
+                if (*sc->nodes[i].name)
+                    strbuf_list_printf(&names, ", ", "%s", sc->nodes[i].name);
+            log_error("%s: %s: %s %s named '%s' (its nodes with geometry: %s)", mo->where, mo->label, sc->name,
+                      count ? "has more than one node" : "has no node with geometry", mo->node,
+                      names.len ? names.data : "none named");
+            strbuf_free(&names);
+            return -1;
+        }
     return 0;
 }
 
@@ -315,9 +371,10 @@ static void variation_free(struct variation *v)
 /* ---- motion ------------------------------------------------------------- */
 
 /* The pose of frame `frame` of motion m on scene s, whose map is map_size
- * texels and whose image is height pixels high. */
+ * texels and whose image is height pixels high; node: the node a caster
+ * motion moves. */
 static struct scene_pose motion_pose(const struct motion *m, const struct scene *s, const struct light_frustum *f,
-                                     int map_size, int height, int frame)
+                                     int map_size, int height, int node, int frame)
 {
     struct scene_pose p = {0};
     const double amount = m->step * frame;
@@ -329,6 +386,11 @@ static struct scene_pose motion_pose(const struct motion *m, const struct scene 
         break;
     case MOTION_LIGHT_ROTATE: p.light_turn_rad = (float)(amount * M_PI / 180); break;
     case MOTION_CAMERA_SHIFT: p.camera_shift = (float)amount * pose_pixel_world(s, height); break;
+    case MOTION_CASTER_SHIFT:
+        p.caster = node + 1;
+        p.caster_shift = (float)amount * pose_texel_world(f->r - f->l, f->near_world, map_size,
+                                                          pose_light_depth_of_node(s, node));
+        break;
     case MOTION_KIND_COUNT: break;
     }
     return p;
@@ -413,6 +475,9 @@ static int motion_scene(struct stab *st, int scene_index, int motion_index)
     struct light_frustum f0;
     if (light_frustum_fit(base, &f0) != 0)
         return -1;
+    int node = -1, named;
+    if (mo->kind == MOTION_CASTER_SHIFT)
+        node = pose_find_node(base, mo->node, &named);  /* found: check_motion_nodes */
 
     /* The rows: every technique per frame with its noise still; animated
      * too where its program reads the frame index; each also accumulated. */
@@ -452,17 +517,24 @@ static int motion_scene(struct stab *st, int scene_index, int motion_index)
     int rc = scene_setup_open(&ss, &posed,
                               &(struct scene_setup_desc){w, h, o->shadow_map_size, o->gt_samples, 0, o->cache_dir, 0});
     /* A light's motion moves the map's texel grid with it (a spot light's
-     * map is its view): the angular window stays frame 0's. */
+     * map is its view): the angular window stays frame 0's. So does a
+     * caster's: the map does not follow the geometry. */
     const struct light_frustum window = ss.sm.frustum;
     int *from = xmalloc(sizeof(int) * count);
     float *prev_distance = xmalloc(sizeof(float) * count);
     struct picture pic = {0};
+    char where[640];  /* the posed scene's "path": its errors name the motion and frame */
     for (int frame = 0; frame < K && !rc; frame++) {
         if (frame > 0 && mo->kind != MOTION_STATIC) {
+            scene_unpose(&prev_posed, base);
             prev_posed = posed;
-            const struct scene_pose p = motion_pose(mo, base, &f0, o->shadow_map_size, h, frame);
+            const struct scene_pose p = motion_pose(mo, base, &f0, o->shadow_map_size, h, node, frame);
             scene_posed(base, &p, &posed);
+            snprintf(where, sizeof where, "%s (motion %s, frame %d)", base->path, mo->label, frame);
+            posed.path = where;
             receiver_set_camera(&ss.receiver, &posed);
+            if (p.caster)
+                scene_mesh_update_positions(&posed, &ss.mesh);
             gt_image_free(&ss.gt);
             rc = shadowmap_refit(&ss.sm, &posed, &window) ||
                  gt_obtain(&posed, &ss.sm.frustum,
@@ -534,6 +606,8 @@ static int motion_scene(struct stab *st, int scene_index, int motion_index)
     }
     free(live), free(from), free(prev_distance);
     scene_setup_free(&ss);
+    scene_unpose(&prev_posed, base);
+    scene_unpose(&posed, base);
     return rc ? -1 : 0;
 }
 
@@ -671,6 +745,8 @@ static int write_data(struct stab *st, cJSON *run)
         cJSON_AddStringToObject(j, "scene", st->scenes[r->scene].name);
         cJSON_AddStringToObject(j, "technique", r->t->name);
         cJSON_AddStringToObject(j, "motion", motion_kinds[mo->kind].name);
+        if (*mo->node)
+            cJSON_AddStringToObject(j, "node", mo->node);
         cJSON_AddNumberToObject(j, "step", mo->step);
         cJSON_AddStringToObject(j, "step_unit", motion_kinds[mo->kind].unit);
         cJSON_AddStringToObject(j, "row", r->label);
@@ -692,8 +768,12 @@ static int write_data(struct stab *st, cJSON *run)
         cJSON_AddNumberToObject(j, "nonfinite", (double)r->nonfinite);
         cJSON_AddItemToArray(motions, j);
         report_csv_field(&csv, st->scenes[r->scene].name);
-        strbuf_printf(&csv, ",%s,motion,%s,%g,%s,%s,%s,%d,", r->t->name, motion_kinds[mo->kind].name, mo->step,
-                      r->label, r->animated ? "animated" : "still", r->accumulated ? "true" : "false", r->r.frames);
+        strbuf_printf(&csv, ",%s,motion,", r->t->name);
+        char *name = util_printf("%s%s%s", motion_kinds[mo->kind].name, *mo->node ? ":" : "", mo->node);
+        report_csv_field(&csv, name);
+        free(name);
+        strbuf_printf(&csv, ",%g,%s,%s,%s,%d,", mo->step, r->label, r->animated ? "animated" : "still",
+                      r->accumulated ? "true" : "false", r->r.frames);
         csv_number(&csv, r->r.flicker, false);
         csv_number(&csv, r->r.flicker_p99, false);
         csv_number(&csv, r->r.floor, false);
@@ -787,24 +867,27 @@ static int chart_file(const struct stab *st, const char *name, struct strbuf *sv
  * table and the files). */
 static bool charted(const struct motion_row *r) { return !r->accumulated || r->animated; }
 
-/* The flicker chart of one scene (s >= 0) or the mean over the scenes. */
+/* The flicker chart of one scene (s >= 0: the motions run on it) or the
+ * mean over the scenes (s < 0: the motions run on every scene), if any. */
 static int flicker_chart(struct stab *st, int s, const char *device, struct strbuf *html)
 {
-    /* items: the charted labels of the first scene's first motion (the same for each) */
+    /* items: the charted labels of the first motion row's (the same for each) */
     struct chart_item items[RUN_MAX_TECHNIQUES * 4];
     const struct motion_row *first[RUN_MAX_TECHNIQUES * 4];
     int n = 0;
     for (int i = 0; i < st->row_count && n < RUN_MAX_TECHNIQUES * 4; i++) {
         const struct motion_row *r = &st->rows[i];
-        if (r->scene == st->rows[0].scene && r->motion == 0 && charted(r)) {
+        if (r->scene == st->rows[0].scene && r->motion == st->rows[0].motion && charted(r)) {
             first[n] = r;
             items[n++] = (struct chart_item){r->label, r->t->name, technique_group(r->t)};
         }
     }
-    struct chart_series series[RUN_MAX_MOTIONS];
+    struct chart_series *series = xcalloc((size_t)st->motion_count + 1, sizeof *series);
     double *values = xcalloc((size_t)(n * st->motion_count) + 1, sizeof(double));
-    char names[RUN_MAX_MOTIONS][96];
+    int shown = 0;
     for (int m = 0; m < st->motion_count; m++) {
+        if (s < 0 ? st->motions[m].scene >= 0 : !motion_on(&st->motions[m], s))
+            continue;
         double floor_sum = 0;
         int floor_n = 0;
         for (int k = 0; k < n; k++) {
@@ -818,11 +901,16 @@ static int flicker_chart(struct stab *st, int s, const char *device, struct strb
                         floor_sum += r->r.floor, floor_n++;
                 }
             }
-            values[m * n + k] = count ? sum / count : NAN;
+            values[shown * n + k] = count ? sum / count : NAN;
         }
-        snprintf(names[m], sizeof names[m], "%s", st->motions[m].label);
-        series[m] = (struct chart_series){names[m], "mean |Δe| per pixel and frame", values + m * n, NULL, NULL,
-                                          "ground truth's own", floor_n ? floor_sum / floor_n : NAN};
+        series[shown] = (struct chart_series){st->motions[m].label, "mean |Δe| per pixel and frame",
+                                              values + shown * n, NULL, NULL, "ground truth's own",
+                                              floor_n ? floor_sum / floor_n : NAN};
+        shown++;
+    }
+    if (!shown) {
+        free(series), free(values);
+        return 0;
     }
     char *title = s < 0 ? util_printf("Flicker under motion, mean over %d scene(s)", st->scene_count)
                         : util_printf("Flicker under motion: %s", st->scenes[s].name);
@@ -830,10 +918,10 @@ static int flicker_chart(struct stab *st, int s, const char *device, struct strb
                                  "accumulated (alpha %g); on %s", st->o->frames, st->o->width, st->o->height,
                                  st->o->shadow_map_size, st->o->accumulate, device);
     struct strbuf svg = {0};
-    chart_bars_svg(&svg, title, subtitle, items, n, series, st->motion_count);
+    chart_bars_svg(&svg, title, subtitle, items, n, series, shown);
     char *name = s < 0 ? xstrdup("flicker") : util_printf("flicker_%s", st->scenes[s].name);
     int rc = chart_file(st, name, &svg, html);
-    free(values), free(title), free(subtitle), free(name);
+    free(series), free(values), free(title), free(subtitle), free(name);
     return rc;
 }
 
@@ -908,19 +996,29 @@ static void motion_section(struct stab *st, int s, struct strbuf *h, int *group)
 {
     const struct run_options *o = st->o;
     const char *name = st->scenes[s].name;
+    int m0 = 0;  /* the first motion run on s: the rows' labels */
+    while (m0 < st->motion_count && !motion_on(&st->motions[m0], s))
+        m0++;
+    if (m0 == st->motion_count) {
+        strbuf_printf(h, "<p>No motion runs on this scene.</p>\n");
+        return;
+    }
     strbuf_printf(h, "<table><thead><tr><th rowspan=\"2\">row</th>");
     for (int m = 0; m < st->motion_count; m++) {
+        if (!motion_on(&st->motions[m], s))
+            continue;
         strbuf_printf(h, "<th colspan=\"2\">");
         strbuf_xml(h, st->motions[m].label);
         strbuf_printf(h, "</th>");
     }
     strbuf_printf(h, "</tr><tr>");
     for (int m = 0; m < st->motion_count; m++)
-        strbuf_printf(h, "<th>flicker</th><th>in the band</th>");
+        if (motion_on(&st->motions[m], s))
+            strbuf_printf(h, "<th>flicker</th><th>in the band</th>");
     strbuf_printf(h, "</tr></thead><tbody>\n");
     for (int i = 0; i < st->row_count; i++) {
         const struct motion_row *r0 = &st->rows[i];
-        if (r0->scene != s || r0->motion != 0)
+        if (r0->scene != s || r0->motion != m0)
             continue;
         strbuf_printf(h, "<tr><td class=\"l\">%s</td>", r0->label);
         for (int m = 0; m < st->motion_count; m++)
@@ -939,6 +1037,8 @@ static void motion_section(struct stab *st, int s, struct strbuf *h, int *group)
     strbuf_printf(h, "</tr></tbody></table>\n");
     for (int m = 0; m < st->motion_count; m++) {
         const struct motion *mo = &st->motions[m];
+        if (!motion_on(mo, s))
+            continue;
         const int g = (*group)++;
         strbuf_printf(h, "<h4>");
         strbuf_xml(h, name);
@@ -1049,6 +1149,47 @@ static int write_html(struct stab *st, cJSON *run)
 
 /* ---- the command -------------------------------------------------------- */
 
+/* An earlier run's outputs: its frame strips and its charts. */
+static bool is_strip(const char *name)
+{
+    return !strcmp(name, "visibility_frames.png") || !strcmp(name, "error_frames.png");
+}
+
+static bool is_svg(const char *name)
+{
+    const size_t n = strlen(name);
+    return n > 4 && !strcmp(name + n - 4, ".svg");
+}
+
+/* Removes the regular files `depth` folders down from dir that ours()
+ * accepts, and the folders that leaves empty, so the folder holds this
+ * run's outputs only; nothing else is touched. Returns how many files went. */
+static int remove_outputs(const char *dir, int depth, bool (*ours)(const char *name))
+{
+    DIR *d = opendir(dir);
+    if (!d)
+        return 0;
+    int removed = 0;
+    for (struct dirent *e; (e = readdir(d));) {
+        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
+            continue;
+        char *path = util_printf("%s/%s", dir, e->d_name);
+        struct stat sb;
+        const bool known = lstat(path, &sb) == 0;
+        if (known && depth > 0 && S_ISDIR(sb.st_mode)) {
+            const int n = remove_outputs(path, depth - 1, ours);
+            if (n)
+                rmdir(path);  /* fails, as it should, unless that left it empty */
+            removed += n;
+        } else if (known && depth == 0 && S_ISREG(sb.st_mode) && ours(e->d_name)) {
+            removed += unlink(path) == 0;
+        }
+        free(path);
+    }
+    closedir(d);
+    return removed;
+}
+
 int stability_main(const struct run_options *o)
 {
     static const char *const stale[] = {"stability.json", "stability.csv", "stability.html"};
@@ -1062,12 +1203,21 @@ int stability_main(const struct run_options *o)
     const bool defaults = !o->motion_count && !o->vary_count;
     const int motion_count = defaults ? (int)(sizeof default_motions / sizeof *default_motions) : o->motion_count;
     const int vary_count = defaults ? (int)(sizeof default_varies / sizeof *default_varies) : o->vary_count;
+    /* room for these and every scene's own */
+    st.motions = xcalloc((size_t)(motion_count + RUN_MAX_SCENES * SCENE_MAX_MOTIONS), sizeof *st.motions);
+    bool scene_motions = defaults;  /* each scene's own motions: by default, or --motion scene */
     for (int i = 0; i < motion_count; i++) {
-        if (parse_motion(defaults ? default_motions[i] : o->motions[i], &st.motions[i]) != 0)
+        const char *spec = defaults ? default_motions[i] : o->motions[i];
+        if (!strcmp(spec, "scene")) {
+            scene_motions = true;
+            continue;
+        }
+        struct motion *m = &st.motions[st.motion_count];
+        if (parse_motion("--motion", spec, -1, m) != 0)
             goto out;
-        for (int j = 0; j < i; j++)
-            if (!strcmp(st.motions[j].label, st.motions[i].label)) {
-                log_error("--motion: %s is given twice", st.motions[i].label);
+        for (int j = 0; j < st.motion_count; j++)
+            if (!strcmp(st.motions[j].label, m->label)) {
+                log_error("--motion: %s is given twice", m->label);
                 goto out;
             }
         st.motion_count++;
@@ -1094,7 +1244,25 @@ int stability_main(const struct run_options *o)
         struct light_frustum f;
         if (light_frustum_fit(&scenes[s], &f) != 0)
             goto out;
+        for (int i = 0; scene_motions && i < scenes[s].motion_count; i++) {
+            struct motion *m = &st.motions[st.motion_count];
+            char *what = util_printf("%s: extras.shadowbench.motions[%d]", scenes[s].path, i);
+            const int bad = parse_motion(what, scenes[s].motions[i], s, m);
+            free(what);
+            if (bad)
+                goto out;
+            bool twice = false;  /* a motion every scene runs already, or listed twice */
+            for (int j = 0; j < st.motion_count; j++)
+                twice |= motion_on(&st.motions[j], s) && !strcmp(st.motions[j].label, m->label);
+            st.motion_count += !twice;
+        }
     }
+    if (o->motion_count && !st.motion_count) {  /* only --motion scene */
+        log_error("--motion scene: none of the scenes lists motions of its own (extras.shadowbench.motions)");
+        goto out;
+    }
+    if (check_motion_nodes(&st) != 0)
+        goto out;
     if (o->gt_samples < 4) {  /* the floor compares two halves of the samples */
         log_error("--gt-samples: stability needs at least 4 (its noise floor compares two halves of the samples)");
         goto out;
@@ -1109,12 +1277,18 @@ int stability_main(const struct run_options *o)
         unlink(path);
         free(path);
     }
+    remove_outputs(o->out_dir, 3, is_strip);  /* <out>/<scene>/<motion>/<row>/ */
+    char *charts_dir = util_printf("%s/charts", o->out_dir);
+    remove_outputs(charts_dir, 0, is_svg);
+    free(charts_dir);
     log_info("stability: %d scene(s), %d technique(s), %d motion(s) of %d frames, %d variation(s), %dx%d, %d GT "
              "samples, %d^2 shadow map, on %s", st.scene_count, o->technique_count, st.motion_count, o->frames,
              st.var_count, o->width, o->height, o->gt_samples, o->shadow_map_size, gl_context_renderer());
     int rc = 0;
     for (int s = 0; s < st.scene_count && !rc; s++)
         for (int m = 0; m < st.motion_count && !rc; m++) {
+            if (!motion_on(&st.motions[m], s))
+                continue;
             log_info("scene %s, motion %s", scenes[s].name, st.motions[m].label);
             rc = motion_scene(&st, s, m);
         }
@@ -1162,6 +1336,6 @@ out:
         variation_free(&st.vars[i]);
     for (int s = 0; s < st.scene_count; s++)
         scene_free(&scenes[s]);
-    free(st.rows), free(st.points);
+    free(st.rows), free(st.points), free(st.motions);
     return status;
 }

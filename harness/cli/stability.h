@@ -1,7 +1,7 @@
 /* `shadowbench stability`: where methods fail on purpose.
  *
  * --motion: the scene moves for K frames (the light shifted by sub-texel
- * steps or turned, the camera shifted), each frame ray traced (its own
+ * steps or turned, the camera shifted, a caster node moved), each frame ray traced (its own
  * ground truth, cached per pose) and rendered by every technique; scored
  * by flicker (score/flicker.h): how much each pixel's error changes from
  * frame to frame, against the ground truth's own frame-to-frame noise.
@@ -30,8 +30,8 @@
 #define STABILITY_BREAK_RMSE_RISE 0.01
 #define STABILITY_BREAK_FRACTION_RISE 0.05
 
-/* The motions (--motion NAME[=STEP]): X(ID, name, unit of the step, default
- * step, largest |step|, what moves). */
+/* The motions (--motion NAME[:NODE][=STEP]; NODE for caster_shift only):
+ * X(ID, name, unit of the step, default step, largest |step|, what moves). */
 #define STABILITY_MOTIONS(X)                                                                          \
     X(STATIC, "static", "", 0.0, 0.0, "nothing: the frames are one pose")                           \
     X(LIGHT_SHIFT, "light_shift", "shadow-map texels per frame", 0.125, 64.0,                       \
@@ -39,7 +39,10 @@
     X(LIGHT_ROTATE, "light_rotate", "degrees per frame", 0.01, 5.0,                                  \
       "the light turned about its own y axis through its centre")                                     \
     X(CAMERA_SHIFT, "camera_shift", "pixels per frame", 0.25, 64.0,                                   \
-      "the camera along its own x axis (a pixel measured at the depth of the scene's centre)")
+      "the camera along its own x axis (a pixel measured at the depth of the scene's centre)")      \
+    X(CASTER_SHIFT, "caster_shift", "shadow-map texels per frame", 0.125, 64.0,                     \
+      "a node of the scene and what is under it along the light's x axis (a texel measured at the " \
+      "depth of the node's centre)")
 
 /* What --vary takes besides T.P: X(ID, name, reference value, smallest,
  * largest, meaning). */
@@ -52,7 +55,8 @@
       "the shadow map's near plane pulled towards the light to near / this: the scene's depths fill " \
       "less of the map's depth range, as with an engine's fixed small near plane")
 
-/* The default scenes, motions and variations (no --scene, --motion, --vary). */
+/* The default scenes, motions and variations (no --scene, --motion, --vary).
+ * Each scene's own motions (extras.shadowbench.motions) join the defaults. */
 #define STABILITY_DEFAULT_SCENES {"floating_box_sphere", "overlapping_occluders"}
 #define STABILITY_DEFAULT_MOTIONS {"static", "light_shift", "light_rotate", "camera_shift"}
 #define STABILITY_DEFAULT_VARIES                                                          \

@@ -29,6 +29,13 @@ void scene_mesh_upload(const struct scene *s, struct scene_mesh *m)
     glBindVertexArray(0);
 }
 
+void scene_mesh_update_positions(const struct scene *s, struct scene_mesh *m)
+{
+    glBindBuffer(GL_ARRAY_BUFFER, m->positions);
+    glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(s->vertex_count * 12), s->positions, GL_STATIC_DRAW);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+}
+
 void scene_mesh_draw(const struct scene_mesh *m)
 {
     glBindVertexArray(m->vao);

@@ -15,6 +15,8 @@ struct scene_mesh {
 };
 
 void scene_mesh_upload(const struct scene *s, struct scene_mesh *m);
+/* Replaces the positions with s's (the same vertex count): a node moved. */
+void scene_mesh_update_positions(const struct scene *s, struct scene_mesh *m);
 void scene_mesh_draw(const struct scene_mesh *m);
 void scene_mesh_destroy(struct scene_mesh *m);
 

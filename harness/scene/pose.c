@@ -2,6 +2,7 @@
 #include "base/util.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 void scene_posed(const struct scene *base, const struct scene_pose *p, struct scene *out)
@@ -19,9 +20,53 @@ void scene_posed(const struct scene *base, const struct scene_pose *p, struct sc
         L->width *= p->light_scale, L->height *= p->light_scale, L->radius *= p->light_scale;
     }
     out->camera.pos = v3_add(out->camera.pos, v3_scale(out->camera.x, p->camera_shift));
+    if (p->caster > 0 && (size_t)p->caster <= base->node_count) {
+        const struct scene_node *n = &base->nodes[p->caster - 1];
+        const struct vec3 d = v3_scale(base->light.x, p->caster_shift);
+        out->positions = memcpy(xmalloc(sizeof(float) * 3 * base->vertex_count), base->positions,
+                                sizeof(float) * 3 * base->vertex_count);
+        for (size_t v = n->first_vertex; v < n->first_vertex + n->vertex_count; v++) {
+            float *q = &out->positions[3 * v];
+            q[0] += d.x, q[1] += d.y, q[2] += d.z;
+        }
+        out->bounds_min = v3(INFINITY, INFINITY, INFINITY), out->bounds_max = v3(-INFINITY, -INFINITY, -INFINITY);
+        for (size_t v = 0; v < base->vertex_count; v++) {
+            const float *q = &out->positions[3 * v];
+            out->bounds_min = v3_min(out->bounds_min, v3(q[0], q[1], q[2]));
+            out->bounds_max = v3_max(out->bounds_max, v3(q[0], q[1], q[2]));
+        }
+    }
     const struct scene_pose zero = {0};
     if (memcmp(p, &zero, sizeof zero) != 0)  /* the base pose is the scene itself */
         out->hash = util_hash(base->hash, p, sizeof *p);
+}
+
+void scene_unpose(struct scene *posed, const struct scene *base)
+{
+    if (posed->positions != base->positions)
+        free(posed->positions);
+    posed->positions = base->positions;
+}
+
+int pose_find_node(const struct scene *s, const char *name, int *count)
+{
+    int found = -1;
+    *count = 0;
+    for (size_t i = 0; i < s->node_count; i++)
+        if (!strcmp(s->nodes[i].name, name))
+            found = (int)i, ++*count;
+    return *count == 1 ? found : -1;
+}
+
+float pose_light_depth_of_node(const struct scene *s, int node)
+{
+    const struct scene_node *n = &s->nodes[node];
+    struct vec3 lo = v3(INFINITY, INFINITY, INFINITY), hi = v3(-INFINITY, -INFINITY, -INFINITY);
+    for (size_t v = n->first_vertex; v < n->first_vertex + n->vertex_count; v++) {
+        const float *q = &s->positions[3 * v];
+        lo = v3_min(lo, v3(q[0], q[1], q[2])), hi = v3_max(hi, v3(q[0], q[1], q[2]));
+    }
+    return -v3_dot(v3_sub(v3_scale(v3_add(lo, hi), 0.5f), s->light.pos), s->light.z);
 }
 
 float pose_texel_world(float window_world, float near_world, int size, float d)

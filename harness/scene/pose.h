@@ -1,6 +1,7 @@
 /* A scene in another pose: its light moved, turned or scaled, its camera
- * moved (`shadowbench stability`: motions and sensitivities). A posed
- * scene shares the base scene's geometry: never scene_free it. */
+ * moved, one of its nodes moved (`shadowbench stability`: motions and
+ * sensitivities). A posed scene shares the base scene's arrays, except
+ * positions when a node moved: free it with scene_unpose, never scene_free. */
 #ifndef SB_POSE_H
 #define SB_POSE_H
 
@@ -12,11 +13,23 @@ struct scene_pose {
     float light_turn_rad;  /* the light turned about its own y axis, through its centre */
     float camera_shift;    /* the camera moved along its own x axis, world units */
     float light_scale;     /* the light's size times this (0: 1): width, height, radius */
+    int caster;            /* 1 + the index in nodes of a node moved (0: none) */
+    float caster_shift;    /* that node moved along the light's x axis, world units */
 };
 
 /* base in pose p: the same geometry (shared, not copied), the light and
  * camera moved, and a hash of its own (the ground-truth cache key). */
 void scene_posed(const struct scene *base, const struct scene_pose *p, struct scene *out);
+
+/* Frees what scene_posed gave posed of its own (moved positions). */
+void scene_unpose(struct scene *posed, const struct scene *base);
+
+/* The index in s->nodes of the node named name, or -1 (none, or more than
+ * one of that name: *count says how many). */
+int pose_find_node(const struct scene *s, const char *name, int *count);
+
+/* The planar depth from the light of the centre of node's bounds. */
+float pose_light_depth_of_node(const struct scene *s, int node);
 
 /* The world size of one shadow-map texel of a map of size texels whose
  * window at the near plane is window_world wide, at planar depth d from the

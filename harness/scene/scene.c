@@ -18,6 +18,12 @@ void scene_free(struct scene *s)
     free(s->positions);
     free(s->normals);
     free(s->indices);
+    for (size_t i = 0; i < s->node_count; i++)
+        free(s->nodes[i].name);
+    free(s->nodes);
+    for (int i = 0; i < s->motion_count; i++)
+        free(s->motions[i]);
+    free(s->motions);
     memset(s, 0, sizeof *s);
 }
 

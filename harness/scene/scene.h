@@ -41,6 +41,17 @@ struct scene_camera {
     float znear;          /* > 0 (world units) */
 };
 
+/* A glTF node with vertices in it or under it: its vertices and its
+ * descendants' are positions[first_vertex ..][vertex_count]. What a caster
+ * motion (`shadowbench stability`) moves. */
+struct scene_node {
+    char *name;           /* the node's "name", or "" */
+    size_t first_vertex, vertex_count;
+};
+
+/* The most motions a scene may define (extras.shadowbench.motions). */
+#define SCENE_MAX_MOTIONS 16
+
 struct scene {
     char *path;
     char *name;           /* file stem, e.g. "floating_box_sphere" */
@@ -52,6 +63,10 @@ struct scene {
     size_t vertex_count, triangle_count;
     struct scene_camera camera;
     struct scene_light light;
+    struct scene_node *nodes;   /* post-order: a node after its descendants */
+    size_t node_count;
+    char **motions;       /* extras.shadowbench.motions: stability's motions of this scene */
+    int motion_count;
     struct vec3 bounds_min, bounds_max;
     uint64_t hash;        /* of the file's bytes and every loaded array */
 };

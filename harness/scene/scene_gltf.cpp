@@ -104,6 +104,8 @@ public:
 
     std::vector<float> pos, nrm;
     std::vector<uint32_t> idx;
+    struct node_range { std::string name; size_t first_vertex, vertex_count; };
+    std::vector<node_range> ranges;  // every node with vertices under it
     bool have_camera = false, have_light = false;
     struct scene_camera camera = {};
     struct scene_light light = {};
@@ -221,6 +223,7 @@ private:
             take_camera(n.camera, world);
         if (!have_light && n.extras.IsObject() && n.extras.Has("area_light"))
             take_light(ni, n.extras.Get("area_light"), world);
+        const size_t first_vertex = pos.size() / 3;
         if (n.mesh >= 0) {
             if (n.mesh >= (int)m.meshes.size())
                 fail(fmt("malformed glTF: node %d names mesh %d, which does not exist", ni, n.mesh));
@@ -230,6 +233,10 @@ private:
         }
         for (int c : n.children)
             visit(c, world, depth + 1);
+        // A node's vertices and its descendants' are contiguous: it is
+        // visited once (one parent, each root listed once).
+        if (pos.size() / 3 > first_vertex)
+            ranges.push_back({n.name, first_vertex, pos.size() / 3 - first_vertex});
     }
 
     void take_camera(int ci, struct mat4 world)
@@ -805,6 +812,14 @@ void check_types(const cJSON *doc)
         if (v && !is_text(v))
             fail(fmt("malformed glTF: extras.shadowbench.%s must be a string of UTF-8 text", key));
     }
+    const cJSON *motions = cJSON_GetObjectItemCaseSensitive(meta, "motions"), *motion;
+    if (motions && !(cJSON_IsArray(motions) && cJSON_GetArraySize(motions) <= SCENE_MAX_MOTIONS))
+        fail(fmt("malformed glTF: extras.shadowbench.motions must be an array of at most %d strings",
+                 SCENE_MAX_MOTIONS));
+    cJSON_ArrayForEach(motion, motions)
+        if (!is_text(motion) || !*motion->valuestring || strlen(motion->valuestring) > 200)
+            fail("malformed glTF: extras.shadowbench.motions must hold strings of UTF-8 text, 1 to 200 bytes "
+                 "(motions as `shadowbench stability --motion` takes them)");
     const cJSON *meshes = cJSON_GetObjectItemCaseSensitive(doc, "meshes"), *mesh;
     int mi = 0;
     cJSON_ArrayForEach(mesh, meshes) {
@@ -1027,6 +1042,15 @@ void load(const char *path, const char *bytes, size_t size, struct scene *s)
     const tinygltf::Value &meta = sx.IsObject() && sx.Has("shadowbench") ? sx.Get("shadowbench") : empty;
     s->description = xstrdup(string_extra(meta, "description").c_str());
     s->shows = xstrdup(string_extra(meta, "shows").c_str());
+    if (meta.IsObject() && meta.Has("motions")) {  // checked in the raw JSON
+        const tinygltf::Value &mv = meta.Get("motions");
+        s->motions = (char **)xcalloc(mv.ArrayLen() + 1, sizeof(char *));
+        for (size_t i = 0; i < mv.ArrayLen(); i++)
+            s->motions[s->motion_count++] = xstrdup(mv.Get((int)i).Get<std::string>().c_str());
+    }
+    s->nodes = (struct scene_node *)xcalloc(l.ranges.size() + 1, sizeof *s->nodes);
+    for (const auto &r : l.ranges)
+        s->nodes[s->node_count++] = scene_node{xstrdup(r.name.c_str()), r.first_vertex, r.vertex_count};
 }
 
 }  // namespace
