@@ -7,7 +7,9 @@
  *   (the scene's own motion, from its extras);
  * - a caster moved far keeps the rasterised and the ray-traced scene
  *   together (the error does not grow with the distance moved), and a
- *   re-run into the same folder leaves none of the last run's frames;
+ *   re-run into the same folder leaves none of the last run's frames or
+ *   charts (and the files it did not write);
+ * - a node moves with its children, and only they move (node_tree());
  * - with nothing moving, every technique with its noise still flickers
  *   exactly at the ground truth's floor (0: the same pose gives the same
  *   truth and the same picture), and animated noise flickers above it,
@@ -20,6 +22,7 @@
 #include "check.h"
 #include "gltf_writer.h"
 #include "run_cmd.h"
+#include "scene/pose.h"
 #include "score/flicker.h"
 
 #include <cjson/cJSON.h>
@@ -177,7 +180,7 @@ static void motion(const char *scene)
           num(p, "flicker_penumbra"), num(p, "flicker_floor_penumbra"));
     cJSON_Delete(doc);
 
-    /* The CSV: a header and a row per motion row (2 motions x 6 rows). */
+    /* The CSV: a header and a row per motion row (3 motions x 6 rows). */
     char *csv_path = util_printf("%s/stability.csv", out), *csv = NULL;
     size_t size;
     if (util_read_file(csv_path, &csv, &size) == 0) {
@@ -222,7 +225,7 @@ static void caster(const char *scene)
     char *out = util_printf("%s/caster", dir);
     char *cmd = util_printf("%s stability --scene %s --technique hard,pcf --motion static --motion "
                             "caster_shift:plate=3 --frames 5 --width 96 --height 96 --shadow-map-size 64 "
-                            "--gt-samples 64 --no-cache -q --out %s", sb, scene, out);
+                            "--vary light_scale=1,2 --gt-samples 64 --no-cache -q --out %s", sb, scene, out);
     struct strbuf err = {0};
     int status = run_cmd(cmd, &err, NULL);
     CHECK(status == 0, "stability exit %d: %s", status, err.data);
@@ -236,8 +239,11 @@ static void caster(const char *scene)
     CHECK(moved < 1.5 * still, "pcf's rmse with the plate moved: at most %g, still %g", moved, still);
     CHECK(hard > 0.01, "the plate moved: hard's flicker %g", hard);
     cJSON_Delete(doc);
-    char *strip = util_printf("%s/shimmer/caster_shift:plate=3/hard/visibility_frames.png", out);
-    CHECK(util_file_exists(strip), "%s: written", strip);
+    char *strip = util_printf("%s/shimmer/caster_shift:plate=3/hard/visibility_frames.png", out),
+         *chart = util_printf("%s/charts/vary_light_scale_shimmer.svg", out),
+         *mine = util_printf("%s/charts/mine.svg", out);
+    CHECK(util_file_exists(strip) && util_file_exists(chart), "%s and %s: written", strip, chart);
+    CHECK(util_write_file_atomic(mine, "<svg/>", 6) == 0, "a file of the user's, or of `run`, beside the charts");
     free(cmd);
     cmd = util_printf("%s stability --scene %s --technique pcf --motion static --frames 2 --width 32 --height 32 "
                       "--gt-samples 16 --no-cache -q --out %s", sb, scene, out);
@@ -248,8 +254,55 @@ static void caster(const char *scene)
          *hard_dir = util_printf("%s/shimmer/static/hard", out);
     CHECK(util_file_exists(kept) && access(gone, F_OK) != 0 && access(hard_dir, F_OK) != 0,
           "after the second run: its strip kept, the first run's other folders gone");
+    CHECK(!util_file_exists(chart) && util_file_exists(mine), "the first run's chart gone, the other file kept");
     strbuf_free(&err);
-    free(kept), free(gone), free(hard_dir), free(strip), free(path), free(cmd), free(out);
+    free(kept), free(gone), free(hard_dir), free(strip), free(chart), free(mine), free(path), free(cmd), free(out);
+}
+
+/* The plate made a child of the ground: the loader's ranges (post-order,
+ * a node's own vertices then its children's) and what a pose moves. */
+static void node_tree(const char *scene)
+{
+    char *text = NULL;
+    size_t size;
+    CHECK(util_read_file(scene, &text, &size) == 0, "reading %s", scene);
+    cJSON *g = cJSON_Parse(text);
+    free(text);
+    cJSON *nodes = cJSON_GetObjectItem(g, "nodes");
+    cJSON_AddItemToObject(cJSON_GetArrayItem(nodes, 0), "children", cJSON_CreateIntArray((const int[]){1}, 1));
+    cJSON_DeleteItemFromArray(cJSON_GetObjectItem(cJSON_GetArrayItem(cJSON_GetObjectItem(g, "scenes"), 0), "nodes"), 1);
+    char *json = cJSON_Print(g), *path = util_printf("%s/tree.gltf", dir);
+    CHECK(util_write_file_atomic(path, json, strlen(json)) == 0, "writing %s", path);
+    cJSON_free(json);
+    cJSON_Delete(g);
+
+    struct scene s;
+    CHECK(scene_load(path, &s) == 0, "loading %s", path);
+    const int ground = pose_find_node(&s, "ground", NULL), plate = pose_find_node(&s, "plate", NULL);
+    CHECK(ground >= 0 && plate >= 0 && s.nodes[plate].first_vertex == 4 && s.nodes[plate].vertex_count == 4 &&
+              s.nodes[ground].first_vertex == 0 && s.nodes[ground].vertex_count == 8,
+          "ranges: ground %zu+%zu, plate %zu+%zu", s.nodes[ground].first_vertex, s.nodes[ground].vertex_count,
+          s.nodes[plate].first_vertex, s.nodes[plate].vertex_count);
+    for (int moved = 0; moved < 2; moved++) {
+        const int node = moved ? plate : ground;
+        struct scene p;
+        scene_posed(&s, &(struct scene_pose){.caster = node + 1, .caster_shift = 0.5f}, &p);
+        int wrong = 0;
+        for (size_t v = 0; v < s.vertex_count; v++) {
+            const bool in = v >= s.nodes[node].first_vertex && v < s.nodes[node].first_vertex + s.nodes[node].vertex_count;
+            for (int k = 0; k < 3; k++) {
+                const float d = p.positions[3 * v + k] - s.positions[3 * v + k];
+                const float want = in ? 0.5f * (&s.light.x.x)[k] : 0;
+                wrong += fabsf(d - want) > 1e-5f;
+            }
+        }
+        CHECK(wrong == 0 && p.positions != s.positions && p.hash != s.hash,
+              "%s moved by half the light's x axis, the rest still: %d coordinates wrong", moved ? "plate" : "ground",
+              wrong);
+        scene_unpose(&p, &s);
+    }
+    scene_free(&s);
+    free(path);
 }
 
 static void vary(const char *scene)
@@ -305,12 +358,14 @@ static void bad_input(const char *scene)
         "--accumulate 1.5",        "--warmup 1",                 "--sweep pcf.samples=16",
         "--vary zzz.a=1",             "--gt-samples 1",             "--motion caster_shift",
         "--motion caster_shift:nope", "--motion light_shift:plate=1", "--motion caster_shift:=1",
-        "--motion caster_shift:plate=0", "--scene BADMOTION --motion scene", "--scene NONODE --motion scene",
+        "--motion caster_shift:plate=0", "--motion scene --motion scene", "BAD0", "BAD1", "BAD2", "BAD3",
     };
-    /* scenes whose own motions are bad: not a motion; a node it lacks */
-    char *bad_scenes[2];
-    static const char *const bad_motions[2][2] = {{"wobble", NULL}, {"caster_shift:chimney", NULL}};
-    for (int i = 0; i < 2; i++) {
+    /* scenes whose own motions are bad: not a motion; a node it lacks; one
+     * listed twice; none at all (for --motion scene) */
+    char *bad_scenes[4];
+    static const char *const bad_motions[4][3] = {
+        {"wobble", NULL}, {"caster_shift:chimney", NULL}, {"light_shift=1", "light_shift=1", NULL}, {NULL}};
+    for (int i = 0; i < 4; i++) {
         struct mesh_builder m = {0};
         mesh_add_quad(&m, v3(-4, 0, -4), v3(0, 0, 8), v3(8, 0, 0));
         bad_scenes[i] = util_printf("%s/bad_motion_%d.gltf", dir, i);
@@ -318,13 +373,14 @@ static void bad_input(const char *scene)
                          &(struct gltf_scene_desc){.description = "", .shows = "", .camera_pos = v3(0, 6, 3),
                                                    .camera_yfov_rad = 0.9f, .camera_znear = 0.1f,
                                                    .light_pos = v3(0, 5, 0), .light_width = 1, .light_height = 1,
-                                                   .motions = bad_motions[i]}) == 0, "writing");
+                                                   .motions = i < 3 ? bad_motions[i] : NULL}) == 0, "writing");
         mesh_free(&m);
     }
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
-        const char *sub = strstr(bad[i], "BADMOTION") ? bad_scenes[0] : strstr(bad[i], "NONODE") ? bad_scenes[1] : NULL;
-        char *arg = sub ? util_printf("--scene %s --motion scene", sub) : xstrdup(bad[i]);
-        char *cmd = util_printf("%s stability --scene %s %s --out %s/bad --no-cache", sb, scene, arg, dir);
+        const int b = !strncmp(bad[i], "BAD", 3) ? bad[i][3] - '0' : -1;
+        char *arg = xstrdup(b >= 0 ? "--motion scene" : bad[i]);
+        char *cmd = util_printf("%s stability --scene %s %s --out %s/bad --no-cache", sb, b >= 0 ? bad_scenes[b] : scene,
+                                arg, dir);
         free(arg);
         struct strbuf err = {0};
         int status = run_cmd(cmd, &err, NULL);
@@ -336,7 +392,8 @@ static void bad_input(const char *scene)
         strbuf_free(&err);
         free(cmd);
     }
-    free(bad_scenes[0]), free(bad_scenes[1]);
+    for (int i = 0; i < 4; i++)
+        free(bad_scenes[i]);
     /* A light turned until the scene is behind it: the error names the
      * motion and the frame, not only the scene's file. */
     char *cmd = util_printf("%s stability --scene %s --technique hard --motion light_rotate=5 --frames 40 --width 32 "
@@ -359,6 +416,7 @@ int main(int argc, char **argv)
     char *scene = shimmer_scene();
     bad_input(scene);
     motion(scene);
+    node_tree(scene);
     caster(scene);
     vary(scene);
     free(scene);

@@ -146,7 +146,7 @@ int gltf_write(const char *path, const struct mesh_builder *m, const struct gltf
     /* The parts: what came before the first named one is "geometry". */
     struct mesh_part parts[MESH_MAX_PARTS + 1];
     int n = 0;
-    if (!m->part_count || m->parts[0].first_index > 0)
+    if (!m->part_count || m->parts[0].first_vertex > 0 || m->parts[0].first_index > 0)
         parts[n++] = (struct mesh_part){"geometry", 0, 0};
     for (int i = 0; i < m->part_count; i++)
         parts[n++] = m->parts[i];

@@ -64,9 +64,10 @@ struct motion {
     enum motion_kind kind;
     double step;      /* in the kind's unit */
     char node[65];    /* caster_shift: the name of the node it moves */
-    int scene;        /* the scene whose extras define it, or -1: every scene */
-    char where[320];  /* its source, for errors: "--motion" or the scene's extras */
-    char label[128];  /* "light_shift=0.125", "caster_shift:sphere=0.25": its folder */
+    int scene, entry; /* the scene whose extras.shadowbench.motions[entry] it is, or -1: --motion */
+    char name[80];    /* "light_shift", "caster_shift:sphere" */
+    char label[128];  /* "light_shift=0.125", "caster_shift:sphere=0.25": its folder, each
+                         character outside [A-Za-z0-9_.:=+-] as '_' */
 };
 
 struct variation {
@@ -137,13 +138,12 @@ static int parse_number(const char *what, const char *text, double *out)
     return 0;
 }
 
-/* Parses spec, NAME[:NODE][=STEP], into m; what names its source in errors
- * ("--motion", or a scene's extras). */
-static int parse_motion(const char *what, const char *spec, int scene, struct motion *m)
+/* Parses spec, NAME[:NODE][=STEP], into m: a --motion (scene -1) or scene
+ * `scene`'s extras.shadowbench.motions[entry]; what names it in errors. */
+static int parse_motion(const char *what, const char *spec, int scene, int entry, struct motion *m)
 {
     memset(m, 0, sizeof *m);
-    m->scene = scene;
-    snprintf(m->where, sizeof m->where, "%s", what);
+    m->scene = scene, m->entry = entry;
     const char *colon = strchr(spec, ':'), *eq = strrchr(spec, '=');
     if (eq && colon && eq < colon)  /* NAME=...:... : the ':' is the step's */
         colon = NULL;
@@ -185,10 +185,11 @@ static int parse_motion(const char *what, const char *spec, int scene, struct mo
                   motion_kinds[k].unit);
         return -1;
     }
+    snprintf(m->name, sizeof m->name, "%s%s%s", motion_kinds[k].name, colon ? ":" : "", m->node);
     if (k == MOTION_STATIC)
         snprintf(m->label, sizeof m->label, "static");
     else
-        snprintf(m->label, sizeof m->label, "%s%s%s=%g", motion_kinds[k].name, colon ? ":" : "", m->node, m->step);
+        snprintf(m->label, sizeof m->label, "%s=%g", m->name, m->step);
     for (char *c = m->label; *c; c++)  /* the label is a folder's name */
         if (!(isalnum((unsigned char)*c) || strchr("_.:=+-", *c)))
             *c = '_';
@@ -197,6 +198,33 @@ static int parse_motion(const char *what, const char *spec, int scene, struct mo
 
 /* Whether motion m runs on scene s. */
 static bool motion_on(const struct motion *m, int s) { return m->scene < 0 || m->scene == s; }
+
+/* Adds m to st's motions unless an equal one already runs on the scenes m
+ * runs on: a motion given twice on the command line or in one scene's
+ * list is an error; a scene's motion that the command line (or the
+ * default) gives already runs once. Two different motions whose folder
+ * names (labels) agree are an error. Returns 0 or -1 (logged). */
+static int add_motion(struct stab *st, const struct motion *m)
+{
+    for (int j = 0; j < st->motion_count; j++) {
+        const struct motion *o = &st->motions[j];
+        if (m->scene >= 0 && !motion_on(o, m->scene))
+            continue;
+        const bool same = o->kind == m->kind && o->step == m->step && !strcmp(o->node, m->node);
+        if (same && o->scene < 0 && m->scene >= 0)
+            return 0;  /* run already */
+        if (same || !strcmp(o->label, m->label)) {
+            if (m->scene < 0)
+                log_error("--motion: %s %s", m->label, same ? "is given twice" : "names the same folder as another");
+            else
+                log_error("%s: extras.shadowbench.motions[%d]: %s %s", st->scenes[m->scene].path, m->entry, m->label,
+                          same ? "is listed twice" : "names the same folder as another motion");
+            return -1;
+        }
+    }
+    st->motions[st->motion_count++] = *m;
+    return 0;
+}
 
 /* The node each caster motion moves, found in every scene it runs on.
  * Returns 0 or -1 (logged). */
@@ -210,12 +238,18 @@ static int check_motion_nodes(const struct stab *st)
             if (mo->kind != MOTION_CASTER_SHIFT || !motion_on(mo, s) || pose_find_node(sc, mo->node, &count) >= 0)
                 continue;
             struct strbuf names = {0};
+            int listed = 0;
             for (size_t i = 0; i < sc->node_count; i++)
-                if (*sc->nodes[i].name)
+                if (*sc->nodes[i].name && listed++ < 16)
                     strbuf_list_printf(&names, ", ", "%s", sc->nodes[i].name);
-            log_error("%s: %s: %s %s named '%s' (its nodes with geometry: %s)", mo->where, mo->label, sc->name,
+            if (listed > 16)
+                strbuf_printf(&names, " and %d more", listed - 16);
+            char *source = mo->scene < 0 ? xstrdup("--motion")
+                                         : util_printf("%s: extras.shadowbench.motions[%d]", sc->path, mo->entry);
+            log_error("%s: %s: %s %s named '%s' (its nodes with geometry: %s)", source, mo->label, sc->name,
                       count ? "has more than one node" : "has no node with geometry", mo->node,
                       names.len ? names.data : "none named");
+            free(source);
             strbuf_free(&names);
             return -1;
         }
@@ -475,9 +509,9 @@ static int motion_scene(struct stab *st, int scene_index, int motion_index)
     struct light_frustum f0;
     if (light_frustum_fit(base, &f0) != 0)
         return -1;
-    int node = -1, named;
+    int node = -1;
     if (mo->kind == MOTION_CASTER_SHIFT)
-        node = pose_find_node(base, mo->node, &named);  /* found: check_motion_nodes */
+        node = pose_find_node(base, mo->node, NULL);  /* found: check_motion_nodes */
 
     /* The rows: every technique per frame with its noise still; animated
      * too where its program reads the frame index; each also accumulated. */
@@ -510,10 +544,10 @@ static int motion_scene(struct stab *st, int scene_index, int motion_index)
     for (int k = 0; k < n; k++)
         live[k].row = &st->rows[st->row_count - n + k];
 
-    struct scene posed, prev_posed;
+    struct scene posed;
     struct scene_setup ss;
     scene_posed(base, &(struct scene_pose){0}, &posed);
-    prev_posed = posed;
+    struct scene_camera prev_camera = posed.camera;
     int rc = scene_setup_open(&ss, &posed,
                               &(struct scene_setup_desc){w, h, o->shadow_map_size, o->gt_samples, 0, o->cache_dir, 0});
     /* A light's motion moves the map's texel grid with it (a spot light's
@@ -526,8 +560,8 @@ static int motion_scene(struct stab *st, int scene_index, int motion_index)
     char where[640];  /* the posed scene's "path": its errors name the motion and frame */
     for (int frame = 0; frame < K && !rc; frame++) {
         if (frame > 0 && mo->kind != MOTION_STATIC) {
-            scene_unpose(&prev_posed, base);
-            prev_posed = posed;
+            prev_camera = posed.camera;
+            scene_unpose(&posed, base);
             const struct scene_pose p = motion_pose(mo, base, &f0, o->shadow_map_size, h, node, frame);
             scene_posed(base, &p, &posed);
             snprintf(where, sizeof where, "%s (motion %s, frame %d)", base->path, mo->label, frame);
@@ -565,7 +599,7 @@ static int motion_scene(struct stab *st, int scene_index, int motion_index)
         if (rc)
             break;
         if (frame > 0)
-            reproject(&posed.camera, &prev_posed.camera, ss.distance, prev_distance, w, h, from);
+            reproject(&posed.camera, &prev_camera, ss.distance, prev_distance, w, h, from);
         else
             for (size_t i = 0; i < count; i++)
                 from[i] = -1;
@@ -606,7 +640,6 @@ static int motion_scene(struct stab *st, int scene_index, int motion_index)
     }
     free(live), free(from), free(prev_distance);
     scene_setup_free(&ss);
-    scene_unpose(&prev_posed, base);
     scene_unpose(&posed, base);
     return rc ? -1 : 0;
 }
@@ -655,6 +688,7 @@ static int vary_scene(struct stab *st, int scene_index, int var_index)
                      m.nonfinite ? "  NON-FINITE VALUES" : "");
         }
         scene_setup_free(&ss);
+        scene_unpose(&posed, base);
     }
     return rc ? -1 : 0;
 }
@@ -769,9 +803,7 @@ static int write_data(struct stab *st, cJSON *run)
         cJSON_AddItemToArray(motions, j);
         report_csv_field(&csv, st->scenes[r->scene].name);
         strbuf_printf(&csv, ",%s,motion,", r->t->name);
-        char *name = util_printf("%s%s%s", motion_kinds[mo->kind].name, *mo->node ? ":" : "", mo->node);
-        report_csv_field(&csv, name);
-        free(name);
+        report_csv_field(&csv, mo->name);
         strbuf_printf(&csv, ",%g,%s,%s,%s,%d,", mo->step, r->label, r->animated ? "animated" : "still",
                       r->accumulated ? "true" : "false", r->r.frames);
         csv_number(&csv, r->r.flicker, false);
@@ -1149,45 +1181,18 @@ static int write_html(struct stab *st, cJSON *run)
 
 /* ---- the command -------------------------------------------------------- */
 
-/* An earlier run's outputs: its frame strips and its charts. */
+/* An earlier run's outputs: its frame strips and its charts (the charts
+ * folder may be a run's too: its charts are left alone). */
 static bool is_strip(const char *name)
 {
     return !strcmp(name, "visibility_frames.png") || !strcmp(name, "error_frames.png");
 }
 
-static bool is_svg(const char *name)
+static bool is_stability_chart(const char *name)
 {
     const size_t n = strlen(name);
-    return n > 4 && !strcmp(name + n - 4, ".svg");
-}
-
-/* Removes the regular files `depth` folders down from dir that ours()
- * accepts, and the folders that leaves empty, so the folder holds this
- * run's outputs only; nothing else is touched. Returns how many files went. */
-static int remove_outputs(const char *dir, int depth, bool (*ours)(const char *name))
-{
-    DIR *d = opendir(dir);
-    if (!d)
-        return 0;
-    int removed = 0;
-    for (struct dirent *e; (e = readdir(d));) {
-        if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
-            continue;
-        char *path = util_printf("%s/%s", dir, e->d_name);
-        struct stat sb;
-        const bool known = lstat(path, &sb) == 0;
-        if (known && depth > 0 && S_ISDIR(sb.st_mode)) {
-            const int n = remove_outputs(path, depth - 1, ours);
-            if (n)
-                rmdir(path);  /* fails, as it should, unless that left it empty */
-            removed += n;
-        } else if (known && depth == 0 && S_ISREG(sb.st_mode) && ours(e->d_name)) {
-            removed += unlink(path) == 0;
-        }
-        free(path);
-    }
-    closedir(d);
-    return removed;
+    return n > 4 && !strcmp(name + n - 4, ".svg") &&
+           (!strncmp(name, "flicker.", 8) || !strncmp(name, "flicker_", 8) || !strncmp(name, "vary_", 5));
 }
 
 int stability_main(const struct run_options *o)
@@ -1205,22 +1210,19 @@ int stability_main(const struct run_options *o)
     const int vary_count = defaults ? (int)(sizeof default_varies / sizeof *default_varies) : o->vary_count;
     /* room for these and every scene's own */
     st.motions = xcalloc((size_t)(motion_count + RUN_MAX_SCENES * SCENE_MAX_MOTIONS), sizeof *st.motions);
-    bool scene_motions = defaults;  /* each scene's own motions: by default, or --motion scene */
+    bool scene_motions = false;  /* --motion scene: each scene's own motions */
     for (int i = 0; i < motion_count; i++) {
         const char *spec = defaults ? default_motions[i] : o->motions[i];
+        struct motion m;
         if (!strcmp(spec, "scene")) {
-            scene_motions = true;
-            continue;
-        }
-        struct motion *m = &st.motions[st.motion_count];
-        if (parse_motion("--motion", spec, -1, m) != 0)
-            goto out;
-        for (int j = 0; j < st.motion_count; j++)
-            if (!strcmp(st.motions[j].label, m->label)) {
-                log_error("--motion: %s is given twice", m->label);
+            if (scene_motions) {
+                log_error("--motion: scene is given twice");
                 goto out;
             }
-        st.motion_count++;
+            scene_motions = true;
+        } else if (parse_motion("--motion", spec, -1, -1, &m) != 0 || add_motion(&st, &m) != 0) {
+            goto out;
+        }
     }
     for (int i = 0; i < vary_count; i++) {
         if (parse_vary(o, defaults ? default_varies[i] : o->varies[i], &st.vars[i]) != 0)
@@ -1238,36 +1240,30 @@ int stability_main(const struct run_options *o)
         memcpy(scene_options.scenes, default_scenes, sizeof default_scenes);
     }
     st.scenes = scenes;
-    if (run_load_scenes(&scene_options, scenes, &st.scene_count) != 0 || run_claim_out_dir(o->out_dir) != 0)
+    if (o->gt_samples < 4) {  /* the floor compares two halves of the samples */
+        log_error("--gt-samples: stability needs at least 4 (its noise floor compares two halves of the samples)");
+        goto out;
+    }
+    if (run_load_scenes(&scene_options, scenes, &st.scene_count) != 0)
         goto out;
     for (int s = 0; s < st.scene_count; s++) {
         struct light_frustum f;
         if (light_frustum_fit(&scenes[s], &f) != 0)
             goto out;
         for (int i = 0; scene_motions && i < scenes[s].motion_count; i++) {
-            struct motion *m = &st.motions[st.motion_count];
+            struct motion m;
             char *what = util_printf("%s: extras.shadowbench.motions[%d]", scenes[s].path, i);
-            const int bad = parse_motion(what, scenes[s].motions[i], s, m);
+            const int bad = parse_motion(what, scenes[s].motions[i], s, i, &m) || add_motion(&st, &m);
             free(what);
             if (bad)
                 goto out;
-            bool twice = false;  /* a motion every scene runs already, or listed twice */
-            for (int j = 0; j < st.motion_count; j++)
-                twice |= motion_on(&st.motions[j], s) && !strcmp(st.motions[j].label, m->label);
-            st.motion_count += !twice;
         }
     }
     if (o->motion_count && !st.motion_count) {  /* only --motion scene */
         log_error("--motion scene: none of the scenes lists motions of its own (extras.shadowbench.motions)");
         goto out;
     }
-    if (check_motion_nodes(&st) != 0)
-        goto out;
-    if (o->gt_samples < 4) {  /* the floor compares two halves of the samples */
-        log_error("--gt-samples: stability needs at least 4 (its noise floor compares two halves of the samples)");
-        goto out;
-    }
-    if (shader_init(o->shader_dir) != 0)
+    if (check_motion_nodes(&st) != 0 || run_claim_out_dir(o->out_dir) != 0 || shader_init(o->shader_dir) != 0)
         goto out;
     status = EXIT_CHECK_FAILED;
     if (gl_context_create() != 0)
@@ -1277,13 +1273,17 @@ int stability_main(const struct run_options *o)
         unlink(path);
         free(path);
     }
-    remove_outputs(o->out_dir, 3, is_strip);  /* <out>/<scene>/<motion>/<row>/ */
+    util_remove_files(o->out_dir, 3, is_strip);  /* <out>/<scene>/<motion>/<row>/ */
     char *charts_dir = util_printf("%s/charts", o->out_dir);
-    remove_outputs(charts_dir, 0, is_svg);
+    util_remove_files(charts_dir, 0, is_stability_chart);
     free(charts_dir);
-    log_info("stability: %d scene(s), %d technique(s), %d motion(s) of %d frames, %d variation(s), %dx%d, %d GT "
-             "samples, %d^2 shadow map, on %s", st.scene_count, o->technique_count, st.motion_count, o->frames,
-             st.var_count, o->width, o->height, o->gt_samples, o->shadow_map_size, gl_context_renderer());
+    int shared = 0;
+    for (int m = 0; m < st.motion_count; m++)
+        shared += st.motions[m].scene < 0;
+    log_info("stability: %d scene(s), %d technique(s), %d motion(s) and %d of the scenes' own, of %d frames, %d "
+             "variation(s), %dx%d, %d GT samples, %d^2 shadow map, on %s", st.scene_count, o->technique_count, shared,
+             st.motion_count - shared, o->frames, st.var_count, o->width, o->height, o->gt_samples,
+             o->shadow_map_size, gl_context_renderer());
     int rc = 0;
     for (int s = 0; s < st.scene_count && !rc; s++)
         for (int m = 0; m < st.motion_count && !rc; m++) {

@@ -55,10 +55,10 @@
       "the shadow map's near plane pulled towards the light to near / this: the scene's depths fill " \
       "less of the map's depth range, as with an engine's fixed small near plane")
 
-/* The default scenes, motions and variations (no --scene, --motion, --vary).
- * Each scene's own motions (extras.shadowbench.motions) join the defaults. */
+/* The default scenes, motions and variations (no --scene, --motion, --vary);
+ * "scene": each scene's own motions (extras.shadowbench.motions). */
 #define STABILITY_DEFAULT_SCENES {"floating_box_sphere", "overlapping_occluders"}
-#define STABILITY_DEFAULT_MOTIONS {"static", "light_shift", "light_rotate", "camera_shift"}
+#define STABILITY_DEFAULT_MOTIONS {"static", "light_shift", "light_rotate", "camera_shift", "scene"}
 #define STABILITY_DEFAULT_VARIES                                                          \
     {"shadow_map_size=256,512,1024,2048,4096", "light_scale=0.25,0.5,1,2,4",              \
      "depth_range=1,10,100,1000,10000"}

@@ -31,6 +31,9 @@ void scene_mesh_upload(const struct scene *s, struct scene_mesh *m)
 
 void scene_mesh_update_positions(const struct scene *s, struct scene_mesh *m)
 {
+    /* Respecified rather than glBufferSubData'd: Mesa's debug output warns
+     * of a GL_STATIC_DRAW buffer updated in place, and static is right for
+     * every other use (a caster moves only in `stability`). */
     glBindBuffer(GL_ARRAY_BUFFER, m->positions);
     glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(s->vertex_count * 12), s->positions, GL_STATIC_DRAW);
     glBindBuffer(GL_ARRAY_BUFFER, 0);

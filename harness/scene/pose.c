@@ -1,6 +1,7 @@
 #include "pose.h"
 #include "base/util.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,8 +21,10 @@ void scene_posed(const struct scene *base, const struct scene_pose *p, struct sc
         L->width *= p->light_scale, L->height *= p->light_scale, L->radius *= p->light_scale;
     }
     out->camera.pos = v3_add(out->camera.pos, v3_scale(out->camera.x, p->camera_shift));
-    if (p->caster > 0 && (size_t)p->caster <= base->node_count) {
-        const struct scene_node *n = &base->nodes[p->caster - 1];
+    const struct scene_node *n = NULL;
+    if (p->caster) {
+        assert(p->caster > 0 && (size_t)p->caster <= base->node_count);
+        n = &base->nodes[p->caster - 1];
         const struct vec3 d = v3_scale(base->light.x, p->caster_shift);
         out->positions = memcpy(xmalloc(sizeof(float) * 3 * base->vertex_count), base->positions,
                                 sizeof(float) * 3 * base->vertex_count);
@@ -39,6 +42,10 @@ void scene_posed(const struct scene *base, const struct scene_pose *p, struct sc
     const struct scene_pose zero = {0};
     if (memcmp(p, &zero, sizeof zero) != 0)  /* the base pose is the scene itself */
         out->hash = util_hash(base->hash, p, sizeof *p);
+    if (n) {  /* the vertices moved, not only the node's index in the loader's order */
+        const size_t range[2] = {n->first_vertex, n->vertex_count};
+        out->hash = util_hash(out->hash, range, sizeof range);
+    }
 }
 
 void scene_unpose(struct scene *posed, const struct scene *base)
@@ -50,12 +57,13 @@ void scene_unpose(struct scene *posed, const struct scene *base)
 
 int pose_find_node(const struct scene *s, const char *name, int *count)
 {
-    int found = -1;
-    *count = 0;
+    int found = -1, n = 0;
     for (size_t i = 0; i < s->node_count; i++)
         if (!strcmp(s->nodes[i].name, name))
-            found = (int)i, ++*count;
-    return *count == 1 ? found : -1;
+            found = (int)i, n++;
+    if (count)
+        *count = n;
+    return n == 1 ? found : -1;
 }
 
 float pose_light_depth_of_node(const struct scene *s, int node)

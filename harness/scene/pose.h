@@ -17,15 +17,16 @@ struct scene_pose {
     float caster_shift;    /* that node moved along the light's x axis, world units */
 };
 
-/* base in pose p: the same geometry (shared, not copied), the light and
- * camera moved, and a hash of its own (the ground-truth cache key). */
+/* base in pose p: the light and camera moved, the geometry shared (or its
+ * positions copied and a node moved: p->caster), and a hash of its own
+ * (the ground-truth cache key). */
 void scene_posed(const struct scene *base, const struct scene_pose *p, struct scene *out);
 
 /* Frees what scene_posed gave posed of its own (moved positions). */
 void scene_unpose(struct scene *posed, const struct scene *base);
 
 /* The index in s->nodes of the node named name, or -1 (none, or more than
- * one of that name: *count says how many). */
+ * one of that name: *count, when given, says how many). */
 int pose_find_node(const struct scene *s, const char *name, int *count);
 
 /* The planar depth from the light of the centre of node's bounds. */
