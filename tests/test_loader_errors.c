@@ -210,6 +210,7 @@ static void number_description(cJSON *g)
     cJSON *meta = cJSON_GetObjectItem(cJSON_GetObjectItem(at(g, "scenes", 0), "extras"), "shadowbench");
     cJSON_ReplaceItemInObject(meta, "description", cJSON_CreateNumber(5));
 }
+static void number_name(cJSON *g) { cJSON_ReplaceItemInObject(at(g, "nodes", 0), "name", cJSON_CreateNumber(5)); }
 static void motions_object(cJSON *g)
 {
     cJSON *meta = cJSON_GetObjectItem(cJSON_GetObjectItem(at(g, "scenes", 0), "extras"), "shadowbench");
@@ -532,6 +533,8 @@ int main(int argc, char **argv)
     case_mutated("text_normalized", text_normalized, "malformed glTF: accessors[0].normalized must be true or false");
     case_mutated("number_description", number_description,
                  "malformed glTF: extras.shadowbench.description must be a string of UTF-8 text");
+    case_mutated("number_name", number_name, "malformed glTF: nodes[0].name must be a string of UTF-8 text (what a "
+                 "caster motion names)");
     case_mutated("motions_object", motions_object,
                  "malformed glTF: extras.shadowbench.motions must be an array of at most 16 strings");
     case_mutated("motions_number", motions_number,

@@ -243,7 +243,10 @@ static void caster(const char *scene)
          *chart = util_printf("%s/charts/vary_light_scale_shimmer.svg", out),
          *mine = util_printf("%s/charts/mine.svg", out);
     CHECK(util_file_exists(strip) && util_file_exists(chart), "%s and %s: written", strip, chart);
-    CHECK(util_write_file_atomic(mine, "<svg/>", 6) == 0, "a file of the user's, or of `run`, beside the charts");
+    char *theirs = util_printf("%s/a/b/c/visibility_frames.png", out), *their_dir = util_printf("%s/a/b/c", out);
+    CHECK(util_write_file_atomic(mine, "<svg/>", 6) == 0 && util_mkdirs(their_dir) == 0 &&
+              util_write_file_atomic(theirs, "png", 3) == 0,
+          "files of the user's, or of `run`, beside the charts and named like a strip");
     free(cmd);
     cmd = util_printf("%s stability --scene %s --technique pcf --motion static --frames 2 --width 32 --height 32 "
                       "--gt-samples 16 --no-cache -q --out %s", sb, scene, out);
@@ -254,9 +257,10 @@ static void caster(const char *scene)
          *hard_dir = util_printf("%s/shimmer/static/hard", out);
     CHECK(util_file_exists(kept) && access(gone, F_OK) != 0 && access(hard_dir, F_OK) != 0,
           "after the second run: its strip kept, the first run's other folders gone");
-    CHECK(!util_file_exists(chart) && util_file_exists(mine), "the first run's chart gone, the other file kept");
+    CHECK(!util_file_exists(chart) && util_file_exists(mine) && util_file_exists(theirs),
+          "the first run's chart gone, the files it did not write kept");
     strbuf_free(&err);
-    free(kept), free(gone), free(hard_dir), free(strip), free(chart), free(mine), free(path), free(cmd), free(out);
+    free(kept), free(gone), free(hard_dir), free(strip), free(chart), free(mine), free(theirs), free(their_dir), free(path), free(cmd), free(out);
 }
 
 /* The plate made a child of the ground: the loader's ranges (post-order,
@@ -358,22 +362,30 @@ static void bad_input(const char *scene)
         "--accumulate 1.5",        "--warmup 1",                 "--sweep pcf.samples=16",
         "--vary zzz.a=1",             "--gt-samples 1",             "--motion caster_shift",
         "--motion caster_shift:nope", "--motion light_shift:plate=1", "--motion caster_shift:=1",
-        "--motion caster_shift:plate=0", "--motion scene --motion scene", "BAD0", "BAD1", "BAD2", "BAD3",
+        "--motion caster_shift:plate=0", "--motion scene --motion scene", "BAD0", "BAD1", "BAD2", "BAD3", "BAD4",
     };
     /* scenes whose own motions are bad: not a motion; a node it lacks; one
-     * listed twice; none at all (for --motion scene) */
-    char *bad_scenes[4];
-    static const char *const bad_motions[4][3] = {
-        {"wobble", NULL}, {"caster_shift:chimney", NULL}, {"light_shift=1", "light_shift=1", NULL}, {NULL}};
-    for (int i = 0; i < 4; i++) {
+     * listed twice; none at all (for --motion scene); a caster behind the
+     * light's plane (a texel there has no size) */
+    char *bad_scenes[5];
+    static const char *const bad_motions[5][3] = {{"wobble", NULL},
+                                                  {"caster_shift:chimney", NULL},
+                                                  {"light_shift=1", "light_shift=1", NULL},
+                                                  {NULL},
+                                                  {"caster_shift:high", NULL}};
+    for (int i = 0; i < 5; i++) {
         struct mesh_builder m = {0};
         mesh_add_quad(&m, v3(-4, 0, -4), v3(0, 0, 8), v3(8, 0, 0));
+        if (i == 4) {
+            mesh_begin_part(&m, "high");
+            mesh_add_quad(&m, v3(-1, 6, -1), v3(0, 0, 2), v3(2, 0, 0));
+        }
         bad_scenes[i] = util_printf("%s/bad_motion_%d.gltf", dir, i);
         CHECK(gltf_write(bad_scenes[i], &m,
                          &(struct gltf_scene_desc){.description = "", .shows = "", .camera_pos = v3(0, 6, 3),
                                                    .camera_yfov_rad = 0.9f, .camera_znear = 0.1f,
                                                    .light_pos = v3(0, 5, 0), .light_width = 1, .light_height = 1,
-                                                   .motions = i < 3 ? bad_motions[i] : NULL}) == 0, "writing");
+                                                   .motions = i != 3 ? bad_motions[i] : NULL}) == 0, "writing");
         mesh_free(&m);
     }
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
@@ -392,7 +404,7 @@ static void bad_input(const char *scene)
         strbuf_free(&err);
         free(cmd);
     }
-    for (int i = 0; i < 4; i++)
+    for (int i = 0; i < 5; i++)
         free(bad_scenes[i]);
     /* A light turned until the scene is behind it: the error names the
      * motion and the frame, not only the scene's file. */

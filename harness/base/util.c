@@ -121,47 +121,29 @@ void util_exit_cleanly_on_signals(void)
     sigaction(SIGHUP, &sa, NULL);
 }
 
-int util_remove_files(const char *dir, int depth, bool (*match)(const char *name))
+int util_remove_stale_temps(const char *dir, int depth)
 {
     DIR *d = opendir(dir);
     if (!d)
         return 0;
     int removed = 0;
     for (struct dirent *e; (e = readdir(d));) {
-        if (e->d_name[0] == '.')  /* ".", "..", .lock */
+        if (e->d_name[0] == '.')
             continue;
         char *path = util_printf("%s/%s", dir, e->d_name);
+        const char *mark = strstr(e->d_name, UTIL_TEMP_SUFFIX);
+        char *end = NULL;
+        long pid = mark ? strtol(mark + strlen(UTIL_TEMP_SUFFIX), &end, 10) : 0;
         struct stat st;
-        if (lstat(path, &st) != 0) {
-            free(path);
-            continue;
-        }
-        if (S_ISREG(st.st_mode) && match(e->d_name)) {
-            removed += unlink(path) == 0;
-        } else if (depth > 0 && S_ISDIR(st.st_mode)) {
-            const int n = util_remove_files(path, depth - 1, match);
-            if (n)
-                rmdir(path);  /* fails, as it should, unless that left it empty */
-            removed += n;
+        if (mark && end && !*end && pid > 0 && kill((pid_t)pid, 0) != 0 && errno == ESRCH) {
+            removed += unlink(path) == 0;  /* its writer is gone */
+        } else if (depth > 0 && lstat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+            removed += util_remove_stale_temps(path, depth - 1);
         }
         free(path);
     }
     closedir(d);
     return removed;
-}
-
-/* "<name>.tmp.<pid>" whose process is gone. */
-static bool is_stale_temp(const char *name)
-{
-    const char *mark = strstr(name, UTIL_TEMP_SUFFIX);
-    char *end = NULL;
-    long pid = mark ? strtol(mark + strlen(UTIL_TEMP_SUFFIX), &end, 10) : 0;
-    return mark && end && !*end && pid > 0 && kill((pid_t)pid, 0) != 0 && errno == ESRCH;
-}
-
-int util_remove_stale_temps(const char *dir, int depth)
-{
-    return util_remove_files(dir, depth, is_stale_temp);
 }
 
 int util_lock_dir(const char *dir)

@@ -31,11 +31,6 @@ void util_temp_end(void);
  * with 128 + the signal (130, 143, 129): no half-written file is left. */
 void util_exit_cleanly_on_signals(void);
 
-/* Removes the regular files in dir and depth levels of folders below it
- * that match(name) accepts, and each folder below dir that this leaves
- * empty; names starting with '.' are left alone. Returns how many files. */
-int util_remove_files(const char *dir, int depth, bool (*match)(const char *name));
-
 /* Removes "<name>.tmp.<pid>" files under dir (depth levels of folders
  * below it) whose process is gone: leftovers of a killed run. Returns how
  * many. */

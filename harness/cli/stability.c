@@ -114,6 +114,7 @@ struct stab {
     int row_count;
     struct vary_point *points;
     int point_count;
+    cJSON *charts;  /* the names of the charts written, for stability.json */
 };
 
 static int technique_group(const struct technique *t)
@@ -235,7 +236,15 @@ static int check_motion_nodes(const struct stab *st)
             const struct motion *mo = &st->motions[m];
             const struct scene *sc = &st->scenes[s];
             int count;
-            if (mo->kind != MOTION_CASTER_SHIFT || !motion_on(mo, s) || pose_find_node(sc, mo->node, &count) >= 0)
+            if (mo->kind != MOTION_CASTER_SHIFT || !motion_on(mo, s))
+                continue;
+            const int node = pose_find_node(sc, mo->node, &count);
+            if (node >= 0 && !(pose_light_depth_of_node(sc, node) > 0)) {
+                log_error("%s: %s: %s's node '%s' has its centre behind the light's plane, where a texel has no size "
+                          "to step by", mo->scene < 0 ? "--motion" : sc->path, mo->label, sc->name, mo->node);
+                return -1;
+            }
+            if (node >= 0)
                 continue;
             struct strbuf names = {0};
             int listed = 0;
@@ -784,6 +793,11 @@ static int write_data(struct stab *st, cJSON *run)
         cJSON_AddNumberToObject(j, "step", mo->step);
         cJSON_AddStringToObject(j, "step_unit", motion_kinds[mo->kind].unit);
         cJSON_AddStringToObject(j, "row", r->label);
+        if (!r->accumulated) {  /* its frames: the manifest the next run here removes */
+            char *folder = util_printf("%s/%s/%s", st->scenes[r->scene].name, mo->label, r->label);
+            cJSON_AddStringToObject(j, "frames_folder", folder);
+            free(folder);
+        }
         cJSON_AddStringToObject(j, "noise", r->animated ? "animated" : "still");
         cJSON_AddBoolToObject(j, "accumulated", r->accumulated);
         cJSON_AddNumberToObject(j, "frames", r->r.frames);
@@ -869,6 +883,7 @@ static int write_data(struct stab *st, cJSON *run)
                 cJSON_AddItemToArray(breaks, j);
             }
     cJSON_AddStringToObject(doc, "break_rule", break_rule);
+    cJSON_AddItemToObject(doc, "charts", cJSON_Duplicate(st->charts, true));
     char *json_path = util_printf("%s/stability.json", o->out_dir), *csv_path = util_printf("%s/stability.csv", o->out_dir);
     int rc = report_write_json(json_path, doc) || util_write_file_atomic(csv_path, csv.data, csv.len);
     free(json_path), free(csv_path);
@@ -878,8 +893,9 @@ static int write_data(struct stab *st, cJSON *run)
 }
 
 /* Writes <out>/charts/<name>.svg and an <img> of it into html. */
-static int chart_file(const struct stab *st, const char *name, struct strbuf *svg, struct strbuf *html)
+static int chart_file(struct stab *st, const char *name, struct strbuf *svg, struct strbuf *html)
 {
+    cJSON_AddItemToArray(st->charts, cJSON_CreateString(name));
     char *path = util_printf("%s/charts/%s.svg", st->o->out_dir, name);
     int rc = util_write_file_atomic(path, svg->data, svg->len);
     free(path);
@@ -1181,25 +1197,66 @@ static int write_html(struct stab *st, cJSON *run)
 
 /* ---- the command -------------------------------------------------------- */
 
-/* An earlier run's outputs: its frame strips and its charts (the charts
- * folder may be a run's too: its charts are left alone). */
-static bool is_strip(const char *name)
+/* Whether rel, a path below out of `parts` names, is one stability
+ * writes: no empty, "." or ".." part, and every folder on the way a real
+ * folder (not a link that would lead out of out). */
+static bool own_path(const char *out, const char *rel, int parts)
 {
-    return !strcmp(name, "visibility_frames.png") || !strcmp(name, "error_frames.png");
+    char *copy = xstrdup(rel), *rest = copy, *path = xstrdup(out);
+    int n = 0;
+    bool ok = true;
+    for (char *part = strsep(&rest, "/"); part && ok; part = strsep(&rest, "/")) {
+        ok = *part && strcmp(part, ".") && strcmp(part, "..") && ++n <= parts;
+        char *next = util_printf("%s/%s", path, part);
+        free(path), path = next;
+        struct stat sb;
+        ok = ok && lstat(path, &sb) == 0 && S_ISDIR(sb.st_mode);
+    }
+    free(copy), free(path);
+    return ok && n == parts;
 }
 
-static bool is_stability_chart(const char *name)
+/* Removes what the last run into out wrote and listed in its
+ * stability.json (each motion row's frames, the charts), and the folders
+ * that leaves empty: nothing else, so a folder shared with `run`, or
+ * holding files of the user's, keeps them. */
+static void remove_last_run(const char *out)
 {
-    const size_t n = strlen(name);
-    return n > 4 && !strcmp(name + n - 4, ".svg") &&
-           (!strncmp(name, "flicker.", 8) || !strncmp(name, "flicker_", 8) || !strncmp(name, "vary_", 5));
+    char *path = util_printf("%s/stability.json", out), *text = NULL;
+    size_t size;
+    cJSON *doc = util_read_file(path, &text, &size) == 0 ? cJSON_Parse(text) : NULL;
+    free(text), free(path);
+    const cJSON *row, *chart;
+    cJSON_ArrayForEach(row, cJSON_GetObjectItemCaseSensitive(doc, "motions")) {
+        const char *folder = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(row, "frames_folder"));
+        if (!folder || !own_path(out, folder, 3))
+            continue;
+        for (const char *const *f = (const char *const[]){"visibility_frames.png", "error_frames.png", NULL}; *f; f++) {
+            char *file = util_printf("%s/%s/%s", out, folder, *f);
+            unlink(file);
+            free(file);
+        }
+        char *dir = util_printf("%s/%s", out, folder);
+        for (int up = 0; up < 3 && rmdir(dir) == 0; up++)  /* stops at the first folder not empty */
+            *strrchr(dir, '/') = '\0';
+        free(dir);
+    }
+    cJSON_ArrayForEach(chart, cJSON_GetObjectItemCaseSensitive(doc, "charts")) {
+        const char *name = cJSON_GetStringValue(chart);
+        if (!name || strchr(name, '/') || !own_path(out, "charts", 1))
+            continue;
+        char *file = util_printf("%s/charts/%s.svg", out, name);
+        unlink(file);
+        free(file);
+    }
+    cJSON_Delete(doc);
 }
 
 int stability_main(const struct run_options *o)
 {
     static const char *const stale[] = {"stability.json", "stability.csv", "stability.html"};
     const double start = util_now_ms();
-    struct stab st = {.o = o};
+    struct stab st = {.o = o, .charts = cJSON_CreateArray()};
     static struct scene scenes[RUN_MAX_SCENES];
     int status = EXIT_USAGE;
     static const char *const default_motions[] = STABILITY_DEFAULT_MOTIONS,
@@ -1268,15 +1325,12 @@ int stability_main(const struct run_options *o)
     status = EXIT_CHECK_FAILED;
     if (gl_context_create() != 0)
         goto out;
+    remove_last_run(o->out_dir);
     for (size_t i = 0; i < sizeof stale / sizeof *stale; i++) {  /* this run's, or none */
         char *path = util_printf("%s/%s", o->out_dir, stale[i]);
         unlink(path);
         free(path);
     }
-    util_remove_files(o->out_dir, 3, is_strip);  /* <out>/<scene>/<motion>/<row>/ */
-    char *charts_dir = util_printf("%s/charts", o->out_dir);
-    util_remove_files(charts_dir, 0, is_stability_chart);
-    free(charts_dir);
     int shared = 0;
     for (int m = 0; m < st.motion_count; m++)
         shared += st.motions[m].scene < 0;
@@ -1306,7 +1360,7 @@ int stability_main(const struct run_options *o)
         cJSON *run = run_json(o, (util_now_ms() - start) * 1e-3);
         cJSON_AddNumberToObject(run, "accumulate", o->accumulate);
         char *charts = util_printf("%s/charts", o->out_dir);
-        rc = util_mkdirs(charts) || write_data(&st, run) || write_html(&st, run);
+        rc = util_mkdirs(charts) || write_html(&st, run) || write_data(&st, run);
         free(charts);
         for (size_t i = 0; rc && i < sizeof stale / sizeof *stale; i++) {  /* none, rather than a mixed set */
             char *path = util_printf("%s/%s", o->out_dir, stale[i]);
@@ -1337,5 +1391,6 @@ out:
     for (int s = 0; s < st.scene_count; s++)
         scene_free(&scenes[s]);
     free(st.rows), free(st.points), free(st.motions);
+    cJSON_Delete(st.charts);
     return status;
 }

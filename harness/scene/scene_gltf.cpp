@@ -766,6 +766,7 @@ void check_types(const cJSON *doc)
         {"nodes", "children", is_indices, "an array of indices"},
         {"nodes", "mesh", is_index, "an index"},
         {"nodes", "camera", is_index, "an index"},
+        {"nodes", "name", is_text, "a string of UTF-8 text (what a caster motion names)"},
         {"nodes", "matrix", is_matrix, "16 finite numbers of an affine transform (bottom row 0 0 0 1)"},
         {"nodes", "translation", is_vec3, "3 finite numbers"},
         {"nodes", "scale", is_vec3, "3 finite numbers"},
