@@ -1,25 +1,43 @@
 #version 450 core
-// Moments product: one direction of a separable Gaussian of (d, d²), taps
+// Moments products: one direction of a separable Gaussian, taps
 // -radius..radius clamped at the map's edge (the edge policy,
 // techniques/shadowmap.h), normalised weights from the harness (sigma =
 // radius / 2; radius 0: the conversion alone).
 // BLUR_FROM_DEPTH: the rows pass reads the depth map and converts each tap
 // (one full-map pass fewer: on llvmpipe each costs ~40 ms at 2048^2). Filtering moments is what makes
 // VSM filterable (Donnelly and Lauritzen 2006).
+// EVSM_WARP 0: the moments (d, d²) of linear depth d. 1: the evsm product,
+// the moments of two exponential warps of w = 2d - 1 (Annen et al. 2008,
+// Lauritzen and McCool 2008): (e^{c+ w}, e^{2 c+ w}, -e^{-c- w}, e^{-2 c- w}).
+// The exponents are at most SM_EVSM_MAX_EXPONENT, so e^{2c} stays finite.
 #include "depth.glsl"
 
-layout(binding = SM_BINDING_PASS_SOURCE) uniform sampler2D source;  // depth map, or moments
-layout(location = 0) out vec2 out_moments;
+layout(binding = SM_BINDING_PASS_SOURCE) uniform sampler2D source;  // depth map, or the rows pass's output
 
 uniform ivec2 u_direction;                        // (1, 0) or (0, 1)
 uniform int u_radius;                             // 0..SM_MAX_BLUR_RADIUS
 uniform float u_weights[SM_MAX_BLUR_RADIUS + 1];  // by |offset|
 
-vec2 moments_at(ivec2 p)
+#if EVSM_WARP
+#define MOMENTS vec4
+uniform vec2 u_exponents;  // c+, c-
+#else
+#define MOMENTS vec2
+#endif
+layout(location = 0) out MOMENTS out_moments;
+
+MOMENTS moments_at(ivec2 p)
 {
 #if BLUR_FROM_DEPTH
     float d = sm_linear_depth(texelFetch(source, p, 0).r);
+#if EVSM_WARP
+    float w = 2.0 * d - 1.0, pos = exp(u_exponents.x * w), neg = -exp(-u_exponents.y * w);
+    return vec4(pos, pos * pos, neg, neg * neg);
+#else
     return vec2(d, d * d);
+#endif
+#elif EVSM_WARP
+    return texelFetch(source, p, 0);
 #else
     return texelFetch(source, p, 0).rg;
 #endif
@@ -28,7 +46,7 @@ vec2 moments_at(ivec2 p)
 void main()
 {
     ivec2 p = ivec2(gl_FragCoord.xy), last = textureSize(source, 0) - 1;
-    vec2 sum = u_weights[0] * moments_at(p);
+    MOMENTS sum = u_weights[0] * moments_at(p);
     for (int k = 1; k <= u_radius; k++)
         sum += u_weights[k] * (moments_at(clamp(p + k * u_direction, ivec2(0), last)) +
                                moments_at(clamp(p - k * u_direction, ivec2(0), last)));

@@ -19,6 +19,7 @@
 layout(binding = SM_BINDING_DEPTH) uniform sampler2D sm_depth;                  // D32F, nearest, clamp-to-edge
 layout(binding = SM_BINDING_DEPTH_COMPARE) uniform sampler2DShadow sm_depth_compare; // same texture: linear, GEQUAL
 layout(binding = SM_BINDING_MOMENTS) uniform sampler2D sm_moments;              // RG32F (d, d²), filtered, mipmapped
+layout(binding = SM_BINDING_EVSM) uniform sampler2D sm_evsm;                    // RGBA32F warped moments, filtered, mipmapped
 
 struct ShadowInput {
     vec3 pos_world;          // receiver point

@@ -167,28 +167,62 @@ static void depth_render(struct shadowmap *sm, struct shadowmap_product *p,
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-/* ---- moments: (d, d²), separable Gaussian, mipmaps ---------------------- */
+/* ---- moments (d, d²) and evsm (warped moments): separable Gaussian, mipmaps */
+
+/* The passes of a product made from the depth map by moments_blur.frag:
+ * its rows pass converts (BLUR_FROM_DEPTH), its columns pass filters;
+ * evsm adds EVSM_WARP. */
+static int blurred_create(struct shadowmap *sm, struct shadowmap_product *p, int product)
+{
+    const bool evsm = product == SM_PRODUCT_EVSM;
+    char *temp = util_printf("shadow map: %s blur temporary", product_names[product]);
+    p->temp_texture = map_texture(kinds[product].format, 1, sm->desc.size_texels);
+    gl_label(GL_TEXTURE, p->temp_texture, temp);
+    free(temp);
+    p->framebuffers[0] = framebuffer(p->texture, GL_COLOR_ATTACHMENT0, product_names[product]);
+    p->framebuffers[1] = framebuffer(p->temp_texture, GL_COLOR_ATTACHMENT0, "blur, rows");
+    for (int pass = 0; pass < 2; pass++) {
+        char *label = util_printf("%s blur, %s", product_names[product], pass ? "columns" : "rows");
+        char *defines = util_printf("#define BLUR_FROM_DEPTH %d\n#define EVSM_WARP %d\n", !pass, evsm);
+        p->programs[pass] = pass_program(label, defines, "fullscreen.vert", "moments_blur.frag");
+        free(label), free(defines);
+    }
+    return p->framebuffers[0] && p->framebuffers[1] && p->programs[0] && p->programs[1] ? 0 : -1;
+}
 
 static int moments_create(struct shadowmap *sm, struct shadowmap_product *p)
 {
-    p->temp_texture = map_texture(kinds[SM_PRODUCT_MOMENTS].format, 1, sm->desc.size_texels);
-    gl_label(GL_TEXTURE, p->temp_texture, "shadow map: moments blur temporary");
-    p->framebuffers[0] = framebuffer(p->texture, GL_COLOR_ATTACHMENT0, "moments pass");
-    p->framebuffers[1] = framebuffer(p->temp_texture, GL_COLOR_ATTACHMENT0, "moments blur, rows");
-    p->programs[0] = pass_program("moments blur, rows", "#define BLUR_FROM_DEPTH 1\n",
-                                  "fullscreen.vert", "moments_blur.frag");
-    p->programs[1] = pass_program("moments blur, columns", "#define BLUR_FROM_DEPTH 0\n",
-                                  "fullscreen.vert", "moments_blur.frag");
-    return p->framebuffers[0] && p->framebuffers[1] && p->programs[0] && p->programs[1] ? 0 : -1;
+    return blurred_create(sm, p, SM_PRODUCT_MOMENTS);
+}
+
+static int evsm_create(struct shadowmap *sm, struct shadowmap_product *p)
+{
+    return blurred_create(sm, p, SM_PRODUCT_EVSM);
+}
+
+static int check_radius(const char *product, int radius)
+{
+    if (radius >= 0 && radius <= SM_MAX_BLUR_RADIUS_TEXELS)
+        return 0;
+    log_error("%s product: blur radius %d is beyond [0, %d]", product, radius, SM_MAX_BLUR_RADIUS_TEXELS);
+    return -1;
 }
 
 static int moments_check(const struct shadowmap_request *r)
 {
-    int radius = r->moments.blur_radius_texels;
-    if (radius >= 0 && radius <= SM_MAX_BLUR_RADIUS_TEXELS)
-        return 0;
-    log_error("moments product: blur radius %d is beyond [0, %d]", radius, SM_MAX_BLUR_RADIUS_TEXELS);
-    return -1;
+    return check_radius("moments", r->moments.blur_radius_texels);
+}
+
+static int evsm_check(const struct shadowmap_request *r)
+{
+    const float c[2] = {r->evsm.positive, r->evsm.negative};
+    for (int i = 0; i < 2; i++)
+        if (!(c[i] > 0 && c[i] <= SM_EVSM_MAX_EXPONENT)) {
+            log_error("evsm product: exponent %g is beyond (0, %g], what fp32 holds of e^{2c} at depth 1", c[i],
+                      (double)SM_EVSM_MAX_EXPONENT);
+            return -1;
+        }
+    return check_radius("evsm", r->evsm.blur_radius_texels);
 }
 
 static void blur_pass(struct shadowmap *sm, GLuint fbo, GLuint program, GLuint source,
@@ -201,13 +235,12 @@ static void blur_pass(struct shadowmap *sm, GLuint fbo, GLuint program, GLuint s
     image_pass(sm, fbo, program, source);
 }
 
-static void moments_render(struct shadowmap *sm, struct shadowmap_product *p,
-                           const struct scene_mesh *mesh, const struct shadowmap_request *r)
+/* The product made from the depth map, filtered by a Gaussian of radius;
+ * exponents: evsm's warps (NULL: the moments). */
+static void blurred_render(struct shadowmap *sm, struct shadowmap_product *p, int radius, const float *exponents)
 {
-    (void)mesh;
     /* Normalised Gaussian weights, sigma = radius / 2, by |offset|. Radius
      * 0 is the rows pass alone with weight 1: depth converted to moments. */
-    int radius = r->moments.blur_radius_texels;
     float w[SM_MAX_BLUR_RADIUS_TEXELS + 1], sum = 0;
     for (int k = 0; k <= radius; k++) {
         w[k] = expf(-2.0f * (float)(k * k) / (float)(radius * radius > 0 ? radius * radius : 1));
@@ -216,6 +249,10 @@ static void moments_render(struct shadowmap *sm, struct shadowmap_product *p,
     for (int k = 0; k <= radius; k++)
         w[k] /= sum;
     GLuint depth = sm->products[SM_PRODUCT_DEPTH].texture;
+    if (exponents) {
+        glUseProgram(p->programs[0]);
+        glUniform2fv(glGetUniformLocation(p->programs[0], "u_exponents"), 1, exponents);
+    }
     if (radius > 0) {
         blur_pass(sm, p->framebuffers[1], p->programs[0], depth, 1, 0, radius, w);
         blur_pass(sm, p->framebuffers[0], p->programs[1], p->temp_texture, 0, 1, radius, w);
@@ -224,6 +261,20 @@ static void moments_render(struct shadowmap *sm, struct shadowmap_product *p,
     }
     glBindTexture(GL_TEXTURE_2D, p->texture);
     glGenerateMipmap(GL_TEXTURE_2D);
+}
+
+static void moments_render(struct shadowmap *sm, struct shadowmap_product *p,
+                           const struct scene_mesh *mesh, const struct shadowmap_request *r)
+{
+    (void)mesh;
+    blurred_render(sm, p, r->moments.blur_radius_texels, NULL);
+}
+
+static void evsm_render(struct shadowmap *sm, struct shadowmap_product *p,
+                        const struct scene_mesh *mesh, const struct shadowmap_request *r)
+{
+    (void)mesh;
+    blurred_render(sm, p, r->evsm.blur_radius_texels, (const float[]){r->evsm.positive, r->evsm.negative});
 }
 
 /* ---- moments_sat: summed-area table of (d, d²) --------------------------- */
@@ -309,6 +360,12 @@ static const struct product_kind kinds[SM_PRODUCT_COUNT] = {
     [SM_PRODUCT_MOMENTS_SAT] = {
         .binding = 0,
         .create = sat_create, .render = sat_render,
+    },
+    [SM_PRODUCT_EVSM] = {
+        .format = GL_RGBA32F, .mipmapped = true,
+        .binding = 3,
+        .create = evsm_create, .render = evsm_render,
+        .check = evsm_check,
     },
 };
 

@@ -18,7 +18,9 @@
 #define SM_PRODUCTS(X)                                                                  \
     X(DEPTH, "depth")             /* hardware depth, D32F, reversed Z */                \
     X(MOMENTS, "moments")         /* linear depth d and d², RG32F, filtered, mipmapped */ \
-    X(MOMENTS_SAT, "moments_sat") /* summed-area table of (d, d²), storage buffer */
+    X(MOMENTS_SAT, "moments_sat") /* summed-area table of (d, d²), storage buffer */        \
+    X(EVSM, "evsm")               /* warped moments (e^{c+ w}, e^{2c+ w}, -e^{-c- w}, e^{-2c- w}) of \
+                                     w = 2d - 1, RGBA32F, filtered, mipmapped */
 
 enum {
 #define X(id, name) SM_PRODUCT_##id,
@@ -53,6 +55,12 @@ extern const char *const sat_format_names[];
 /* The moments product's widest Gaussian prefilter (GLSL: SM_MAX_BLUR_RADIUS). */
 #define SM_MAX_BLUR_RADIUS_TEXELS 32
 
+/* The largest exponent of the evsm product's warps (GLSL: SM_EVSM_MAX_EXPONENT):
+ * its second moment e^{2c w} reaches e^{2c} at w = 1, and fp32 holds up to
+ * e^{88.72} (FLT_MAX), so c < 44.36; 42 leaves the filter's rounding room.
+ * The product refuses a larger one (the parameters' ranges stop there). */
+#define SM_EVSM_MAX_EXPONENT 42.0f
+
 /* What one technique asks of the shared layer: products and their options,
  * a block per product that has any. Two cells whose requests agree on a
  * product share it; a different option (another blur radius) re-renders it.
@@ -67,6 +75,10 @@ struct shadowmap_request {
         float max_box_texels;    /* SAT_INT32: widest box side the technique reads; sets the
                                     fixed-point scale so that no box sum overflows */
     } moments_sat;
+    struct {
+        float positive, negative;  /* the warps' exponents c+, c-, (0, SM_EVSM_MAX_EXPONENT] */
+        int blur_radius_texels;    /* as the moments' */
+    } evsm;
 };
 
 /* The tap counts a tap-based technique may use (PARAM_TAPS). The parameter

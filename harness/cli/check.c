@@ -98,6 +98,10 @@ static const struct {
     {"parallel_planes", "pcss_savsm@min_variance=0.001"},
     {"contact_hardening", "pcss_savsm@min_blocker_fraction=0.05"},
     {"overlapping_occluders", "pcss_savsm@bleed_reduction=0.3"},
+    {"overlapping_occluders", "evsm@variant=evsm2,positive_exponent=20"},
+    {"contact_hardening", "evsm@negative_exponent=20,blur_radius_texels=8"},
+    {"grazing_receiver", "evsm@min_variance=0.001"},
+    {"overlapping_occluders", "evsm@bleed_reduction=0.3"},
 };
 #define TABLE_COUNT ((int)(sizeof table / sizeof *table))
 

@@ -99,10 +99,14 @@ static void show_progress(struct tune_progress *p, const char *technique)
         return;
     p->last_line_ms = now;
     const double expected = (double)p->cells_finished + p->per_size * p->size_left;
-    const double left = fmax(expected - (double)p->cells, 0) * elapsed / (double)p->cells;
+    const double left = (expected - (double)p->cells) * elapsed / (double)p->cells;
     char line[160];
-    snprintf(line, sizeof line, "  tune %s: %ld cells in %.0f s; ETA about %.0f min (%.0f s)", technique,
-             p->cells, elapsed, ceil(left / 60), left);
+    if (left > 0)
+        snprintf(line, sizeof line, "  tune %s: %ld cells in %.0f s; ETA about %.0f min (%.0f s)", technique,
+                 p->cells, elapsed, ceil(left / 60), left);
+    else  /* this search runs longer than the guess of its size: no honest ETA */
+        snprintf(line, sizeof line, "  tune %s: %ld cells in %.0f s; past the estimate of %.0f cells, no ETA",
+                 technique, p->cells, elapsed, expected);
     if (tty)
         fprintf(stderr, "\r%-78s", line);
     else

@@ -77,7 +77,8 @@
     X(PFNGLBINDSAMPLERPROC, glBindSampler) \
     X(PFNGLSAMPLERPARAMETERIPROC, glSamplerParameteri) \
     X(PFNGLUNIFORM2IPROC, glUniform2i) \
-    X(PFNGLUNIFORM1FVPROC, glUniform1fv)
+    X(PFNGLUNIFORM1FVPROC, glUniform1fv) \
+    X(PFNGLUNIFORM2FVPROC, glUniform2fv)
 
 /* Each entry point is a pointer with the function's own name, so code calls
  * glFoo(...) as written. glcorearb.h declares no prototypes (that takes

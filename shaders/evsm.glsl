@@ -1,0 +1,24 @@
+// evsm: Chebyshev bounds on exponentially warped moments (see techniques/evsm.c).
+#include "shadow_common.glsl"
+#include "chebyshev.glsl"
+
+// The bound of one warp: moments m = (E[W], E[W²]) at the receiver's own
+// warped depth t, whose slope in linear depth is slope (dW/dd): the depth
+// variance floor carried into the warp's space.
+float evsm_bound(vec2 m, float t, float slope)
+{
+    return chebyshev_upper_bound(m.x, m.y - m.x * m.x, t, EVSM_MIN_VARIANCE * slope * slope);
+}
+
+float shadow_visibility(ShadowInput s)
+{
+    vec4 m = textureGrad(sm_evsm, s.uv, s.uv_dx, s.uv_dy);  // trilinear at the footprint
+    float w = 2.0 * s.depth - 1.0;
+    float pos = exp(EVSM_POSITIVE_EXPONENT * w);
+    float p = evsm_bound(m.xy, pos, 2.0 * EVSM_POSITIVE_EXPONENT * pos);
+#if EVSM_VARIANT == EVSM_VARIANT_EVSM4
+    float neg = -exp(-EVSM_NEGATIVE_EXPONENT * w);
+    p = min(p, evsm_bound(m.zw, neg, 2.0 * EVSM_NEGATIVE_EXPONENT * neg));
+#endif
+    return reduce_light_bleeding(p, EVSM_BLEED_REDUCTION);
+}
