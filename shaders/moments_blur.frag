@@ -6,10 +6,12 @@
 // BLUR_FROM_DEPTH: the rows pass reads the depth map and converts each tap
 // (one full-map pass fewer: on llvmpipe each costs ~40 ms at 2048^2). Filtering moments is what makes
 // VSM filterable (Donnelly and Lauritzen 2006).
-// EVSM_WARP 0: the moments (d, d²) of linear depth d. 1: the evsm product,
-// the moments of two exponential warps of w = 2d - 1 (Annen et al. 2008,
-// Lauritzen and McCool 2008): (e^{c+ w}, e^{2 c+ w}, -e^{-c- w}, e^{-2 c- w}).
-// The exponents are at most SM_EVSM_MAX_EXPONENT, so e^{2c} stays finite.
+// MOMENTS_KIND 0: the moments (d, d²) of linear depth d. 1: the evsm
+// product, the moments of two exponential warps of w = 2d - 1 (Annen et al.
+// 2008, Lauritzen and McCool 2008): (e^{c+ w}, e^{2 c+ w}, -e^{-c- w},
+// e^{-2 c- w}); the exponents are at most SM_EVSM_MAX_EXPONENT, so e^{2c}
+// stays finite. 2: the msm product, the power moments (w, w², w³, w⁴)
+// (Peters and Klein 2015), in fp32.
 #include "depth.glsl"
 
 layout(binding = SM_BINDING_PASS_SOURCE) uniform sampler2D source;  // depth map, or the rows pass's output
@@ -18,11 +20,13 @@ uniform ivec2 u_direction;                        // (1, 0) or (0, 1)
 uniform int u_radius;                             // 0..SM_MAX_BLUR_RADIUS
 uniform float u_weights[SM_MAX_BLUR_RADIUS + 1];  // by |offset|
 
-#if EVSM_WARP
-#define MOMENTS vec4
-uniform vec2 u_exponents;  // c+, c-
-#else
+#if MOMENTS_KIND == 0
 #define MOMENTS vec2
+#else
+#define MOMENTS vec4
+#endif
+#if MOMENTS_KIND == 1
+uniform vec2 u_exponents;  // c+, c-
 #endif
 layout(location = 0) out MOMENTS out_moments;
 
@@ -30,16 +34,19 @@ MOMENTS moments_at(ivec2 p)
 {
 #if BLUR_FROM_DEPTH
     float d = sm_linear_depth(texelFetch(source, p, 0).r);
-#if EVSM_WARP
+#if MOMENTS_KIND == 1
     float w = 2.0 * d - 1.0, pos = exp(u_exponents.x * w), neg = -exp(-u_exponents.y * w);
     return vec4(pos, pos * pos, neg, neg * neg);
+#elif MOMENTS_KIND == 2
+    float w = 2.0 * d - 1.0, w2 = w * w;
+    return vec4(w, w2, w2 * w, w2 * w2);
 #else
     return vec2(d, d * d);
 #endif
-#elif EVSM_WARP
-    return texelFetch(source, p, 0);
-#else
+#elif MOMENTS_KIND == 0
     return texelFetch(source, p, 0).rg;
+#else
+    return texelFetch(source, p, 0);
 #endif
 }
 

@@ -20,6 +20,7 @@ layout(binding = SM_BINDING_DEPTH) uniform sampler2D sm_depth;                  
 layout(binding = SM_BINDING_DEPTH_COMPARE) uniform sampler2DShadow sm_depth_compare; // same texture: linear, GEQUAL
 layout(binding = SM_BINDING_MOMENTS) uniform sampler2D sm_moments;              // RG32F (d, d²), filtered, mipmapped
 layout(binding = SM_BINDING_EVSM) uniform sampler2D sm_evsm;                    // RGBA32F warped moments, filtered, mipmapped
+layout(binding = SM_BINDING_MSM) uniform sampler2D sm_msm;                      // RGBA32F (w, w², w³, w⁴), filtered, mipmapped
 
 struct ShadowInput {
     vec3 pos_world;          // receiver point

@@ -6,7 +6,7 @@
 
 #include <string.h>
 
-#define TECHNIQUES(X) X(hard) X(pcf) X(pcss) X(vsm) X(savsm) X(pcss_savsm) X(evsm)
+#define TECHNIQUES(X) X(hard) X(pcf) X(pcss) X(vsm) X(savsm) X(pcss_savsm) X(evsm) X(msm)
 
 #define X(name) extern const struct technique technique_##name;
 TECHNIQUES(X)

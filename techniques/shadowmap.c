@@ -171,10 +171,10 @@ static void depth_render(struct shadowmap *sm, struct shadowmap_product *p,
 
 /* The passes of a product made from the depth map by moments_blur.frag:
  * its rows pass converts (BLUR_FROM_DEPTH), its columns pass filters;
- * evsm adds EVSM_WARP. */
+ * MOMENTS_KIND says which moments (0: moments, 1: evsm, 2: msm). */
 static int blurred_create(struct shadowmap *sm, struct shadowmap_product *p, int product)
 {
-    const bool evsm = product == SM_PRODUCT_EVSM;
+    const int kind = product == SM_PRODUCT_EVSM ? 1 : product == SM_PRODUCT_MSM ? 2 : 0;
     char *temp = util_printf("shadow map: %s blur temporary", product_names[product]);
     p->temp_texture = map_texture(kinds[product].format, 1, sm->desc.size_texels);
     gl_label(GL_TEXTURE, p->temp_texture, temp);
@@ -183,7 +183,7 @@ static int blurred_create(struct shadowmap *sm, struct shadowmap_product *p, int
     p->framebuffers[1] = framebuffer(p->temp_texture, GL_COLOR_ATTACHMENT0, "blur, rows");
     for (int pass = 0; pass < 2; pass++) {
         char *label = util_printf("%s blur, %s", product_names[product], pass ? "columns" : "rows");
-        char *defines = util_printf("#define BLUR_FROM_DEPTH %d\n#define EVSM_WARP %d\n", !pass, evsm);
+        char *defines = util_printf("#define BLUR_FROM_DEPTH %d\n#define MOMENTS_KIND %d\n", !pass, kind);
         p->programs[pass] = pass_program(label, defines, "fullscreen.vert", "moments_blur.frag");
         free(label), free(defines);
     }
@@ -198,6 +198,11 @@ static int moments_create(struct shadowmap *sm, struct shadowmap_product *p)
 static int evsm_create(struct shadowmap *sm, struct shadowmap_product *p)
 {
     return blurred_create(sm, p, SM_PRODUCT_EVSM);
+}
+
+static int msm_create(struct shadowmap *sm, struct shadowmap_product *p)
+{
+    return blurred_create(sm, p, SM_PRODUCT_MSM);
 }
 
 static int check_radius(const char *product, int radius)
@@ -223,6 +228,11 @@ static int evsm_check(const struct shadowmap_request *r)
             return -1;
         }
     return check_radius("evsm", r->evsm.blur_radius_texels);
+}
+
+static int msm_check(const struct shadowmap_request *r)
+{
+    return check_radius("msm", r->msm.blur_radius_texels);
 }
 
 static void blur_pass(struct shadowmap *sm, GLuint fbo, GLuint program, GLuint source,
@@ -275,6 +285,13 @@ static void evsm_render(struct shadowmap *sm, struct shadowmap_product *p,
 {
     (void)mesh;
     blurred_render(sm, p, r->evsm.blur_radius_texels, (const float[]){r->evsm.positive, r->evsm.negative});
+}
+
+static void msm_render(struct shadowmap *sm, struct shadowmap_product *p,
+                       const struct scene_mesh *mesh, const struct shadowmap_request *r)
+{
+    (void)mesh;
+    blurred_render(sm, p, r->msm.blur_radius_texels, NULL);
 }
 
 /* ---- moments_sat: summed-area table of (d, d²) --------------------------- */
@@ -366,6 +383,12 @@ static const struct product_kind kinds[SM_PRODUCT_COUNT] = {
         .binding = 3,
         .create = evsm_create, .render = evsm_render,
         .check = evsm_check,
+    },
+    [SM_PRODUCT_MSM] = {
+        .format = GL_RGBA32F, .mipmapped = true,
+        .binding = 4,
+        .create = msm_create, .render = msm_render,
+        .check = msm_check,
     },
 };
 

@@ -20,7 +20,9 @@
     X(MOMENTS, "moments")         /* linear depth d and d², RG32F, filtered, mipmapped */ \
     X(MOMENTS_SAT, "moments_sat") /* summed-area table of (d, d²), storage buffer */        \
     X(EVSM, "evsm")               /* warped moments (e^{c+ w}, e^{2c+ w}, -e^{-c- w}, e^{-2c- w}) of \
-                                     w = 2d - 1, RGBA32F, filtered, mipmapped */
+                                     w = 2d - 1, RGBA32F, filtered, mipmapped */             \
+    X(MSM, "msm")                 /* four moments (w, w², w³, w⁴) of w = 2d - 1, RGBA32F,      \
+                                     filtered, mipmapped */
 
 enum {
 #define X(id, name) SM_PRODUCT_##id,
@@ -79,6 +81,9 @@ struct shadowmap_request {
         float positive, negative;  /* the warps' exponents c+, c-, (0, SM_EVSM_MAX_EXPONENT] */
         int blur_radius_texels;    /* as the moments' */
     } evsm;
+    struct {
+        int blur_radius_texels;    /* as the moments' */
+    } msm;
 };
 
 /* The tap counts a tap-based technique may use (PARAM_TAPS). The parameter

@@ -6,11 +6,12 @@
  *     pcss_savsm (int32 SAT) reproduces the linear penumbra ramp, pcss
  *     approaches it within its sampling noise, pcf (fixed kernel) cannot,
  *     hard has no penumbra at all;
- *   - the same planes: evsm's warped bound is exact for two depths as
- *     vsm's is, so with the same filter it draws vsm's penumbra;
+ *   - the same planes: evsm's warped bound and msm's four-moment bound are
+ *     exact for two depths as vsm's is, so with the same filter they draw
+ *     vsm's penumbra;
  *   - two occluders far apart in depth, one over the other: vsm bleeds
- *     light, and bleed_reduction reduces it; evsm, at the same filter,
- *     bleeds far less;
+ *     light, and bleed_reduction reduces it; evsm and msm, at the same
+ *     filter, bleed far less;
  *   - every technique on every shipped scene: no NaN or Inf; nor the moment
  *     family at the depth-range extremes of `stability --vary depth_range`. */
 #include "check.h"
@@ -66,7 +67,7 @@ static void no_nonfinite(const cJSON *m, const char *what)
 
 static void penumbra_order(void)
 {
-    cJSON *m = run_cells("planes", "--scene parallel_planes --technique hard,pcf,pcss,pcss_savsm,vsm,evsm "
+    cJSON *m = run_cells("planes", "--scene parallel_planes --technique hard,pcf,pcss,pcss_savsm,vsm,evsm,msm "
                                    "--width 192 --height 192 --gt-samples 1024 "
                                    "--shadow-map-size 1024", 0);
     if (m) {
@@ -94,12 +95,16 @@ static void penumbra_order(void)
               "a fixed kernel cannot follow this ramp: pcf %.4f", pcf);
         /* Two depths in every filter region, the receiver at one of them:
          * the Chebyshev bound is the filtered coverage exactly, of depths
-         * as of their warps, so evsm draws vsm's penumbra (both the same
-         * 2-texel Gaussian, too narrow for this ramp). Measured 0.2649
-         * both; 0.01 allows the warps' fp32 rounding. */
-        const double vsm = metric(m, "vsm", "penumbra_rmse"), evsm = metric(m, "evsm", "penumbra_rmse");
-        printf("parallel planes, penumbra_rmse: vsm %.4f  evsm %.4f\n", vsm, evsm);
+         * as of their warps, and so is the four-moment bound (the two
+         * depths are its support; the moment bias moves it a little), so
+         * evsm and msm draw vsm's penumbra (the same 2-texel Gaussian, too
+         * narrow for this ramp). Measured 0.2649 all three; 0.01 allows
+         * the warps' fp32 rounding and msm's moment bias. */
+        const double vsm = metric(m, "vsm", "penumbra_rmse"), evsm = metric(m, "evsm", "penumbra_rmse"),
+                     msm = metric(m, "msm", "penumbra_rmse");
+        printf("parallel planes, penumbra_rmse: vsm %.4f  evsm %.4f  msm %.4f\n", vsm, evsm, msm);
         CHECK(fabs(evsm - vsm) < 0.01, "evsm must draw vsm's penumbra here: %.4f against %.4f", evsm, vsm);
+        CHECK(fabs(msm - vsm) < 0.01, "msm must draw vsm's penumbra here: %.4f against %.4f", msm, vsm);
         no_nonfinite(m, "parallel planes");
         cJSON_Delete(m);
     }
@@ -110,18 +115,19 @@ static void vsm_bleeding(void)
     /* The shipped overlapping_occluders: two plates far apart in depth,
      * whose edges overlap in the map over a true umbra (see
      * tools/scene_library.c). */
-    double leak[2] = {NAN, NAN}, reduction[2] = {0.0, 0.5}, evsm_leak = NAN;
+    double leak[2] = {NAN, NAN}, reduction[2] = {0.0, 0.5}, evsm_leak = NAN, msm_leak = NAN;
     for (int k = 0; k < 2; k++) {
         char *name = util_printf("plates%d", k);
         char *args = util_printf("--scene overlapping_occluders --technique vsm%s "
                                  "--set vsm.blur_radius_texels=8 --set vsm.bleed_reduction=%g "
                                  "--width 160 --height 160 --gt-samples 256",
-                                 k ? "" : ",evsm --set evsm.blur_radius_texels=8", reduction[k]);
+                                 k ? "" : ",evsm,msm --set evsm.blur_radius_texels=8 --set msm.blur_radius_texels=8",
+                                 reduction[k]);
         cJSON *m = run_cells(name, args, 0);
         if (m) {
             leak[k] = metric(m, "vsm", "leak_fraction");
             if (!k)
-                evsm_leak = metric(m, "evsm", "leak_fraction");
+                evsm_leak = metric(m, "evsm", "leak_fraction"), msm_leak = metric(m, "msm", "leak_fraction");
             no_nonfinite(m, "overlapping plates");
             cJSON_Delete(m);
         }
@@ -143,6 +149,11 @@ static void vsm_bleeding(void)
      * 0.5% that marks vsm's band as a band. */
     printf("overlapping plates, evsm leak_fraction %.4f at vsm's filter\n", evsm_leak);
     CHECK(evsm_leak < 0.5 * leak[0], "evsm must bleed far less than vsm: %.4f against %.4f", evsm_leak, leak[0]);
+    /* msm at its default moment bias (3e-5), the same blur: four moments
+     * place the far plate's mass behind the near one. Measured 0.0011;
+     * the same bound as evsm's. */
+    printf("overlapping plates, msm leak_fraction %.4f at vsm's filter\n", msm_leak);
+    CHECK(msm_leak < 0.5 * leak[0], "msm must bleed far less than vsm: %.4f against %.4f", msm_leak, leak[0]);
 }
 
 /* A NaN or Inf in any cell fails the run (exit 1): every technique at its
@@ -159,10 +170,12 @@ static void all_finite(void)
 
 /* The near plane pulled in a million times (`stability --vary
  * depth_range`): the scene's depths crowd at 1, where evsm's warps are
- * largest (e^{2 c+} at w = 1). stability exits 1 on any NaN/Inf. */
+ * largest (e^{2 c+} at w = 1) and msm's fp32 moments nearly those of one
+ * depth (a Hankel matrix the moment bias must keep invertible). stability
+ * exits 1 on any NaN/Inf. */
 static void depth_range_finite(void)
 {
-    char *cmd = util_printf("%s stability --scene overlapping_occluders --technique vsm,evsm --vary "
+    char *cmd = util_printf("%s stability --scene overlapping_occluders --technique vsm,evsm,msm --vary "
                             "depth_range=1,1000000 --width 64 --height 64 --gt-samples 16 --no-cache -q --out %s/range",
                             sb, dir);
     struct strbuf err = {0};

@@ -102,6 +102,8 @@ static const struct {
     {"contact_hardening", "evsm@negative_exponent=20,blur_radius_texels=8"},
     {"grazing_receiver", "evsm@min_variance=0.001"},
     {"overlapping_occluders", "evsm@bleed_reduction=0.3"},
+    {"overlapping_occluders", "msm@moment_bias=0.003,blur_radius_texels=8"},
+    {"grazing_receiver", "msm@depth_bias=0.001"},
 };
 #define TABLE_COUNT ((int)(sizeof table / sizeof *table))
 
