@@ -4,10 +4,12 @@
 
 // The bound of one warp: moments m = (E[W], E[W²]) at the receiver's own
 // warped depth t, whose slope in linear depth is slope (dW/dd): the depth
-// variance floor carried into the warp's space.
+// variance floor carried into the warp's space. sqrt(floor) * slope first:
+// slope² alone overflows fp32 near w = 1 (80 e^40 squared > FLT_MAX).
 float evsm_bound(vec2 m, float t, float slope)
 {
-    return chebyshev_upper_bound(m.x, m.y - m.x * m.x, t, EVSM_MIN_VARIANCE * slope * slope);
+    float s = sqrt(EVSM_MIN_VARIANCE) * slope;
+    return chebyshev_upper_bound(m.x, m.y - m.x * m.x, t, s * s);
 }
 
 float shadow_visibility(ShadowInput s)

@@ -9,8 +9,8 @@
 // MOMENTS_KIND 0: the moments (d, d²) of linear depth d. 1: the evsm
 // product, the moments of two exponential warps of w = 2d - 1 (Annen et al.
 // 2008, Lauritzen and McCool 2008): (e^{c+ w}, e^{2 c+ w}, -e^{-c- w},
-// e^{-2 c- w}); the exponents are at most SM_EVSM_MAX_EXPONENT, so e^{2c}
-// stays finite. 2: the msm product, the power moments (w, w², w³, w⁴)
+// e^{-2 c- w}); the exponents are at most 42 (SM_EVSM_MAX_EXPONENT in
+// techniques/technique.h), so e^{2c} stays finite. 2: the msm product, the power moments (w, w², w³, w⁴)
 // (Peters and Klein 2015), in fp32.
 #include "depth.glsl"
 

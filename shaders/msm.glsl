@@ -7,9 +7,11 @@ float msm_occlusion(vec4 b, float z)
 {
     // B c = (1, z, z²), B = [[1, b1, b2], [b1, b2, b3], [b2, b3, b4]], by
     // B = L D L^T with L unit lower triangular.
-    float d2 = b.y - b.x * b.x;
+    // The moment bias keeps d2 and d3 positive; the floors guard fp32
+    // rounding, so no division below is by zero.
+    float d2 = max(b.y - b.x * b.x, 1e-12);
     float l32 = (b.z - b.x * b.y) / d2;
-    float d3 = b.w - b.y * b.y - l32 * l32 * d2;
+    float d3 = max(b.w - b.y * b.y - l32 * l32 * d2, 1e-12);
     float y2 = z - b.x;
     float y3 = z * z - b.y - l32 * y2;
     float c3 = y3 / d3;

@@ -24,7 +24,12 @@
  *                       r / 2; 0 = mipmaps only), timed as filter prep.
  *   min_variance        floor on the variance of depth (linear depth
  *                       units squared), carried into each warp's space
- *                       through its slope: (dW/dd)² min_variance.
+ *                       through its slope: (dW/dd)² min_variance. Its own
+ *                       row, far below vsm's: for an occluder well apart
+ *                       from the receiver the floor lights the umbra by
+ *                       about 4 c² min_variance (0.064 at c = 40 with
+ *                       vsm's 1e-5), since the warped gap grows with the
+ *                       same e^{cw} as the slope.
  *   bleed_reduction     maps the bound in [amount, 1] to [0, 1] (0 = off).
  *
  * How it fails: bleeding remains where the exponent cannot separate the
@@ -41,7 +46,7 @@ struct evsm_settings {
     float positive_exponent;  /* (0, SM_EVSM_MAX_EXPONENT] */
     float negative_exponent;  /* (0, SM_EVSM_MAX_EXPONENT] */
     int blur_radius_texels;   /* [0, SM_MAX_BLUR_RADIUS_TEXELS] */
-    float min_variance;       /* linear depth², [0, 0.01] */
+    float min_variance;       /* linear depth², [0, 1e-4] */
     float bleed_reduction;    /* [0, 0.99] */
 };
 
@@ -59,7 +64,9 @@ static const struct technique_param evsm_params[] = {
     {"blur_radius_texels", "Gaussian prefilter of the warped moments, radius in texels (sigma = r/2)",
      offsetof(struct evsm_settings, blur_radius_texels), PARAM_INT, 2, 0, SM_MAX_BLUR_RADIUS_TEXELS, NULL,
      TUNE(0, 1, 2, 3, 4, 6, 8, 12, 16, 24, 32)},
-    PARAM_ROW_MIN_VARIANCE(struct evsm_settings),
+    {"min_variance", "floor on the variance of depth, linear depth units squared, carried into each warp "
+     "through its slope (an umbra is lit by about 4 c^2 times it)", offsetof(struct evsm_settings, min_variance),
+     PARAM_FLOAT, 1e-8, 0.0, 1e-4, NULL, TUNE(1e-10, 1e-9, 1e-8, 1e-7, 1e-6)},
     PARAM_ROW_BLEED_REDUCTION(struct evsm_settings),
     {NULL},
 };

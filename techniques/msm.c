@@ -26,25 +26,26 @@
  *                       0 = mipmaps only), timed as filter prep.
  *
  * How it fails: some bleeding remains where three or more depths overlap
- * (four moments describe at most two well), grown by moment_bias; the
- * bound darkens the lit side of an edge a little (it is a lower bound on
- * the lit share's complement, sharpest, not exact); fp32 power moments
- * lose precision for depths crowded near one value (a near plane far in
- * front of the scene: see `stability --vary depth_range`), which the
- * moment bias covers at the cost of bleeding. No contact hardening: the
- * blur is fixed. The Hausdorff variant and the optimised moment basis of
+ * (four moments describe at most two well), grown by moment_bias; a
+ * receiver whose own depth spreads across the filter region (a slope
+ * under a wide blur) shadows itself, as the bound counts the nearer half
+ * of that spread as occluders: depth_bias (0 by default; the tuning picks
+ * 0.001) trades that for detached shadows; fp32 power moments lose
+ * precision for depths crowded near one value, which the moment bias
+ * covers at the cost of bleeding. No contact hardening: the blur is
+ * fixed. The Hausdorff variant and the optimised moment basis of
  * the paper are not implemented. */
 #include "param_rows.h"
 
 struct msm_settings {
-    float moment_bias;       /* [0, 0.01] */
+    float moment_bias;       /* [1e-7, 0.01]: 0 leaves B singular where one depth covers the region */
     float depth_bias;        /* linear depth, [0, 0.05] */
     int blur_radius_texels;  /* [0, SM_MAX_BLUR_RADIUS_TEXELS] */
 };
 
 static const struct technique_param msm_params[] = {
     {"moment_bias", "alpha, the moments drawn towards a spread distribution's: guards fp32 rounding, "
-     "bleeds as it grows", offsetof(struct msm_settings, moment_bias), PARAM_FLOAT, 3e-5, 0.0, 0.01, NULL,
+     "bleeds as it grows", offsetof(struct msm_settings, moment_bias), PARAM_FLOAT, 3e-5, 1e-7, 0.01, NULL,
      TUNE(3e-7, 3e-6, 3e-5, 3e-4, 3e-3)},
     {"depth_bias", "subtracted from the receiver's linear depth before the test",
      offsetof(struct msm_settings, depth_bias), PARAM_FLOAT, 0.0, 0.0, 0.05, NULL, TUNE(0, 1e-4, 1e-3, 1e-2)},

@@ -167,7 +167,8 @@ static void depth_render(struct shadowmap *sm, struct shadowmap_product *p,
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-/* ---- moments (d, d²) and evsm (warped moments): separable Gaussian, mipmaps */
+/* ---- moments (d, d²), evsm (warped moments), msm (four moments): separable
+ * Gaussian, mipmaps */
 
 /* The passes of a product made from the depth map by moments_blur.frag:
  * its rows pass converts (BLUR_FROM_DEPTH), its columns pass filters;
@@ -246,7 +247,7 @@ static void blur_pass(struct shadowmap *sm, GLuint fbo, GLuint program, GLuint s
 }
 
 /* The product made from the depth map, filtered by a Gaussian of radius;
- * exponents: evsm's warps (NULL: the moments). */
+ * exponents: evsm's warps (NULL: the moments, msm). */
 static void blurred_render(struct shadowmap *sm, struct shadowmap_product *p, int radius, const float *exponents)
 {
     /* Normalised Gaussian weights, sigma = radius / 2, by |offset|. Radius

@@ -57,7 +57,7 @@ extern const char *const sat_format_names[];
 /* The moments product's widest Gaussian prefilter (GLSL: SM_MAX_BLUR_RADIUS). */
 #define SM_MAX_BLUR_RADIUS_TEXELS 32
 
-/* The largest exponent of the evsm product's warps (GLSL: SM_EVSM_MAX_EXPONENT):
+/* The largest exponent of the evsm product's warps:
  * its second moment e^{2c w} reaches e^{2c} at w = 1, and fp32 holds up to
  * e^{88.72} (FLT_MAX), so c < 44.36; 42 leaves the filter's rounding room.
  * The product refuses a larger one (the parameters' ranges stop there). */

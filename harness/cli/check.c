@@ -100,7 +100,7 @@ static const struct {
     {"overlapping_occluders", "pcss_savsm@bleed_reduction=0.3"},
     {"overlapping_occluders", "evsm@variant=evsm2,positive_exponent=20"},
     {"contact_hardening", "evsm@negative_exponent=20,blur_radius_texels=8"},
-    {"grazing_receiver", "evsm@min_variance=0.001"},
+    {"grazing_receiver", "evsm@min_variance=1e-06"},
     {"overlapping_occluders", "evsm@bleed_reduction=0.3"},
     {"overlapping_occluders", "msm@moment_bias=0.003,blur_radius_texels=8"},
     {"grazing_receiver", "msm@depth_bias=0.001"},
