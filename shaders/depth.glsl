@@ -22,6 +22,19 @@ float sm_linear_depth(float d_hw)
     return d;
 }
 
+// The moment family's depth (evsm's warps, msm's moments): linear depth
+// mapped to w = 2d - 1 in [-1, 1], the product's and the receiver's alike.
+float sm_moment_depth(float d)
+{
+    return 2.0 * d - 1.0;
+}
+
+// evsm's warps of w with exponents c = (c+, c-): (e^{c+ w}, -e^{-c- w}).
+vec2 sm_evsm_warp(float w, vec2 c)
+{
+    return vec2(exp(c.x * w), -exp(-c.y * w));
+}
+
 // Linear depth in [0, 1] -> hardware depth.
 float sm_hw_depth(float d)
 {

@@ -15,12 +15,10 @@ float evsm_bound(vec2 m, float t, float slope)
 float shadow_visibility(ShadowInput s)
 {
     vec4 m = textureGrad(sm_evsm, s.uv, s.uv_dx, s.uv_dy);  // trilinear at the footprint
-    float w = 2.0 * s.depth - 1.0;
-    float pos = exp(EVSM_POSITIVE_EXPONENT * w);
-    float p = evsm_bound(m.xy, pos, 2.0 * EVSM_POSITIVE_EXPONENT * pos);
+    vec2 e = sm_evsm_warp(sm_moment_depth(s.depth), vec2(EVSM_POSITIVE_EXPONENT, EVSM_NEGATIVE_EXPONENT));
+    float p = evsm_bound(m.xy, e.x, 2.0 * EVSM_POSITIVE_EXPONENT * e.x);
 #if EVSM_VARIANT == EVSM_VARIANT_EVSM4
-    float neg = -exp(-EVSM_NEGATIVE_EXPONENT * w);
-    p = min(p, evsm_bound(m.zw, neg, 2.0 * EVSM_NEGATIVE_EXPONENT * neg));
+    p = min(p, evsm_bound(m.zw, e.y, 2.0 * EVSM_NEGATIVE_EXPONENT * e.y));
 #endif
     return reduce_light_bleeding(p, EVSM_BLEED_REDUCTION);
 }

@@ -35,10 +35,10 @@ MOMENTS moments_at(ivec2 p)
 #if BLUR_FROM_DEPTH
     float d = sm_linear_depth(texelFetch(source, p, 0).r);
 #if MOMENTS_KIND == 1
-    float w = 2.0 * d - 1.0, pos = exp(u_exponents.x * w), neg = -exp(-u_exponents.y * w);
-    return vec4(pos, pos * pos, neg, neg * neg);
+    vec2 e = sm_evsm_warp(sm_moment_depth(d), u_exponents);
+    return vec4(e.x, e.x * e.x, e.y, e.y * e.y);
 #elif MOMENTS_KIND == 2
-    float w = 2.0 * d - 1.0, w2 = w * w;
+    float w = sm_moment_depth(d), w2 = w * w;
     return vec4(w, w2, w2 * w, w2 * w2);
 #else
     return vec2(d, d * d);

@@ -32,6 +32,6 @@ float shadow_visibility(ShadowInput s)
 {
     vec4 b = textureGrad(sm_msm, s.uv, s.uv_dx, s.uv_dy);  // trilinear at the footprint
     b = mix(b, vec4(0.0, 0.375, 0.0, 0.375), MSM_MOMENT_BIAS);
-    float z = 2.0 * (s.depth - MSM_DEPTH_BIAS) - 1.0;
+    float z = sm_moment_depth(s.depth - MSM_DEPTH_BIAS);
     return 1.0 - msm_occlusion(b, z);
 }

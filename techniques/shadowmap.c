@@ -18,6 +18,7 @@ struct product_kind {
     int binding;           /* texture unit or storage-buffer binding (GLSL: SM_BINDING_<ID>) */
     int compare_binding;   /* texture: also bound at this unit through the comparison sampler
                               (GLSL: SM_BINDING_<ID>_COMPARE); 0: not */
+    int moments_kind;      /* made by moments_blur.frag: its MOMENTS_KIND (0 moments, 1 evsm, 2 msm) */
     /* What the passes need beyond a texture product's texture (framebuffers,
      * programs; a buffer product's buffer): called once. Returns 0 or -1
      * (logged); what it made before failing is deleted with the rest. */
@@ -171,11 +172,11 @@ static void depth_render(struct shadowmap *sm, struct shadowmap_product *p,
  * Gaussian, mipmaps */
 
 /* The passes of a product made from the depth map by moments_blur.frag:
- * its rows pass converts (BLUR_FROM_DEPTH), its columns pass filters;
- * MOMENTS_KIND says which moments (0: moments, 1: evsm, 2: msm). */
+ * its rows pass converts (BLUR_FROM_DEPTH), its columns pass filters; its
+ * row's moments_kind says which moments. */
 static int blurred_create(struct shadowmap *sm, struct shadowmap_product *p, int product)
 {
-    const int kind = product == SM_PRODUCT_EVSM ? 1 : product == SM_PRODUCT_MSM ? 2 : 0;
+    const int kind = kinds[product].moments_kind;
     char *temp = util_printf("shadow map: %s blur temporary", product_names[product]);
     p->temp_texture = map_texture(kinds[product].format, 1, sm->desc.size_texels);
     gl_label(GL_TEXTURE, p->temp_texture, temp);
@@ -381,13 +382,13 @@ static const struct product_kind kinds[SM_PRODUCT_COUNT] = {
     },
     [SM_PRODUCT_EVSM] = {
         .format = GL_RGBA32F, .mipmapped = true,
-        .binding = 3,
+        .binding = 3, .moments_kind = 1,
         .create = evsm_create, .render = evsm_render,
         .check = evsm_check,
     },
     [SM_PRODUCT_MSM] = {
         .format = GL_RGBA32F, .mipmapped = true,
-        .binding = 4,
+        .binding = 4, .moments_kind = 2,
         .create = msm_create, .render = msm_render,
         .check = msm_check,
     },
