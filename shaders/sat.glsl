@@ -1,11 +1,26 @@
-// Reading the summed-area table of the moments (see sat_build.comp): the
-// mean and variance of linear depth over any box, past the map's edges too,
-// from 16 SAT values, whatever the box's size.
+// Reading a summed-area table of moments (see sat_build.comp): the mean
+// moments over any box, past the map's edges too, from 16 SAT values,
+// whatever the box's size. A shader reads one table: the moments_sat
+// product's (d, d²) by default, the msm_sat product's (w, w², w³, w⁴) with
+// SAT_CHANNELS 4 defined before including this file.
 #include "shadow_common.glsl"
 
+#ifndef SAT_CHANNELS
+#define SAT_CHANNELS 2
+#endif
+#if SAT_CHANNELS == 4
+#define SAT_UVEC uvec4
+#define SAT_IVEC ivec4
+#define SAT_VEC vec4
+layout(std430, binding = SM_BINDING_MSM_SAT) readonly buffer SatBuffer { uvec4 sat[]; };
+#else
+#define SAT_UVEC uvec2
+#define SAT_IVEC ivec2
+#define SAT_VEC vec2
 layout(std430, binding = SM_BINDING_MOMENTS_SAT) readonly buffer SatBuffer { uvec2 sat[]; };
+#endif
 
-uvec2 sat_at(int x, int y)
+SAT_UVEC sat_at(int x, int y)
 {
     return sat[y * (int(sm.map_size_texels) + 1) + x];
 }
@@ -15,10 +30,10 @@ uvec2 sat_at(int x, int y)
 // floats. int32: the difference wraps modulo 2^32 and is exact; the
 // fixed-point scale keeps every box this code forms below 2^31, so a box
 // with x0 > x1 (both box edges in one texel) reads correctly as negative.
-vec2 sat_box_sum(uvec2 s00, uvec2 s10, uvec2 s01, uvec2 s11)
+SAT_VEC sat_box_sum(SAT_UVEC s00, SAT_UVEC s10, SAT_UVEC s01, SAT_UVEC s11)
 {
     if (sm.sat_format == SM_SAT_INT32)
-        return vec2(ivec2(s11 - s01 - s10 + s00)) / sm.sat_scale;
+        return SAT_VEC(SAT_IVEC(s11 - s01 - s10 + s00)) / sm.sat_scale;
     return (uintBitsToFloat(s11) - uintBitsToFloat(s01)) - (uintBitsToFloat(s10) - uintBitsToFloat(s00));
 }
 
@@ -38,8 +53,8 @@ float[6] sat_pair_weights(float f_lo, float f_hi, float past_lo, float past_hi)
                     f_lo * f_hi, past_lo, past_hi);
 }
 
-// Mean and variance of linear depth over the box centre_uv ± half_uv of the
-// map extended past its edges by the edge policy (clamp-to-edge,
+// The mean moments over the box centre_uv ± half_uv of the map extended
+// past its edges by the edge policy (clamp-to-edge,
 // techniques/shadowmap.h); centre_uv is in the map (sm_inside). The box
 // keeps its full area; for int32 its side is capped at sm.sat_max_box_texels
 // (no overflow). Its edges fall at fractional texel positions: the SAT is
@@ -47,15 +62,16 @@ float[6] sat_pair_weights(float f_lo, float f_hi, float past_lo, float past_hi)
 // piecewise-constant moments over the in-map part. Past an edge each column
 // (row) repeats the edge one, which adds the width past it times the edge
 // column's sum over the in-map rows, and past a corner its area times the
-// corner texel: boxes of the same 16 values, so no more reads. x = mean,
-// y = variance (not clamped); returns false for an empty box.
-bool sat_mean_variance(vec2 centre_uv, vec2 half_uv, out vec2 mean_var)
+// corner texel: boxes of the same 16 values, so no more reads. As stored:
+// 2 channels fp32_centered gives (d - 0.5, (d - 0.5)²). Returns false for an
+// empty box (mean 0).
+bool sat_box_mean(vec2 centre_uv, vec2 half_uv, out SAT_VEC mean)
 {
     float n = sm.map_size_texels;
     vec2 half_texels = min(half_uv * n, vec2(0.5 * sm.sat_max_box_texels));
     vec2 lo = centre_uv * n - half_texels, hi = centre_uv * n + half_texels;
     float area = (hi.x - lo.x) * (hi.y - lo.y);
-    mean_var = vec2(0.0);
+    mean = SAT_VEC(0.0);
     if (!(area > 0.0))
         return false;
     // The 4 x 4 SAT values around the corners of the in-map part.
@@ -63,7 +79,7 @@ bool sat_mean_variance(vec2 centre_uv, vec2 half_uv, out vec2 mean_var)
     ivec2 i0 = min(ivec2(floor(in_lo)), ivec2(n) - 1), i1 = min(ivec2(floor(in_hi)), ivec2(n) - 1);
     vec2 f0 = in_lo - vec2(i0), f1 = in_hi - vec2(i1);
     ivec4 xs = ivec4(i0.x, i0.x + 1, i1.x, i1.x + 1), ys = ivec4(i0.y, i0.y + 1, i1.y, i1.y + 1);
-    uvec2 s[16];
+    SAT_UVEC s[16];
     for (int r = 0; r < 4; r++)
         for (int c = 0; c < 4; c++)
             s[r * 4 + c] = sat_at(xs[c], ys[r]);
@@ -76,17 +92,25 @@ bool sat_mean_variance(vec2 centre_uv, vec2 half_uv, out vec2 mean_var)
     // (savsm's receiver pass on map_border, 512^2, 1024^2 map: 34 ms with
     // the 16 bilinear sums alone, 35 with all 36, 41 with the edges' behind
     // an if, 46 with a loop bound of 4 or 6).
-    vec2 sum = vec2(0.0);
+    SAT_VEC sum = SAT_VEC(0.0);
     for (int j = 0; j < 6; j++)
         for (int i = 0; i < 6; i++) {
             ivec2 x = SAT_PAIRS[i], y = SAT_PAIRS[j];
             sum += wx[i] * wy[j] * sat_box_sum(s[y.x * 4 + x.x], s[y.x * 4 + x.y], s[y.y * 4 + x.x],
                                                s[y.y * 4 + x.y]);
         }
-    vec2 m = sum / area;
-    if (sm.sat_format == SM_SAT_FP32_CENTERED)
-        mean_var = vec2(m.x + 0.5, m.y - m.x * m.x);
-    else
-        mean_var = vec2(m.x, m.y - m.x * m.x);
+    mean = sum / area;
     return true;
 }
+
+#if SAT_CHANNELS == 2
+// Mean and variance of linear depth over that box: x = mean, y = variance
+// (not clamped); false for an empty box.
+bool sat_mean_variance(vec2 centre_uv, vec2 half_uv, out vec2 mean_var)
+{
+    vec2 m;
+    bool some = sat_box_mean(centre_uv, half_uv, m);
+    mean_var = vec2(m.x + (sm.sat_format == SM_SAT_FP32_CENTERED ? 0.5 : 0.0), m.y - m.x * m.x);
+    return some;
+}
+#endif

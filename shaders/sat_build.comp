@@ -1,26 +1,54 @@
 #version 450 core
-// Summed-area table of the moments (Crow 1984; for shadows Lauritzen 2007,
+// Summed-area tables of moments (Crow 1984; for shadows Lauritzen 2007,
 // "Summed-area variance shadow maps", GPU Gems 3 ch. 8). Two dispatches of
 // this shader: SAT_PASS_ROWS (one invocation per row, a serial prefix sum of
 // the row's moments, converted from the depth map on the way: a separate
 // moments pass would cost more than both scans) then SAT_PASS_COLUMNS (one
-// per column, in place). The
-// table is (N+1)^2 with a zero first row and column, so a box sum never
-// needs a bounds test. On llvmpipe a serial scan per row/column beat a
-// shared-memory work-group scan, and storage buffers beat image load/store.
+// per column, in place). The table is (N+1)^2 with a zero first row and
+// column, so a box sum never needs a bounds test. On llvmpipe a serial scan
+// per row/column beat a shared-memory work-group scan, and storage buffers
+// beat image load/store.
+//
+// SAT_CHANNELS 2: the moments_sat product, (d, d²) of linear depth d.
+// SAT_CHANNELS 4: the msm_sat product, (w, w², w³, w⁴) of w = 2d - 1, the
+// msm product's moments (Peters et al. 2016 filter them by a SAT).
 //
 // Formats (sm.sat_format):
-//   SM_SAT_FP32           float sums of (d, d²), stored as bits
-//   SM_SAT_FP32_CENTERED  float sums of (d - 0.5, (d - 0.5)²): smaller sums,
-//                         fewer bits lost (the variance is shift-invariant)
-//   SM_SAT_INT32          fixed point, round(m * sm.sat_scale), summed in
-//                         uint32 with wrap-around: a 4-tap box difference is
-//                         exact modulo 2^32, hence exact while the box sum fits
+//   SM_SAT_FP32           float sums, stored as bits
+//   SM_SAT_FP32_CENTERED  2 channels: float sums of (d - 0.5, (d - 0.5)²),
+//                         smaller sums, fewer bits lost (the variance is
+//                         shift-invariant). 4 channels: not offered, w is
+//                         centred on [-1, 1] already
+//   SM_SAT_INT32          fixed point, floor(m * sm.sat_scale + 0.5), summed
+//                         in uint32 with wrap-around (two's complement for
+//                         w's odd powers): a 4-tap box difference is exact
+//                         modulo 2^32, hence exact while the box sum fits
 #include "depth.glsl"
+
+#if SAT_CHANNELS == 4
+#define SAT_UVEC uvec4
+#define SAT_IVEC ivec4
+#define SAT_VEC vec4
+layout(std430, binding = SM_BINDING_MSM_SAT) buffer SatBuffer { uvec4 sat[]; };
+vec4 sat_moments(float d)
+{
+    float w = sm_moment_depth(d), w2 = w * w;
+    return vec4(w, w2, w2 * w, w2 * w2);
+}
+#else
+#define SAT_UVEC uvec2
+#define SAT_IVEC ivec2
+#define SAT_VEC vec2
+layout(std430, binding = SM_BINDING_MOMENTS_SAT) buffer SatBuffer { uvec2 sat[]; };
+vec2 sat_moments(float d)
+{
+    float c = sm.sat_format == SM_SAT_FP32_CENTERED ? d - 0.5 : d;
+    return vec2(c, c * c);
+}
+#endif
 
 layout(local_size_x = 64) in;
 layout(binding = SM_BINDING_DEPTH) uniform sampler2D depth_map;
-layout(std430, binding = SM_BINDING_MOMENTS_SAT) buffer SatBuffer { uvec2 sat[]; };
 
 void main()
 {
@@ -29,22 +57,19 @@ void main()
     if (line >= n)
         return;
     int base = (line + 1) * stride;
-    sat[base] = uvec2(0);
+    sat[base] = SAT_UVEC(0);
     if (sm.sat_format == SM_SAT_INT32) {
-        uvec2 acc = uvec2(0);
+        SAT_UVEC acc = SAT_UVEC(0);
         for (int x = 0; x < n; x++) {
             float d = sm_linear_depth(texelFetch(depth_map, ivec2(x, line), 0).r);
-            precise vec2 q = vec2(d, d * d) * sm.sat_scale + 0.5;  // as tests/test_sat.c does
-            acc += uvec2(q);
+            precise SAT_VEC q = sat_moments(d) * sm.sat_scale + 0.5;  // as tests/test_sat.c does
+            acc += SAT_UVEC(SAT_IVEC(floor(q)));
             sat[base + x + 1] = acc;
         }
     } else {
-        bool centered = sm.sat_format == SM_SAT_FP32_CENTERED;
-        vec2 acc = vec2(0.0);
+        SAT_VEC acc = SAT_VEC(0.0);
         for (int x = 0; x < n; x++) {
-            float d = sm_linear_depth(texelFetch(depth_map, ivec2(x, line), 0).r);
-            vec2 m = centered ? vec2(d - 0.5, (d - 0.5) * (d - 0.5)) : vec2(d, d * d);
-            acc += m;
+            acc += sat_moments(sm_linear_depth(texelFetch(depth_map, ivec2(x, line), 0).r));
             sat[base + x + 1] = floatBitsToUint(acc);
         }
     }
@@ -53,13 +78,13 @@ void main()
     if (x > n)
         return;
     if (sm.sat_format == SM_SAT_INT32) {
-        uvec2 acc = uvec2(0);
+        SAT_UVEC acc = SAT_UVEC(0);
         for (int y = 1; y <= n; y++) {
             acc += sat[y * stride + x];
             sat[y * stride + x] = acc;
         }
     } else {
-        vec2 acc = vec2(0.0);
+        SAT_VEC acc = SAT_VEC(0.0);
         for (int y = 1; y <= n; y++) {
             acc += uintBitsToFloat(sat[y * stride + x]);
             sat[y * stride + x] = floatBitsToUint(acc);

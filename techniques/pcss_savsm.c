@@ -31,8 +31,6 @@
 #include "param_rows.h"
 #include "scene/light_frustum.h"
 
-#include <math.h>
-
 struct pcss_savsm_settings {
     int sat_format;              /* enum sat_format */
     float light_size_scale;      /* [0.01, 10] */
@@ -57,9 +55,7 @@ static void pcss_savsm_request(const void *settings, const struct light_frustum 
 {
     const struct pcss_savsm_settings *s = settings;
     r->moments_sat.format = (enum sat_format)s->sat_format;
-    /* The widest box is the search box of a receiver on the far plane. */
-    float size_uv = fmaxf(f->light_size_uv[0], f->light_size_uv[1]) * s->light_size_scale;
-    r->moments_sat.max_box_texels = size_uv * (1.0f - f->near_world / f->far_world) * (float)map_size_texels;
+    r->moments_sat.max_box_texels = light_frustum_search_box_texels(f, s->light_size_scale, map_size_texels);
 }
 
 const struct technique technique_pcss_savsm = {

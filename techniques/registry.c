@@ -6,7 +6,7 @@
 
 #include <string.h>
 
-#define TECHNIQUES(X) X(hard) X(pcf) X(pcss) X(vsm) X(savsm) X(pcss_savsm) X(evsm) X(msm)
+#define TECHNIQUES(X) X(hard) X(pcf) X(pcss) X(vsm) X(savsm) X(pcss_savsm) X(evsm) X(msm) X(msm_soft) X(vssm)
 
 #define X(name) extern const struct technique technique_##name;
 TECHNIQUES(X)

@@ -19,6 +19,7 @@ struct product_kind {
     int compare_binding;   /* texture: also bound at this unit through the comparison sampler
                               (GLSL: SM_BINDING_<ID>_COMPARE); 0: not */
     int moments_kind;      /* made by moments_blur.frag: its MOMENTS_KIND (0 moments, 1 evsm, 2 msm) */
+    int sat_channels;      /* a summed-area table by sat_build.comp: its SAT_CHANNELS (2 or 4) */
     /* What the passes need beyond a texture product's texture (framebuffers,
      * programs; a buffer product's buffer): called once. Returns 0 or -1
      * (logged); what it made before failing is deleted with the rest. */
@@ -237,6 +238,19 @@ static int msm_check(const struct shadowmap_request *r)
     return check_radius("msm", r->msm.blur_radius_texels);
 }
 
+static int msm_sat_check(const struct shadowmap_request *r)
+{
+    if (r->products & SM_MOMENTS_SAT) {
+        log_error("shadow map: a request of both summed-area tables (they share the block's format and scale)");
+        return -1;
+    }
+    if (r->msm_sat.format == SAT_FP32_CENTERED) {
+        log_error("msm_sat product: format fp32_centered does not apply (w = 2d - 1 is centred already)");
+        return -1;
+    }
+    return 0;
+}
+
 static void blur_pass(struct shadowmap *sm, GLuint fbo, GLuint program, GLuint source,
                       int dx, int dy, int radius, const float *weights)
 {
@@ -296,35 +310,44 @@ static void msm_render(struct shadowmap *sm, struct shadowmap_product *p,
     blurred_render(sm, p, r->msm.blur_radius_texels, NULL);
 }
 
-/* ---- moments_sat: summed-area table of (d, d²) --------------------------- */
+/* ---- moments_sat, msm_sat: summed-area tables of (d, d²), (w, w², w³, w⁴) */
 
 static int sat_create(struct shadowmap *sm, struct shadowmap_product *p)
 {
+    const int i = (int)(p - sm->products), channels = kinds[i].sat_channels;
     /* Zeroed once: the first row stays zero (the passes never write it). */
-    size_t n = (size_t)sm->desc.size_texels, bytes = sizeof(uint32_t) * 2 * (n + 1) * (n + 1);
+    size_t n = (size_t)sm->desc.size_texels, bytes = sizeof(uint32_t) * (size_t)channels * (n + 1) * (n + 1);
     void *zero = xcalloc(1, bytes);
     glGenBuffers(1, &p->buffer);
     glBindBuffer(GL_SHADER_STORAGE_BUFFER, p->buffer);
     glBufferData(GL_SHADER_STORAGE_BUFFER, (GLsizeiptr)bytes, zero, GL_DYNAMIC_COPY);
     free(zero);
-    label_product(GL_BUFFER, p->buffer, SM_PRODUCT_MOMENTS_SAT);
-    p->programs[0] = pass_program("SAT rows", "#define SAT_PASS_ROWS 1\n", "sat_build.comp", NULL);
-    p->programs[1] = pass_program("SAT columns", "#define SAT_PASS_ROWS 0\n", "sat_build.comp", NULL);
+    label_product(GL_BUFFER, p->buffer, i);
+    for (int pass = 0; pass < 2; pass++) {
+        char *label = util_printf("%s %s", product_names[i], pass ? "columns" : "rows");
+        char *defines = util_printf("#define SAT_PASS_ROWS %d\n#define SAT_CHANNELS %d\n", !pass, channels);
+        p->programs[pass] = pass_program(label, defines, "sat_build.comp", NULL);
+        free(label), free(defines);
+    }
     return p->programs[0] && p->programs[1] ? 0 : -1;
+}
+
+/* The request's block for SAT product i. */
+static const struct sat_request *sat_request_of(const struct shadowmap_request *r, int i)
+{
+    return i == SM_PRODUCT_MSM_SAT ? &r->msm_sat : &r->moments_sat;
 }
 
 /* The SAT_INT32 fixed-point scale (units per 1.0 of depth) and the widest
  * box side in texels it allows, for a request on an n x n map. The scale is
  * 2^k with k = 30 - floor(log2(largest box area the reader forms)), so
  * every box sum stays below 2^31. */
-static void sat_int32_scale(const struct shadowmap_request *r, int n, float *scale,
-                            float *max_box_texels)
+static void sat_int32_scale(const struct sat_request *r, int n, float *scale, float *max_box_texels)
 {
     /* A box of side s has edges in at most ceil(s) + 1 texels per axis, and
      * the 16-value read forms boxes one texel wider: (ceil(s) + 2)^2 texels,
      * each at most 1.0 = 2^k units. */
-    double side = r->moments_sat.max_box_texels > 0 ? fmin(r->moments_sat.max_box_texels, (double)n)
-                                                     : (double)n;
+    double side = r->max_box_texels > 0 ? fmin(r->max_box_texels, (double)n) : (double)n;
     double area = (ceil(side) + 2.0) * (ceil(side) + 2.0);
     int k = 30 - (int)floor(log2(area));
     k = k > 24 ? 24 : k;  /* float d has 24 significant bits */
@@ -336,11 +359,12 @@ static void sat_render(struct shadowmap *sm, struct shadowmap_product *p,
                        const struct scene_mesh *mesh, const struct shadowmap_request *r)
 {
     (void)mesh;
-    int n = sm->desc.size_texels;
+    const int i = (int)(p - sm->products), n = sm->desc.size_texels;
+    const struct sat_request *sr = sat_request_of(r, i);
     struct shadowmap_block *b = &sm->block;
-    b->sat_format = (int)r->moments_sat.format;
-    if (r->moments_sat.format == SAT_INT32) {
-        sat_int32_scale(r, n, &b->sat_scale, &b->sat_max_box_texels);
+    b->sat_format = (int)sr->format;
+    if (sr->format == SAT_INT32) {
+        sat_int32_scale(sr, n, &b->sat_scale, &b->sat_max_box_texels);
     } else {
         b->sat_scale = 1.0f;
         b->sat_max_box_texels = (float)n;
@@ -351,7 +375,7 @@ static void sat_render(struct shadowmap *sm, struct shadowmap_product *p,
     glBindBufferBase(GL_UNIFORM_BUFFER, BLOCK_BINDING, sm->ubo);
     glBindTextureUnit(kinds[SM_PRODUCT_DEPTH].binding, sm->products[SM_PRODUCT_DEPTH].texture);
     glBindSampler(kinds[SM_PRODUCT_DEPTH].binding, 0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kinds[SM_PRODUCT_MOMENTS_SAT].binding, p->buffer);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kinds[i].binding, p->buffer);
     glUseProgram(p->programs[0]);
     glDispatchCompute((GLuint)(n + 63) / 64, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -377,7 +401,7 @@ static const struct product_kind kinds[SM_PRODUCT_COUNT] = {
         .check = moments_check,
     },
     [SM_PRODUCT_MOMENTS_SAT] = {
-        .binding = 0,
+        .binding = 0, .sat_channels = 2,
         .create = sat_create, .render = sat_render,
     },
     [SM_PRODUCT_EVSM] = {
@@ -391,6 +415,11 @@ static const struct product_kind kinds[SM_PRODUCT_COUNT] = {
         .binding = 4, .moments_kind = 2,
         .create = msm_create, .render = msm_render,
         .check = msm_check,
+    },
+    [SM_PRODUCT_MSM_SAT] = {
+        .binding = 1, .sat_channels = 4,
+        .create = sat_create, .render = sat_render,
+        .check = msm_sat_check,
     },
 };
 

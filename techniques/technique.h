@@ -22,7 +22,8 @@
     X(EVSM, "evsm")               /* warped moments (e^{c+ w}, e^{2c+ w}, -e^{-c- w}, e^{-2c- w}) of \
                                      w = 2d - 1, RGBA32F, filtered, mipmapped */             \
     X(MSM, "msm")                 /* four moments (w, w², w³, w⁴) of w = 2d - 1, RGBA32F,      \
-                                     filtered, mipmapped */
+                                     filtered, mipmapped */                                  \
+    X(MSM_SAT, "msm_sat")         /* summed-area table of (w, w², w³, w⁴), storage buffer */
 
 enum {
 #define X(id, name) SM_PRODUCT_##id,
@@ -38,11 +39,12 @@ enum shadowmap_product_flag {
 #undef X
 };
 
-/* Precision of the summed-area table (the `sat_format` parameter): X(ID,
+/* Precision of a summed-area table (the `sat_format` parameter): X(ID,
  * name). GLSL sees SM_SAT_<ID>. */
 #define SAT_FORMATS(X)                                                                   \
-    X(FP32, "fp32")                   /* plain float sums of d, d² */                     \
-    X(FP32_CENTERED, "fp32_centered") /* float sums of d - 0.5, (d - 0.5)²: smaller sums */ \
+    X(FP32, "fp32")                   /* plain float sums of the moments */               \
+    X(FP32_CENTERED, "fp32_centered") /* moments_sat only: float sums of d - 0.5,         \
+                                         (d - 0.5)²: smaller sums (msm_sat's w is centred) */ \
     X(INT32, "int32")                 /* fixed point in uint32, exact differences by wrap */
 
 enum sat_format {
@@ -72,11 +74,11 @@ struct shadowmap_request {
     struct {
         int blur_radius_texels;  /* separable Gaussian, sigma = radius / 2, [0, SM_MAX_BLUR_RADIUS_TEXELS]; 0 = none */
     } moments;
-    struct {
+    struct sat_request {
         enum sat_format format;
         float max_box_texels;    /* SAT_INT32: widest box side the technique reads; sets the
                                     fixed-point scale so that no box sum overflows */
-    } moments_sat;
+    } moments_sat, msm_sat;      /* one of the two a request: they share the block's SAT fields */
     struct {
         float positive, negative;  /* the warps' exponents c+, c-, (0, SM_EVSM_MAX_EXPONENT] */
         int blur_radius_texels;    /* as the moments' */

@@ -1,13 +1,15 @@
-/* Protects the summed-area table of the moments (shaders/sat_build.comp)
- * on a 2048^2 map whose depths are far from 0.5: a receiver plane at linear
- * depth 0.9 fills the map, under a small blocker at depth 0.
- *   - int32: the GPU table equals a CPU reference bit for bit (the same
- *     fixed-point rounding of the same moments, summed in uint32), and a
- *     4-tap box difference equals the box's direct sum exactly, wrap-around
- *     and all.
+/* Protects the summed-area tables (shaders/sat_build.comp), moments_sat's
+ * (d, d²) and msm_sat's (w, w², w³, w⁴), w = 2d - 1, on a 2048^2 map whose
+ * depths are far from 0.5: a receiver plane at linear depth 0.9 fills the
+ * map, under a small blocker at depth 0.
+ *   - int32: each GPU table equals a CPU reference bit for bit (the same
+ *     fixed-point rounding of the same moments, summed in uint32; w's odd
+ *     powers in two's complement), and a 4-tap box difference equals the
+ *     box's direct sum exactly, wrap-around and all.
  *   - precision: over random boxes, the error of the mean and variance read
- *     from the table (as sat.glsl reads them) orders fp32 > fp32_centered >=
- *     int32. */
+ *     from moments_sat (as sat.glsl reads them) orders fp32 > fp32_centered
+ *     >= int32; msm_sat's mean moments err less in int32 than in fp32, and
+ *     int32 only by its rounding. */
 #include "check.h"
 #include "gltf_writer.h"
 #include "run_cmd.h"
@@ -46,98 +48,119 @@ static struct box random_box(void)
     return b;
 }
 
-/* The SAT of one format, read back. */
-static uint32_t *build_sat(struct shadowmap *sm, const struct scene_mesh *mesh, enum sat_format f,
-                           float *scale)
+/* A table: product p (SM_PRODUCT_MOMENTS_SAT or _MSM_SAT) in format f,
+ * read back; channels moments per entry. */
+struct table {
+    int product, channels;
+    enum sat_format format;
+    float scale;
+    uint32_t *sat;
+};
+
+static struct table build_sat(struct shadowmap *sm, const struct scene_mesh *mesh, int product,
+                              enum sat_format f)
 {
-    struct shadowmap_request r = {.products = SM_DEPTH | SM_MOMENTS_SAT,
-                                  .moments_sat = {.format = f, .max_box_texels = MAX_BOX}};
+    struct table t = {.product = product, .channels = product == SM_PRODUCT_MSM_SAT ? 4 : 2, .format = f};
+    struct sat_request sr = {.format = f, .max_box_texels = MAX_BOX};
+    struct shadowmap_request r = {.products = SM_DEPTH | (1u << product)};
+    if (product == SM_PRODUCT_MSM_SAT)
+        r.msm_sat = sr;
+    else
+        r.moments_sat = sr;
     CHECK(shadowmap_prepare(sm, &r) == 0, "SAT resources");
     for (int p = 0; p < SM_PRODUCT_COUNT; p++)
         if (r.products & (1u << p))
             shadowmap_render_product(sm, mesh, p, &r);
-    uint32_t *sat = xmalloc(sizeof(uint32_t) * 2 * STRIDE * STRIDE);
-    glBindBuffer(GL_SHADER_STORAGE_BUFFER, sm->products[SM_PRODUCT_MOMENTS_SAT].buffer);
-    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof(uint32_t) * 2 * STRIDE * STRIDE, sat);
-    *scale = sm->block.sat_scale;
-    return sat;
+    size_t bytes = sizeof(uint32_t) * (size_t)t.channels * STRIDE * STRIDE;
+    t.sat = xmalloc(bytes);
+    glBindBuffer(GL_SHADER_STORAGE_BUFFER, sm->products[product].buffer);
+    glGetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)bytes, t.sat);
+    t.scale = sm->block.sat_scale;
+    return t;
 }
 
-static uint32_t at(const uint32_t *sat, int x, int y, int c) { return sat[2 * (y * STRIDE + x) + c]; }
-static float atf(const uint32_t *sat, int x, int y, int c)
+static uint32_t at(const struct table *t, int x, int y, int c)
 {
-    float v;
-    uint32_t u = at(sat, x, y, c);
-    memcpy(&v, &u, sizeof v);
-    return v;
+    return t->sat[t->channels * (y * STRIDE + x) + c];
 }
 
-static void int32_exact(const uint32_t *sat, const float *moments, float scale)
+/* The mean of channel c over box b, read as sat.glsl reads it. */
+static float box_mean(const struct table *t, struct box b, int c)
 {
-    /* The reference: round(m * scale) as the shader does it (float multiply
-     * by a power of two is exact, then + 0.5 and truncation), summed in
-     * uint32. */
-    uint32_t *q = xmalloc(sizeof(uint32_t) * 2 * N * N), *ref = xcalloc(2 * STRIDE * STRIDE, sizeof *ref);
-    for (int i = 0; i < 2 * N * N; i++)
-        q[i] = (uint32_t)(moments[i] * scale + 0.5f);
+    float area = (float)((b.x1 - b.x0) * (b.y1 - b.y0));
+    uint32_t u[4] = {at(t, b.x1, b.y1, c), at(t, b.x0, b.y1, c), at(t, b.x1, b.y0, c), at(t, b.x0, b.y0, c)};
+    if (t->format == SAT_INT32)
+        return (float)(int32_t)(u[0] - u[1] - u[2] + u[3]) / t->scale / area;
+    float v[4];
+    memcpy(v, u, sizeof v);
+    return ((v[0] - v[1]) - (v[2] - v[3])) / area;
+}
+
+/* moments[i * channels + c]: as the table's input; the reference rounds
+ * them as the shader does (float multiply by a power of two is exact, then
+ * + 0.5 and floor), sums them in uint32, and must equal the table. */
+static void int32_exact(const struct table *t, const float *moments)
+{
+    const int C = t->channels;
+    uint32_t *q = xmalloc(sizeof(uint32_t) * C * N * N), *ref = xcalloc((size_t)C * STRIDE * STRIDE, sizeof *ref);
+    for (int i = 0; i < C * N * N; i++)
+        q[i] = (uint32_t)(int32_t)floorf(moments[i] * t->scale + 0.5f);
     for (int y = 1; y <= N; y++)
         for (int x = 1; x <= N; x++)
-            for (int c = 0; c < 2; c++)
-                ref[2 * (y * STRIDE + x) + c] = q[2 * ((y - 1) * N + x - 1) + c] +
-                                                ref[2 * ((y - 1) * STRIDE + x) + c] +
-                                                ref[2 * (y * STRIDE + x - 1) + c] -
-                                                ref[2 * ((y - 1) * STRIDE + x - 1) + c];
-    CHECK(memcmp(ref, sat, sizeof(uint32_t) * 2 * STRIDE * STRIDE) == 0,
-          "int32 SAT must equal the CPU reference bit for bit");
+            for (int c = 0; c < C; c++)
+                ref[C * (y * STRIDE + x) + c] = q[C * ((y - 1) * N + x - 1) + c] +
+                                                ref[C * ((y - 1) * STRIDE + x) + c] +
+                                                ref[C * (y * STRIDE + x - 1) + c] -
+                                                ref[C * ((y - 1) * STRIDE + x - 1) + c];
+    CHECK(memcmp(ref, t->sat, sizeof(uint32_t) * C * STRIDE * STRIDE) == 0,
+          "int32 SAT (%d channels) must equal the CPU reference bit for bit", C);
     int wrong = 0;
     for (int k = 0; k < BOXES; k++) {
         struct box b = random_box();
-        for (int c = 0; c < 2; c++) {
-            uint64_t direct = 0;
+        for (int c = 0; c < C; c++) {
+            int64_t direct = 0;
             for (int y = b.y0; y < b.y1; y++)
                 for (int x = b.x0; x < b.x1; x++)
-                    direct += q[2 * (y * N + x) + c];
-            uint32_t taps = at(sat, b.x1, b.y1, c) - at(sat, b.x0, b.y1, c) - at(sat, b.x1, b.y0, c) +
-                            at(sat, b.x0, b.y0, c);
-            wrong += direct >= (1ull << 32) || taps != (uint32_t)direct;
+                    direct += (int32_t)q[C * (y * N + x) + c];
+            uint32_t taps = at(t, b.x1, b.y1, c) - at(t, b.x0, b.y1, c) - at(t, b.x1, b.y0, c) +
+                            at(t, b.x0, b.y0, c);
+            wrong += direct >= (1ll << 31) || direct < -(1ll << 31) || (int32_t)taps != direct;
         }
     }
-    CHECK(wrong == 0, "%d of %d int32 box sums differ from the direct sum", wrong, 2 * BOXES);
+    CHECK(wrong == 0, "%d of %d int32 box sums (%d channels) differ from the direct sum", wrong, C * BOXES, C);
     free(q), free(ref);
 }
 
-/* RMS error of the box variance (and mean, in *mean_rms) read from the table
- * as sat.glsl does, against double-precision sums of the moments. */
-static double variance_rms(const uint32_t *sat, enum sat_format f, float scale, const float *moments,
-                           double *mean_rms)
+/* RMS error over random boxes of what a shader reads from the table,
+ * against double-precision sums of the moments (moments[i * channels + c],
+ * the table's input before any centring): two channels, the mean (err[0])
+ * and variance (err[1]) of depth, as sat_mean_variance forms them; four,
+ * each mean moment (err[c]). */
+static void box_rms(const struct table *t, const float *moments, double err[4])
 {
-    rng = 88172645463325252ull;  /* the same boxes for every format */
-    double se_var = 0, se_mean = 0;
+    const int C = t->channels;
+    rng = 88172645463325252ull;  /* the same boxes for every table */
+    double se[4] = {0};
     for (int k = 0; k < BOXES; k++) {
         struct box b = random_box();
-        double s1 = 0, s2 = 0, area = (double)(b.x1 - b.x0) * (b.y1 - b.y0);
+        double s[4] = {0}, area = (double)(b.x1 - b.x0) * (b.y1 - b.y0);
         for (int y = b.y0; y < b.y1; y++)
             for (int x = b.x0; x < b.x1; x++)
-                s1 += moments[2 * (y * N + x)], s2 += moments[2 * (y * N + x) + 1];
-        double mean = s1 / area, var = s2 / area - mean * mean;
-        float m[2];
-        for (int c = 0; c < 2; c++) {
-            if (f == SAT_INT32) {
-                uint32_t d = at(sat, b.x1, b.y1, c) - at(sat, b.x0, b.y1, c) - at(sat, b.x1, b.y0, c) +
-                             at(sat, b.x0, b.y0, c);
-                m[c] = (float)(int32_t)d / scale / (float)area;
-            } else {
-                m[c] = ((atf(sat, b.x1, b.y1, c) - atf(sat, b.x0, b.y1, c)) -
-                        (atf(sat, b.x1, b.y0, c) - atf(sat, b.x0, b.y0, c))) / (float)area;
-            }
+                for (int c = 0; c < C; c++)
+                    s[c] += moments[C * (y * N + x) + c];
+        double want[4];
+        float got[4];
+        for (int c = 0; c < C; c++)
+            want[c] = s[c] / area, got[c] = box_mean(t, b, c);
+        if (C == 2) {  /* the variance is shift-invariant: centred or not, m1 - m0² */
+            got[1] -= got[0] * got[0], want[1] -= want[0] * want[0];
+            got[0] += t->format == SAT_FP32_CENTERED ? 0.5f : 0.0f;
         }
-        float got_mean = f == SAT_FP32_CENTERED ? m[0] + 0.5f : m[0];
-        float got_var = m[1] - m[0] * m[0];
-        se_mean += (got_mean - mean) * (got_mean - mean);
-        se_var += (got_var - var) * (got_var - var);
+        for (int c = 0; c < C; c++)
+            se[c] += (got[c] - want[c]) * (got[c] - want[c]);
     }
-    *mean_rms = sqrt(se_mean / BOXES);
-    return sqrt(se_var / BOXES);
+    for (int c = 0; c < C; c++)
+        err[c] = sqrt(se[c] / BOXES);
 }
 
 /* Light at height 4 facing down; blocker (1 x 1) at height 2 is the near
@@ -175,51 +198,68 @@ int main(void)
     scene_mesh_upload(&s, &mesh);
     CHECK(shadowmap_create(&sm, &s, &(struct shadowmap_desc){.size_texels = N}) == 0, "shadow map");
 
-    /* The SAT's input: linear depth from the depth map, converted as
-     * shaders/depth.glsl does (same float operations, no fused ones). */
-    float *moments = NULL;
-    double var_rms[3], mean_rms[3];
-    for (int f = SAT_FP32; f <= SAT_INT32; f++) {
-        float scale;
-        uint32_t *sat = build_sat(&sm, &mesh, (enum sat_format)f, &scale);
-        if (!moments) {
-            moments = xmalloc(sizeof(float) * 2 * N * N);
-            float *depth = xmalloc(sizeof(float) * N * N);
-            glBindTexture(GL_TEXTURE_2D, sm.products[SM_PRODUCT_DEPTH].texture);
-            glPixelStorei(GL_PACK_ALIGNMENT, 4);
-            glGetTexImage(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT, GL_FLOAT, depth);
-            float n = sm.block.near_world, f = sm.block.far_world;
-            for (int i = 0; i < N * N; i++) {
-                float z = n * f / (depth[i] * (f - n) + n);
-                float d = (z - n) / (f - n);
-                moments[2 * i] = d, moments[2 * i + 1] = d * d;
-            }
-            free(depth);
-            int far_from_half = 0;
-            for (int i = 0; i < N * N; i++)
-                far_from_half += fabsf(moments[2 * i] - 0.5f) > 0.35f;
-            CHECK(far_from_half == N * N, "every depth far from 0.5: %d of %d", far_from_half, N * N);
-        }
-        if (f == SAT_INT32) {
-            CHECK(scale == 262144.0f, "int32 scale for 64-texel boxes: 2^(30 - floor(log2(66^2))) = "
-                  "2^18, got %g", scale);
-            int32_exact(sat, moments, scale);
-        }
-        var_rms[f] = variance_rms(sat, (enum sat_format)f, scale, moments, &mean_rms[f]);
-        free(sat);
+    /* The tables' input: linear depth from the depth map, converted as
+     * shaders/depth.glsl does (same float operations, no fused ones), and
+     * its moments: d, d² (moments_sat) and w, w², w³, w⁴ (msm_sat). */
+    float *depth = xmalloc(sizeof(float) * N * N), *m2 = xmalloc(sizeof(float) * 2 * N * N),
+          *m4 = xmalloc(sizeof(float) * 4 * N * N);
+    shadowmap_prepare(&sm, &(struct shadowmap_request){.products = SM_DEPTH});
+    shadowmap_render_product(&sm, &mesh, SM_PRODUCT_DEPTH, NULL);
+    glBindTexture(GL_TEXTURE_2D, sm.products[SM_PRODUCT_DEPTH].texture);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT, GL_FLOAT, depth);
+    float n = sm.block.near_world, f = sm.block.far_world;
+    int far_from_half = 0;
+    for (int i = 0; i < N * N; i++) {
+        float z = n * f / (depth[i] * (f - n) + n);
+        float d = (z - n) / (f - n), w = 2.0f * d - 1.0f, w2 = w * w;
+        m2[2 * i] = d, m2[2 * i + 1] = d * d;
+        m4[4 * i] = w, m4[4 * i + 1] = w2, m4[4 * i + 2] = w2 * w, m4[4 * i + 3] = w2 * w2;
+        far_from_half += fabsf(d - 0.5f) > 0.35f;
     }
-    printf("SAT at %d^2, rms error over %d boxes up to %dx%d texels:\n", N, BOXES, MAX_BOX, MAX_BOX);
-    for (int f = SAT_FP32; f <= SAT_INT32; f++)
-        printf("  %-14s mean %.3g  variance %.3g\n", sat_format_names[f], mean_rms[f], var_rms[f]);
-    CHECK(var_rms[SAT_FP32] > var_rms[SAT_FP32_CENTERED] && mean_rms[SAT_FP32] > mean_rms[SAT_FP32_CENTERED],
-          "centring must help fp32");
-    CHECK(var_rms[SAT_FP32_CENTERED] >= var_rms[SAT_INT32] && mean_rms[SAT_FP32_CENTERED] >= mean_rms[SAT_INT32],
-          "int32 must be at least as precise as fp32_centered");
-    /* int32 errs only by its rounding, half a unit of 2^-18 per texel. */
-    CHECK(mean_rms[SAT_INT32] <= 0.5 / 262144.0, "int32 mean error %.3g beyond its rounding",
-          mean_rms[SAT_INT32]);
+    CHECK(far_from_half == N * N, "every depth far from 0.5: %d of %d", far_from_half, N * N);
 
-    free(moments);
+    double err2[3][4], err4[3][4];
+    for (int fmt = SAT_FP32; fmt <= SAT_INT32; fmt++)
+        for (int p = SM_PRODUCT_MOMENTS_SAT; p <= SM_PRODUCT_MSM_SAT; p += SM_PRODUCT_MSM_SAT - SM_PRODUCT_MOMENTS_SAT) {
+            if (p == SM_PRODUCT_MSM_SAT && fmt == SAT_FP32_CENTERED)
+                continue;  /* not offered: w is centred */
+            struct table t = build_sat(&sm, &mesh, p, (enum sat_format)fmt);
+            const float *moments = p == SM_PRODUCT_MSM_SAT ? m4 : m2;
+            if (fmt == SAT_INT32) {
+                CHECK(t.scale == 262144.0f, "int32 scale for 64-texel boxes: 2^(30 - floor(log2(66^2))) = "
+                      "2^18, got %g", t.scale);
+                int32_exact(&t, moments);
+            }
+            box_rms(&t, moments, p == SM_PRODUCT_MSM_SAT ? err4[fmt] : err2[fmt]);
+            free(t.sat);
+        }
+    printf("SAT at %d^2, rms error over %d boxes up to %dx%d texels:\n", N, BOXES, MAX_BOX, MAX_BOX);
+    for (int fmt = SAT_FP32; fmt <= SAT_INT32; fmt++)
+        printf("  moments_sat %-14s mean %.3g  variance %.3g\n", sat_format_names[fmt], err2[fmt][0], err2[fmt][1]);
+    for (int fmt = SAT_FP32; fmt <= SAT_INT32; fmt += SAT_INT32 - SAT_FP32)
+        printf("  msm_sat     %-14s w %.3g  w^2 %.3g  w^3 %.3g  w^4 %.3g\n", sat_format_names[fmt], err4[fmt][0],
+               err4[fmt][1], err4[fmt][2], err4[fmt][3]);
+    CHECK(err2[SAT_FP32][1] > err2[SAT_FP32_CENTERED][1] && err2[SAT_FP32][0] > err2[SAT_FP32_CENTERED][0],
+          "centring must help fp32");
+    CHECK(err2[SAT_FP32_CENTERED][1] >= err2[SAT_INT32][1] && err2[SAT_FP32_CENTERED][0] >= err2[SAT_INT32][0],
+          "int32 must be at least as precise as fp32_centered");
+    /* int32 errs only by its rounding, half a unit of 2^-18 per texel: of
+     * the mean for both tables, of each of msm_sat's moments. */
+    CHECK(err2[SAT_INT32][0] <= 0.5 / 262144.0, "int32 mean error %.3g beyond its rounding", err2[SAT_INT32][0]);
+    for (int c = 0; c < 4; c++) {
+        CHECK(err4[SAT_INT32][c] <= 0.5 / 262144.0, "msm_sat int32: moment %d's error %.3g beyond its rounding", c + 1,
+              err4[SAT_INT32][c]);
+        CHECK(err4[SAT_FP32][c] > err4[SAT_INT32][c], "msm_sat: int32 must beat fp32 on moment %d", c + 1);
+    }
+    /* Both tables at once would share the block's format and scale. */
+    CHECK(shadowmap_prepare(&sm, &(struct shadowmap_request){.products = SM_DEPTH | SM_MOMENTS_SAT | SM_MSM_SAT})
+          != 0, "a request of both tables must be refused");
+    CHECK(shadowmap_prepare(&sm, &(struct shadowmap_request){
+              .products = SM_DEPTH | SM_MSM_SAT, .msm_sat.format = SAT_FP32_CENTERED}) != 0,
+          "msm_sat must refuse fp32_centered");
+
+    free(depth), free(m2), free(m4);
     shadowmap_destroy(&sm);
     scene_mesh_destroy(&mesh);
     gl_context_destroy();

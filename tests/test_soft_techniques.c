@@ -1,4 +1,4 @@
-/* Protects the five soft techniques where their models are exact or their
+/* Protects the soft techniques where their models are exact or their
  * failure is the point:
  *   - parallel planes, rect light (planar blocker edge over a planar
  *     receiver, both parallel to the light): moments are exact for two
@@ -8,13 +8,20 @@
  *     hard has no penumbra at all;
  *   - the same planes: evsm's warped bound and msm's four-moment bound are
  *     exact for two depths as vsm's is, so with the same filter they draw
- *     vsm's penumbra;
+ *     vsm's penumbra; msm_soft and vssm draw pcss_savsm's (four moments
+ *     from a SAT, and sub-boxes that each hold two depths, change nothing
+ *     where two moments are exact);
+ *   - the same occluders at defaults: pcss_savsm lights half of the true
+ *     umbra; vssm's subdivision and msm_soft's four moments light less;
+ *     vssm tests sub-boxes at the receiver's plane, without which a sloped
+ *     receiver reads itself as a blocker (acne on grazing_receiver);
  *   - two occluders far apart in depth, one over the other: vsm bleeds
  *     light, and bleed_reduction reduces it; evsm and msm, at the same
  *     filter, bleed far less, without darkening; evsm4's negative warp
  *     closes what evsm2's positive one leaks;
  *   - every technique on every shipped scene: no NaN or Inf; nor the moment
- *     family at the depth-range extremes of `stability --vary depth_range`. */
+ *     family (the SAT ones too) at the depth-range extremes of `stability
+ *     --vary depth_range`. */
 #include "check.h"
 #include "run_cmd.h"
 #include "techniques/technique.h"
@@ -68,7 +75,7 @@ static void no_nonfinite(const cJSON *m, const char *what)
 
 static void penumbra_order(void)
 {
-    cJSON *m = run_cells("planes", "--scene parallel_planes --technique hard,pcf,pcss,pcss_savsm,vsm,evsm,msm "
+    cJSON *m = run_cells("planes", "--scene parallel_planes --technique hard,pcf,pcss,pcss_savsm,vsm,evsm,msm,msm_soft,vssm "
                                    "--width 192 --height 192 --gt-samples 1024 "
                                    "--shadow-map-size 1024", 0);
     if (m) {
@@ -106,6 +113,17 @@ static void penumbra_order(void)
         printf("parallel planes, penumbra_rmse: vsm %.4f  evsm %.4f  msm %.4f\n", vsm, evsm, msm);
         CHECK(fabs(evsm - vsm) < 0.01, "evsm must draw vsm's penumbra here: %.4f against %.4f", evsm, vsm);
         CHECK(fabs(msm - vsm) < 0.01, "msm must draw vsm's penumbra here: %.4f against %.4f", msm, vsm);
+        /* And the same of the SAT techniques, with the same boxes:
+         * msm_soft's four moments and vssm's sub-boxes (each holding the
+         * same two depths; none is formed where the estimate holds) draw
+         * pcss_savsm's ramp. Measured 0.0046 all three; 0.002 allows the
+         * int32 tables' rounding and msm's moment bias. */
+        const double msm_soft = metric(m, "msm_soft", "penumbra_rmse"), vssm = metric(m, "vssm", "penumbra_rmse");
+        printf("parallel planes, penumbra_rmse: msm_soft %.4f  vssm %.4f\n", msm_soft, vssm);
+        CHECK(fabs(msm_soft - pcss_savsm) < 0.002, "msm_soft must draw pcss_savsm's ramp: %.4f against %.4f",
+              msm_soft, pcss_savsm);
+        CHECK(fabs(vssm - pcss_savsm) < 0.002, "vssm must draw pcss_savsm's ramp: %.4f against %.4f", vssm,
+              pcss_savsm);
         no_nonfinite(m, "parallel planes");
         cJSON_Delete(m);
     }
@@ -184,6 +202,50 @@ static void vsm_bleeding(void)
     cJSON_Delete(m);
 }
 
+/* PCSS on SAT moments at defaults on overlapping_occluders: the search box
+ * holds both plates and ground beyond the receiver, so pcss_savsm's
+ * two-depth estimate of the blocker depth is wrong and its filter box too
+ * wide, and it lights half of the true umbra (leak_fraction 0.52).
+ * vssm splits the boxes whose estimate cannot hold two depths, msm_soft
+ * places the blockers by four moments: both must leak less (measured 0.41
+ * and 0.39; what still leaks is in the README). And on grazing_receiver,
+ * the plane's purpose: tested at the pixel's own depth, the sub-boxes on a
+ * sloped receiver's near side read the receiver as a blocker (measured
+ * dark_fraction 0.77), at the receiver's plane they do not (0.0008). */
+static void soft_leak(void)
+{
+    cJSON *m = run_cells("soft_plates", "--scene overlapping_occluders --technique pcss_savsm,msm_soft,vssm "
+                                        "--width 160 --height 160 --gt-samples 256", 0);
+    if (m) {
+        const double pcss_savsm = metric(m, "pcss_savsm", "leak_fraction"),
+                     vssm = metric(m, "vssm", "leak_fraction"), msm_soft = metric(m, "msm_soft", "leak_fraction");
+        printf("overlapping plates, leak_fraction at defaults: pcss_savsm %.4f  vssm %.4f  msm_soft %.4f\n",
+               pcss_savsm, vssm, msm_soft);
+        CHECK(pcss_savsm > 0.4, "pcss_savsm's known leak is gone? %.4f (update the README)", pcss_savsm);
+        CHECK(vssm < pcss_savsm - 0.05, "vssm must leak less than pcss_savsm: %.4f against %.4f", vssm, pcss_savsm);
+        CHECK(msm_soft < pcss_savsm - 0.05, "msm_soft must leak less than pcss_savsm: %.4f against %.4f", msm_soft,
+              pcss_savsm);
+        cJSON_Delete(m);
+    }
+    m = run_cells("soft_slope", "--scene grazing_receiver --technique vssm --sweep vssm.receiver_plane=true,false "
+                                "--width 160 --height 160 --gt-samples 256", 0);
+    if (m) {
+        double dark[2] = {NAN, NAN};
+        const cJSON *c;
+        cJSON_ArrayForEach(c, cJSON_GetObjectItem(m, "cells")) {
+            const char *cell = cJSON_GetStringValue(cJSON_GetObjectItem(c, "cell"));
+            if (cell && strstr(cell, "receiver_plane="))
+                dark[strstr(cell, "=false") != NULL] = cJSON_GetNumberValue(cJSON_GetObjectItem(c, "dark_fraction"));
+        }
+        printf("grazing receiver, vssm dark_fraction: %.4f at the receiver's plane, %.4f at the pixel's depth\n",
+               dark[0], dark[1]);
+        CHECK(dark[0] < 0.01, "vssm at the receiver's plane must not shadow the slope: %.4f", dark[0]);
+        CHECK(dark[1] > 0.3, "without the plane the sub-boxes must shadow the slope (else what is it for?): %.4f",
+              dark[1]);
+        cJSON_Delete(m);
+    }
+}
+
 /* A NaN or Inf in any cell fails the run (exit 1): every technique at its
  * defaults on every shipped scene (rect and disk lights, so both tap
  * patterns). */
@@ -204,7 +266,7 @@ static void all_finite(void)
  * stress test: stability exits 1 on any NaN/Inf. */
 static void depth_range_finite(void)
 {
-    char *cmd = util_printf("%s stability --scene overlapping_occluders --technique vsm,evsm,msm --vary "
+    char *cmd = util_printf("%s stability --scene overlapping_occluders --technique vsm,evsm,msm,msm_soft,vssm --vary "
                             "depth_range=1,1000000 --width 64 --height 64 --gt-samples 16 --no-cache -q --out %s/range",
                             sb, dir);
     struct strbuf err = {0};
@@ -221,6 +283,7 @@ int main(int argc, char **argv)
     sb = argv[1];
     penumbra_order();
     vsm_bleeding();
+    soft_leak();
     all_finite();
     depth_range_finite();
     remove_tree(dir);

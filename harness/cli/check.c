@@ -104,6 +104,18 @@ static const struct {
     {"overlapping_occluders", "evsm@bleed_reduction=0.3"},
     {"overlapping_occluders", "msm@moment_bias=0.003,blur_radius_texels=8"},
     {"grazing_receiver", "msm@depth_bias=0.001"},
+    {"floating_box_sphere", "msm_soft@sat_format=fp32"},
+    {"parallel_planes", "msm_soft@light_size_scale=0.5"},
+    {"overlapping_occluders", "msm_soft@moment_bias=0.003"},
+    {"grazing_receiver", "msm_soft@depth_bias=0.001"},
+    {"contact_hardening", "msm_soft@min_blocker_fraction=0.05"},
+    {"floating_box_sphere", "vssm@sat_format=fp32_centered"},
+    {"parallel_planes", "vssm@light_size_scale=0.5"},
+    {"grazing_receiver", "vssm@min_variance=0.001"},
+    {"contact_hardening", "vssm@min_blocker_fraction=0.05"},
+    {"overlapping_occluders", "vssm@bleed_reduction=0.3"},
+    {"overlapping_occluders", "vssm@subdivisions=4"},
+    {"curved_receivers", "vssm@receiver_plane=false"},
 };
 #define TABLE_COUNT ((int)(sizeof table / sizeof *table))
 

@@ -95,6 +95,12 @@ void light_frustum_widen(struct light_frustum *f, const struct scene *s, float k
     project(f, &s->light);
 }
 
+float light_frustum_search_box_texels(const struct light_frustum *f, float light_size_scale, int n)
+{
+    float size_uv = fmaxf(f->light_size_uv[0], f->light_size_uv[1]) * light_size_scale;
+    return size_uv * (1.0f - f->near_world / f->far_world) * (float)n;
+}
+
 bool light_frustum_inside(const struct light_frustum *f, struct vec3 p)
 {
     struct vec3 q = m4_point(f->view, p);

@@ -40,6 +40,12 @@ int light_frustum_fit_window(const struct scene *s, const struct light_frustum *
  * far] (`shadowbench stability --vary depth_range`). */
 void light_frustum_widen(struct light_frustum *f, const struct scene *s, float k);
 
+/* The side in texels of an n x n map of the widest PCSS blocker-search box
+ * (shaders/pcss_geometry.glsl) for the light scaled by light_size_scale:
+ * a receiver's on the far plane, light_size_uv * (1 - near/far). A
+ * summed-area table's int32 scale is set by it. */
+float light_frustum_search_box_texels(const struct light_frustum *f, float light_size_scale, int n);
+
 /* Is the world point inside the frustum (and so covered by the map)? */
 bool light_frustum_inside(const struct light_frustum *f, struct vec3 p);
 

@@ -1,0 +1,53 @@
+// Hamburger 4MSM (Peters and Klein 2015), shared by msm and msm_soft: from
+// four moments b = (E[w], E[w²], E[w³], E[w⁴]) of the depths w in a filter
+// region, the least share G of them in front of a depth z that the moments
+// allow, and where that share sits.
+
+// The moment bias's target: the moments of a spread distribution (w
+// uniform over four points), towards which b is drawn by alpha.
+const vec4 MSM_BIAS_TARGET = vec4(0.0, 0.375, 0.0, 0.375);
+
+vec4 msm_bias(vec4 b, float alpha)
+{
+    return mix(b, MSM_BIAS_TARGET, alpha);
+}
+
+// G; and z_blocker, the mean depth of that share: the distribution with
+// moments b that puts the least mass in front of z is supported on z and
+// the two roots z2 <= z3 of the quadratic whose coefficients c solve
+// B c = (1, z, z²), B the Hankel matrix of b; G is the mass of the roots in
+// front of z. Its first moment is b1 = (1 - G) z + (the roots' mass times
+// their mean), so where both roots are in front, z_blocker =
+// (b1 - (1 - G) z) / G; where only z2 is, z_blocker = z2. With G = 0,
+// z_blocker = z.
+float msm_occlusion(vec4 b, float z, out float z_blocker)
+{
+    // B = L D L^T with L unit lower triangular. The moment bias keeps d2
+    // and d3 positive; the floors guard fp32 rounding, so no division
+    // below is by zero.
+    float d2 = max(b.y - b.x * b.x, 1e-12);
+    float l32 = (b.z - b.x * b.y) / d2;
+    float d3 = max(b.w - b.y * b.y - l32 * l32 * d2, 1e-12);
+    float y2 = z - b.x;
+    float y3 = z * z - b.y - l32 * y2;
+    float c3 = y3 / d3;
+    float c2 = y2 / d2 - l32 * c3;
+    float c1 = 1.0 - b.x * c2 - b.y * c3;
+    // The other two support points: the roots of c3 x² + c2 x + c1. c3 is
+    // 0 where z is the mean and the spread is symmetric: the roots run off
+    // to infinity, which reads as lit (z <= z2) or is clamped below.
+    float p = c2 / c3, q = c1 / c3;
+    float r = sqrt(max(0.25 * p * p - q, 0.0));
+    float z2 = -0.5 * p - r, z3 = -0.5 * p + r;
+    z_blocker = z;
+    if (!(z > z2))  // also a NaN root: lit
+        return 0.0;
+    if (z <= z3) {
+        z_blocker = z2;
+        return clamp((z * z3 - b.x * (z + z3) + b.y) / ((z3 - z2) * (z - z2)), 0.0, 1.0);
+    }
+    float g = clamp(1.0 - (z2 * z3 - b.x * (z2 + z3) + b.y) / ((z - z2) * (z - z3)), 0.0, 1.0);
+    if (g > 0.0)
+        z_blocker = clamp((b.x - (1.0 - g) * z) / g, -1.0, z);
+    return g;
+}

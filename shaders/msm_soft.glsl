@@ -1,0 +1,30 @@
+// msm_soft: PCSS with both area queries answered by 4MSM from the SAT of
+// four moments (see techniques/msm_soft.c).
+#define SAT_CHANNELS 4
+#include "shadow_common.glsl"
+#include "pcss_geometry.glsl"
+#include "msm_common.glsl"
+#include "sat.glsl"
+
+float shadow_visibility(ShadowInput s)
+{
+    float z = sm_moment_depth(s.depth - MSM_SOFT_DEPTH_BIAS), z_blocker;
+    vec4 b;
+
+    // 1. Blocker share and mean depth over the search box.
+    if (!sat_box_mean(s.uv, sm_search_half_uv(s, MSM_SOFT_LIGHT_SIZE_SCALE), b))
+        return 1.0;
+    if (msm_occlusion(msm_bias(b, MSM_SOFT_MOMENT_BIAS), z, z_blocker) < MSM_SOFT_MIN_BLOCKER_FRACTION)
+        return 1.0;
+    float d_blocker = clamp(0.5 * (z_blocker + 1.0), 0.0, s.depth);
+
+    // 2. Penumbra as PCSS: the box of the light's footprint (a disk light:
+    // the square of the same area); 3. 4MSM over it.
+    vec2 filter_uv = sm_penumbra_half_uv(s, sm_world_depth(d_blocker), MSM_SOFT_LIGHT_SIZE_SCALE);
+    if (!SM_RECT_LIGHT)
+        filter_uv *= 0.88622693;  // sqrt(pi) / 2
+    filter_uv = max(filter_uv, 0.5 * sm.texel_size_uv);
+    if (!sat_box_mean(s.uv, filter_uv, b))
+        return 1.0;
+    return 1.0 - msm_occlusion(msm_bias(b, MSM_SOFT_MOMENT_BIAS), z, z_blocker);
+}

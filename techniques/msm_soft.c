@@ -1,0 +1,86 @@
+/* msm_soft — moment soft shadow mapping (Peters, Münstermann, Wetzstein and
+ * Klein 2016, "Beyond hard shadows: moment shadow maps for single
+ * scattering, soft shadows and translucent occluders", I3D; extended in
+ * JCGT 6(1), 2017): PCSS whose two area queries are answered by Hamburger
+ * 4MSM (msm_common.glsl) from the summed-area table of the four moments
+ * (w, w², w³, w⁴), w = 2d - 1 (the msm_sat product): O(1) in the light size.
+ *
+ * Computes V like PCSS. Blocker search: over the search box (as pcss),
+ * 4MSM's bound G is the least blocked share the box's moments allow, and
+ * the distribution that attains it puts that share at one or two depths in
+ * front of the receiver: their mean is the blocker depth (w = (b1 - (1 - G)
+ * z) / G when both are in front, VSSM's estimate with the bound's weights).
+ * G below min_blocker_fraction: lit. Penumbra width as PCSS; then 1 - G of
+ * the moments over that box. Exact, like pcss_savsm, for a planar blocker
+ * over a planar receiver parallel to a rect light (two depths, where four
+ * moments determine the distribution); where three or more depths share
+ * the search box (overlapping blockers, a receiver sloping through it)
+ * four moments still place the blockers where two cannot, which is what
+ * this technique buys over pcss_savsm.
+ *
+ * Parameters:
+ *   sat_format            the table's precision: int32 (fixed point, exact
+ *                         box sums; each box moment good to half a unit of
+ *                         the scale, ~2e-6 at 2048² for 64-texel boxes) or
+ *                         fp32 (float sums: over a 2048² map the box means
+ *                         err by ~5e-3, far more than 4MSM tolerates; shown,
+ *                         not recommended). Its int32 scale is set by the
+ *                         widest search box, as pcss_savsm's.
+ *   light_size_scale      multiplies the scene's light size.
+ *   moment_bias           alpha, as msm: guards rounding, bleeds as it grows.
+ *   depth_bias            subtracted from the receiver's linear depth.
+ *   min_blocker_fraction  below this blocked share of the search box, lit.
+ *
+ * How it fails: 4MSM's bound is a lower bound on the blocked share, so
+ * where more than two depths overlap it still leaks (less than VSM); a
+ * receiver sloping across a wide search box counts its own nearer half as
+ * a blocker (both queries are boxes of the map, not of the receiver's
+ * plane), which depth_bias trades against detached shadows; box kernels;
+ * SAT precision limits the moment bias from below. */
+#include "param_rows.h"
+#include "scene/light_frustum.h"
+
+struct msm_soft_settings {
+    int sat_format;              /* index into msm_soft_sat_formats */
+    float light_size_scale;      /* [0.01, 10] */
+    float moment_bias;           /* [1e-7, 0.01] */
+    float depth_bias;            /* linear depth, [0, 0.05] */
+    float min_blocker_fraction;  /* [0, 0.5] */
+};
+
+/* The formats the msm_sat product offers (fp32_centered does not apply). */
+static const char *const msm_soft_sat_formats[] = {"fp32", "int32", NULL};
+static const enum sat_format msm_soft_sat_format_ids[] = {SAT_FP32, SAT_INT32};
+
+static const struct technique_param msm_soft_params[] = {
+    {"sat_format", "summed-area table precision: fp32, int32 (exact box sums)",
+     offsetof(struct msm_soft_settings, sat_format), PARAM_ENUM, 1, 0, 0, msm_soft_sat_formats, NULL},
+    PARAM_ROW_LIGHT_SIZE_SCALE(struct msm_soft_settings),
+    {"moment_bias", "alpha, the moments drawn towards a spread distribution's: guards rounding, "
+     "bleeds as it grows", offsetof(struct msm_soft_settings, moment_bias), PARAM_FLOAT, 3e-5, 1e-7, 0.01, NULL,
+     TUNE(3e-6, 3e-5, 3e-4)},
+    {"depth_bias", "subtracted from the receiver's linear depth before both queries",
+     offsetof(struct msm_soft_settings, depth_bias), PARAM_FLOAT, 0.0, 0.0, 0.05, NULL, TUNE(0, 1e-3, 1e-2)},
+    {"min_blocker_fraction", "blocked share of the search box below which it is lit",
+     offsetof(struct msm_soft_settings, min_blocker_fraction), PARAM_FLOAT, 0.001, 0.0, 0.5, NULL,
+     TUNE(0.0, 0.001, 0.01, 0.05)},
+    {NULL},
+};
+
+static void msm_soft_request(const void *settings, const struct light_frustum *f, int map_size_texels,
+                             struct shadowmap_request *r)
+{
+    const struct msm_soft_settings *s = settings;
+    r->msm_sat.format = msm_soft_sat_format_ids[s->sat_format];
+    r->msm_sat.max_box_texels = light_frustum_search_box_texels(f, s->light_size_scale, map_size_texels);
+}
+
+const struct technique technique_msm_soft = {
+    .name = "msm_soft",
+    .summary = "PCSS with blocker depth and filtering by 4MSM from a SAT of four moments",
+    .needs = SM_MSM_SAT,
+    .params = msm_soft_params,
+    .settings_size = sizeof(struct msm_soft_settings),
+    .shader = "msm_soft.glsl",
+    .request = msm_soft_request,
+};
