@@ -3,8 +3,9 @@
 // region, the least share G of them in front of a depth z that the moments
 // allow, and where that share sits.
 
-// The moment bias's target: the moments of a spread distribution (w
-// uniform over four points), towards which b is drawn by alpha.
+// The moment bias's target, towards which b is drawn by alpha: Peters and
+// Klein's (0, 0.375, 0, 0.375), moments of a spread, symmetric
+// distribution, which keep the Hankel matrix well conditioned.
 const vec4 MSM_BIAS_TARGET = vec4(0.0, 0.375, 0.0, 0.375);
 
 vec4 msm_bias(vec4 b, float alpha)
@@ -33,17 +34,17 @@ float msm_occlusion(vec4 b, float z, out float z_blocker)
     float c3 = y3 / d3;
     float c2 = y2 / d2 - l32 * c3;
     float c1 = 1.0 - b.x * c2 - b.y * c3;
-    // The other two support points: the roots of c3 x² + c2 x + c1. c3 is
-    // 0 where z is the mean and the spread is symmetric: the roots run off
-    // to infinity, which reads as lit (z <= z2) or is clamped below.
+    // The other two support points: the roots of c3 x² + c2 x + c1. Where
+    // c3 is 0 the roots are infinite or NaN (GLSL leaves NaN through
+    // max() and clamp() undefined): read as lit.
     float p = c2 / c3, q = c1 / c3;
     float r = sqrt(max(0.25 * p * p - q, 0.0));
     float z2 = -0.5 * p - r, z3 = -0.5 * p + r;
     z_blocker = z;
-    if (!(z > z2))  // also a NaN root: lit
+    if (isnan(z2) || isnan(z3) || isinf(z2) || isinf(z3) || z <= z2)
         return 0.0;
     if (z <= z3) {
-        z_blocker = z2;
+        z_blocker = max(z2, -1.0);
         return clamp((z * z3 - b.x * (z + z3) + b.y) / ((z3 - z2) * (z - z2)), 0.0, 1.0);
     }
     float g = clamp(1.0 - (z2 * z3 - b.x * (z2 + z3) + b.y) / ((z - z2) * (z - z3)), 0.0, 1.0);

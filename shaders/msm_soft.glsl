@@ -18,12 +18,8 @@ float shadow_visibility(ShadowInput s)
         return 1.0;
     float d_blocker = clamp(0.5 * (z_blocker + 1.0), 0.0, s.depth);
 
-    // 2. Penumbra as PCSS: the box of the light's footprint (a disk light:
-    // the square of the same area); 3. 4MSM over it.
-    vec2 filter_uv = sm_penumbra_half_uv(s, sm_world_depth(d_blocker), MSM_SOFT_LIGHT_SIZE_SCALE);
-    if (!SM_RECT_LIGHT)
-        filter_uv *= 0.88622693;  // sqrt(pi) / 2
-    filter_uv = max(filter_uv, 0.5 * sm.texel_size_uv);
+    // 2. Penumbra as PCSS; 3. 4MSM over it.
+    vec2 filter_uv = sm_filter_half_uv(s, sm_world_depth(d_blocker), MSM_SOFT_LIGHT_SIZE_SCALE);
     if (!sat_box_mean(s.uv, filter_uv, b))
         return 1.0;
     return 1.0 - msm_occlusion(msm_bias(b, MSM_SOFT_MOMENT_BIAS), z, z_blocker);

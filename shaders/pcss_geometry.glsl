@@ -16,6 +16,17 @@ vec2 sm_penumbra_half_uv(ShadowInput s, float z_b, float light_scale)
            / (max(z_b, sm.near_world) * z_r);
 }
 
+// The filter box of the SAT techniques for a blocker at world depth z_b:
+// that region for a rect light; for a disk light the square of the same
+// area; at least one texel wide.
+vec2 sm_filter_half_uv(ShadowInput s, float z_b, float light_scale)
+{
+    vec2 h = sm_penumbra_half_uv(s, z_b, light_scale);
+    if (!SM_RECT_LIGHT)
+        h *= 0.88622693;  // sqrt(pi) / 2
+    return max(h, 0.5 * sm.texel_size_uv);
+}
+
 // The blocker-search region: the same region for the nearest possible
 // blocker (z_b = near), which contains every other.
 vec2 sm_search_half_uv(ShadowInput s, float light_scale)

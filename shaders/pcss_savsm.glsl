@@ -18,12 +18,8 @@ float shadow_visibility(ShadowInput s)
         return 1.0;
     float z_occ = clamp((mean_var.x - alpha * t) / (1.0 - alpha), 0.0, t);
 
-    // 2. Penumbra as PCSS: the box of the light's footprint (a disk light:
-    // the square of the same area); 3. VSM over it.
-    vec2 filter_uv = sm_penumbra_half_uv(s, sm_world_depth(z_occ), PCSS_SAVSM_LIGHT_SIZE_SCALE);
-    if (!SM_RECT_LIGHT)
-        filter_uv *= 0.88622693;  // sqrt(pi) / 2
-    filter_uv = max(filter_uv, 0.5 * sm.texel_size_uv);
+    // 2. Penumbra as PCSS; 3. VSM over it.
+    vec2 filter_uv = sm_filter_half_uv(s, sm_world_depth(z_occ), PCSS_SAVSM_LIGHT_SIZE_SCALE);
     if (!sat_mean_variance(s.uv, filter_uv, mean_var))
         return 1.0;
     float p = chebyshev_upper_bound(mean_var.x, mean_var.y, t, PCSS_SAVSM_MIN_VARIANCE);

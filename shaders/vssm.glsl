@@ -71,16 +71,13 @@ float shadow_visibility(ShadowInput s)
             }
         blockers /= float(N * N);
     }
-    if (blockers.x < VSSM_MIN_BLOCKER_FRACTION)
+    if (!(blockers.x > 0.0) || blockers.x < VSSM_MIN_BLOCKER_FRACTION)  // none: lit, also at a fraction of 0
         return 1.0;
     float z_occ = blockers.y / blockers.x;
 
-    // 2. Penumbra as PCSS (a disk light: the square of the same area);
-    // 3. VSM over it, again subdivided where not to be trusted.
-    vec2 filter_uv = sm_penumbra_half_uv(s, sm_world_depth(z_occ), VSSM_LIGHT_SIZE_SCALE);
-    if (!SM_RECT_LIGHT)
-        filter_uv *= 0.88622693;  // sqrt(pi) / 2
-    filter_uv = max(filter_uv, 0.5 * sm.texel_size_uv);
+    // 2. Penumbra as PCSS; 3. VSM over it, again subdivided where not to
+    // be trusted.
+    vec2 filter_uv = sm_filter_half_uv(s, sm_world_depth(z_occ), VSSM_LIGHT_SIZE_SCALE);
     if (!sat_mean_variance(s.uv, filter_uv, mean_var))
         return 1.0;
     if (vssm_reliable(mean_var, t) || N == 1)

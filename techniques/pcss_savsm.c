@@ -2,8 +2,7 @@
  * article 004 builds it: the Chebyshev blocker estimate and Lauritzen's SAT
  * filtering, with no kernel subdivision. It is not Yang et al. 2010's
  * "Variance soft shadow mapping" (VSSM), which subdivides the kernel where
- * the Chebyshev test is unreliable (t <= mu); a faithful vssm is its own
- * technique (DESIGN.md §9).
+ * the Chebyshev test is unreliable: that is techniques/vssm.c.
  *
  * Computes V like PCSS, with both area queries answered in O(1) by the SAT
  * of the moments. Blocker search: over the search box take mean mu and
