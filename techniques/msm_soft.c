@@ -20,8 +20,11 @@
  *
  * Parameters:
  *   sat_format            the table's precision: int32 (fixed point, exact
- *                         box sums; each box moment good to half a unit of
- *                         the scale, ~2e-6 at 2048² for 64-texel boxes) or
+ *                         box sums, each box moment good to half a unit of
+ *                         the scale 2^-k, k set by the widest search box:
+ *                         k = 15 at 2048²; at some k, 13-14 and <= 10
+ *                         found so far, e.g. a 4096² map, the bound comes
+ *                         apart, dark_fraction 0.78; not yet traced) or
  *                         fp32 (float sums: over a 2048² map the box means
  *                         err by ~5e-3, far more than 4MSM tolerates; shown,
  *                         not recommended). Its int32 scale is set by the
@@ -36,7 +39,8 @@
  * receiver sloping across a wide search box counts its own nearer half as
  * a blocker (both queries are boxes of the map, not of the receiver's
  * plane), which depth_bias trades against detached shadows; box kernels;
- * SAT precision limits the moment bias from below. */
+ * SAT precision limits the moment bias from below, and at some int32
+ * scales (above) the result is wrong without a warning. */
 #include "param_rows.h"
 #include "scene/light_frustum.h"
 

@@ -47,7 +47,7 @@ mutate savsm savsm.glsl 's/0\.5 \* SAVSM_BOX_WIDTH_TEXELS/0.5 * 5.0/' "savsm ign
 mutate pcf pcf.glsl 's/PCF_RADIUS_TEXELS \*/2.0 */' "pcf ignores radius_texels"
 mutate pcss pcss.glsl 's/const bool square = SM_RECT_LIGHT;/const bool square = true;/' "pcss: square taps for disk lights"
 mutate pcf shadow_taps.glsl 's/ + 0\.5 \* dot(abs(g), sm\.texel_size_uv);/;/' "receiver-plane bias without its half texel"
-mutate pcss_savsm pcss_savsm.glsl 's/filter_uv \*= 0\.88622693;/;/' "pcss_savsm loses the disk factor"
+mutate pcss_savsm pcss_geometry.glsl 's/h \*= 0\.88622693;/;/' "pcss_savsm loses the disk factor"
 # Others.
 mutate hard hard.glsl 's/HARD_SLOPE_BIAS \* s\.texel_depth_slope/0.0/' "hard ignores slope_bias"
 mutate vsm chebyshev.glsl 's/var \/ (var + dt \* dt)/var \/ (var + dt)/' "Chebyshev bound with dt, not dt squared"
