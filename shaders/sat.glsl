@@ -4,21 +4,9 @@
 // product's (d, d²) by default, the msm_sat product's (w, w², w³, w⁴) with
 // SAT_CHANNELS 4 defined before including this file.
 #include "shadow_common.glsl"
+#include "sat_table.glsl"
 
-#ifndef SAT_CHANNELS
-#define SAT_CHANNELS 2
-#endif
-#if SAT_CHANNELS == 4
-#define SAT_UVEC uvec4
-#define SAT_IVEC ivec4
-#define SAT_VEC vec4
-layout(std430, binding = SM_BINDING_MSM_SAT) readonly buffer SatBuffer { uvec4 sat[]; };
-#else
-#define SAT_UVEC uvec2
-#define SAT_IVEC ivec2
-#define SAT_VEC vec2
-layout(std430, binding = SM_BINDING_MOMENTS_SAT) readonly buffer SatBuffer { uvec2 sat[]; };
-#endif
+layout(std430, binding = SAT_BINDING) readonly buffer SatBuffer { SAT_UVEC sat[]; };
 
 SAT_UVEC sat_at(int x, int y)
 {

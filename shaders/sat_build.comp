@@ -24,22 +24,17 @@
 //                         w's odd powers): a 4-tap box difference is exact
 //                         modulo 2^32, hence exact while the box sum fits
 #include "depth.glsl"
+#include "sat_table.glsl"
+
+layout(std430, binding = SAT_BINDING) buffer SatBuffer { SAT_UVEC sat[]; };
 
 #if SAT_CHANNELS == 4
-#define SAT_UVEC uvec4
-#define SAT_IVEC ivec4
-#define SAT_VEC vec4
-layout(std430, binding = SM_BINDING_MSM_SAT) buffer SatBuffer { uvec4 sat[]; };
 vec4 sat_moments(float d)
 {
     float w = sm_moment_depth(d), w2 = w * w;
     return vec4(w, w2, w2 * w, w2 * w2);
 }
 #else
-#define SAT_UVEC uvec2
-#define SAT_IVEC ivec2
-#define SAT_VEC vec2
-layout(std430, binding = SM_BINDING_MOMENTS_SAT) buffer SatBuffer { uvec2 sat[]; };
 vec2 sat_moments(float d)
 {
     float c = sm.sat_format == SM_SAT_FP32_CENTERED ? d - 0.5 : d;
