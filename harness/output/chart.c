@@ -220,7 +220,8 @@ void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
         const struct chart_series *s = &series[k];
         const int x0 = (k % 2) * BAR_W + PAD_L, y0 = TOP + (k / 2) * panel_h + PAD_T,
                   w = BAR_W - PAD_L - PAD_R, h = BAR_PLOT_H;
-        double max = 0, step;
+        const bool has_floor = s->floor_name && isfinite(s->floor) && s->floor > 0;
+        double max = has_floor ? s->floor : 0, step;  /* the floor stays on the axis */
         for (int i = 0; i < n; i++)
             max = fmax(max, drawable(s->values[i]));
         max = nice_axis(max, &step);
@@ -228,9 +229,6 @@ void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
         char label[128];
         snprintf(label, sizeof label, "%s (%s)", s->name, s->unit);
         y_axis(out, x0, y0, w, h, max, step, label);
-        if (s->floor_name && isfinite(s->floor) && s->floor > 0) {
-            max = nice_axis(fmax(max, s->floor), &step);  /* the floor stays on the axis */
-        }
         const double slot = (double)w / n, bw = fmin(0.7 * slot, 40);
         for (int i = 0; i < n; i++) {
             double v = drawable(s->values[i]), bh = v / max * h, cx = x0 + (i + 0.5) * slot;
@@ -250,7 +248,7 @@ void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
             strbuf_xml(out, items[i].label);
             strbuf_printf(out, "</text>\n");
         }
-        if (s->floor_name && isfinite(s->floor) && s->floor > 0) {
+        if (has_floor) {
             const double fy = y0 + h - s->floor / max * h;
             strbuf_printf(out, "<line class=\"floor\" x1=\"%d\" x2=\"%d\" y1=\"%.1f\" y2=\"%.1f\" stroke=\"#a00\" "
                                "stroke-dasharray=\"5 3\"/><text x=\"%d\" y=\"%.1f\" text-anchor=\"end\" "
