@@ -46,8 +46,8 @@ float[6] sat_pair_weights(float f_lo, float f_hi, float past_lo, float past_hi)
 // techniques/shadowmap.h); centre_uv may lie outside the map (vssm's
 // sub-boxes near an edge), which the same weights cover: for a box wholly
 // past the low edge, in_lo = in_hi = 0, and past_lo = -lo plus a negative
-// past_hi = hi weigh the edge texel by the box's width (by reasoning; the
-// edge-policy test probes centres inside the map only). The box
+// past_hi = hi weigh the edge texel by the box's width (the edge-policy
+// test probes such boxes, on both tables). The box
 // keeps its full area; for int32 its side is capped at sm.sat_max_box_texels
 // (no overflow). Its edges fall at fractional texel positions: the SAT is
 // read bilinearly, which is the exact integral of the texels'

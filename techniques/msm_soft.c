@@ -20,17 +20,22 @@
  *
  * Parameters:
  *   sat_format            the table's precision: int32 (fixed point, exact
- *                         box sums, each box moment good to half a unit of
- *                         the scale 2^-k, k set by the widest search box:
- *                         k = 15 at 2048²; at some k, 13-14 and <= 10
- *                         found so far, e.g. a 4096² map, the bound comes
- *                         apart, dark_fraction 0.78; not yet traced) or
- *                         fp32 (float sums: over a 2048² map the box means
- *                         err by ~5e-3, far more than 4MSM tolerates; shown,
- *                         not recommended). Its int32 scale is set by the
- *                         widest search box, as pcss_savsm's.
+ *                         box sums, each box moment good to half a step
+ *                         2^-k, k set by the widest search box as for
+ *                         pcss_savsm: k = 15 at 2048² with the default
+ *                         light, 13 at 4096², 4 at the widest box of an
+ *                         8192² map) or fp32 (float sums: over a 2048² map
+ *                         the box means err by ~5e-3, far more than 4MSM
+ *                         tolerates, and no bias can be derived for them;
+ *                         shown, not recommended).
  *   light_size_scale      multiplies the scene's light size.
- *   moment_bias           alpha, as msm: guards rounding, bleeds as it grows.
+ *   moment_bias           alpha, as msm: guards fp32 arithmetic, bleeds as
+ *                         it grows. int32 adds msm_quantisation_bias(2^-k)
+ *                         = 7.1 2^-k (msm_common.glsl), the least that
+ *                         keeps rounded moments' Hankel matrix positive
+ *                         definite: 2.2e-4 at k = 15. Without it, at k =
+ *                         13 (a 4096² map) 78 % of the lit pixels went
+ *                         dark.
  *   depth_bias            subtracted from the receiver's linear depth.
  *   min_blocker_fraction  below this blocked share of the search box, lit.
  *
@@ -39,8 +44,11 @@
  * receiver sloping across a wide search box counts its own nearer half as
  * a blocker (both queries are boxes of the map, not of the receiver's
  * plane), which depth_bias trades against detached shadows; box kernels;
- * SAT precision limits the moment bias from below, and at some int32
- * scales (above) the result is wrong without a warning. */
+ * SAT precision limits the moment bias from below: the added bias doubles
+ * with each bit the fixed point loses to a wider box (0.44 at k = 4), and
+ * with it the leak and the blocker-depth error near contact (test_msm
+ * bounds both by alpha / P², P the receiver's distances to the depths in
+ * front of it). */
 #include "param_rows.h"
 #include "scene/light_frustum.h"
 
@@ -61,7 +69,7 @@ static const struct technique_param msm_soft_params[] = {
      offsetof(struct msm_soft_settings, sat_format), PARAM_ENUM, 1, 0, 0, msm_soft_sat_formats, NULL},
     PARAM_ROW_LIGHT_SIZE_SCALE(struct msm_soft_settings),
     {"moment_bias", "alpha, the moments drawn towards a spread distribution's: guards rounding, "
-     "bleeds as it grows", offsetof(struct msm_soft_settings, moment_bias), PARAM_FLOAT, 3e-5, 1e-7, 0.01, NULL,
+     "bleeds as it grows; int32 adds 7.1 x its fixed-point step", offsetof(struct msm_soft_settings, moment_bias), PARAM_FLOAT, 3e-5, 1e-7, 0.01, NULL,
      TUNE(3e-6, 3e-5, 3e-4)},
     {"depth_bias", "subtracted from the receiver's linear depth before both queries",
      offsetof(struct msm_soft_settings, depth_bias), PARAM_FLOAT, 0.0, 0.0, 0.05, NULL, TUNE(0, 1e-3, 1e-2)},
