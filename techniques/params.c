@@ -139,8 +139,11 @@ int params_set(const struct technique *t, void *settings, const char *name, cons
             return -1;
         }
         if (underflow || (v != 0 && (float)fabs(v) < FLT_MIN)) {  /* 0, or digits lost, as a float */
-            log_error("%s.%s: %s is too close to 0 for a float (write 0)", t->name, name, value);
-            return -1;
+            if (p->min <= 0 && p->max >= 0) {
+                log_error("%s.%s: %s is too close to 0 for a float (write 0)", t->name, name, value);
+                return -1;
+            }
+            v = 0;  /* 0 is below the range: the range check says so */
         }
         v += 0.0;  /* -0 is 0: one spelling in the outputs, and one cell in a sweep */
         break;

@@ -136,6 +136,9 @@ int main(int argc, char **argv)
     expect(2, "run --set nope.x=1", "--set: unknown technique 'nope'");
     expect(2, "run --set hard.slope_bias=99", "hard.slope_bias: 99 is out of range [0.0, 16.0]");
     expect(2, "run --set hard.slope_bias=abc", "hard.slope_bias: 'abc' is not a number");
+    /* too close to 0 for a float: "write 0" only where 0 is allowed */
+    expect(2, "run --set msm.moment_bias=1e-500", "msm.moment_bias: 1e-500 is out of range [1e-07, 0.01]");
+    expect(2, "run --set msm.depth_bias=1e-500", "msm.depth_bias: 1e-500 is too close to 0 for a float (write 0)");
     expect(2, "run --set hard", "--set: 'hard' is not technique.parameter=value");
     expect(2, "run --set pcss.blocker_samples=30",
            "pcss.blocker_samples: 30 is not one of: 16, 25, 32, 64, 100, 128");

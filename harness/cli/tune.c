@@ -101,9 +101,12 @@ static void show_progress(struct tune_progress *p, const char *technique)
     const double expected = (double)p->cells_finished + p->per_size * p->size_left;
     const double left = (expected - (double)p->cells) * elapsed / (double)p->cells;
     char line[160];
-    if (left > 0)
-        snprintf(line, sizeof line, "  tune %s: %ld cells in %.0f s; ETA about %.0f min (%.0f s)", technique,
-                 p->cells, elapsed, ceil(left / 60), left);
+    if (left > 0 && left < 90)
+        snprintf(line, sizeof line, "  tune %s: %ld cells in %.0f s; ETA about %.0f s", technique, p->cells,
+                 elapsed, ceil(left));
+    else if (left > 0)
+        snprintf(line, sizeof line, "  tune %s: %ld cells in %.0f s; ETA about %.0f min", technique, p->cells,
+                 elapsed, round(left / 60));
     else  /* this search runs longer than the guess of its size: no honest ETA */
         snprintf(line, sizeof line, "  tune %s: %ld cells in %.0f s; past the estimate of %.0f cells, no ETA",
                  technique, p->cells, elapsed, expected);
