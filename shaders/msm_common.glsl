@@ -13,16 +13,19 @@ vec4 msm_bias(vec4 b, float alpha)
     return mix(b, MSM_BIAS_TARGET, alpha);
 }
 
-// The least alpha that keeps the Hankel matrix B of moments known to within
-// step / 2 each (fixed point of step 2^-k, rounded to nearest: a box mean
-// of such texels errs by no more) positive definite, as B of any true
-// distribution is. With b0 = 1 exact, the error matrix E has b1 and b3 in
+// An alpha that guarantees the Hankel matrix B of moments known to within
+// step / 2 each positive definite, as B of any true distribution is
+// (fixed point of step 2^-k, rounded to nearest: a box mean of such texels
+// errs by no more, in exact arithmetic; fp32's own error is the caller's
+// bias to cover). With b0 = 1 exact, the error matrix E has b1 and b3 in
 // two entries each, b2 in three, b4 in one: ||E||_2 <= ||E||_F <=
 // sqrt(8) step / 2. Biasing adds alpha (H(target) - B), and H(target)'s
 // least eigenvalue is (1.375 - sqrt(0.953125)) / 2 = 0.19936; so alpha
-// 0.19936 >= (1 - alpha) sqrt(2) step, i.e. alpha >= 7.094 step. Below it
-// the quadratic's roots can land anywhere: with alpha 3e-5 on a 4096² map
-// (k = 13) 78 % of the lit pixels went dark.
+// 0.19936 >= (1 - alpha) sqrt(2) step suffices, alpha >= 7.094 step to
+// first order. Sufficient, not least: E rarely aligns with H(target)'s
+// weakest direction. Without it the quadratic's roots can land anywhere:
+// with alpha 3e-5 on a 4096² map (k = 13) 78 % of the lit pixels went
+// dark.
 float msm_quantisation_bias(float step)
 {
     return 7.1 * step;

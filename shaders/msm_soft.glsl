@@ -9,7 +9,7 @@
 float shadow_visibility(ShadowInput s)
 {
     float z = sm_moment_depth(s.depth - MSM_SOFT_DEPTH_BIAS), z_blocker;
-    // The moment bias on top of what int32's fixed point needs.
+    // The user's moment bias plus what int32's fixed point needs.
     float alpha = MSM_SOFT_MOMENT_BIAS +
                   (sm.sat_format == SM_SAT_INT32 ? msm_quantisation_bias(1.0 / sm.sat_scale) : 0.0);
     vec4 b;

@@ -31,9 +31,9 @@
  *   light_size_scale      multiplies the scene's light size.
  *   moment_bias           alpha, as msm: guards fp32 arithmetic, bleeds as
  *                         it grows. int32 adds msm_quantisation_bias(2^-k)
- *                         = 7.1 2^-k (msm_common.glsl), the least that
- *                         keeps rounded moments' Hankel matrix positive
- *                         definite: 2.2e-4 at k = 15. Without it, at k =
+ *                         = 7.1 2^-k (msm_common.glsl), a bias that
+ *                         guarantees rounded moments' Hankel matrix
+ *                         positive definite: 2.2e-4 at k = 15. Without it, at k =
  *                         13 (a 4096² map) 78 % of the lit pixels went
  *                         dark.
  *   depth_bias            subtracted from the receiver's linear depth.
