@@ -50,7 +50,6 @@
  * bounds both by alpha / P², P the receiver's distances to the depths in
  * front of it). */
 #include "param_rows.h"
-#include "scene/light_frustum.h"
 
 struct msm_soft_settings {
     int sat_format;              /* index into msm_soft_sat_formats */
@@ -69,8 +68,8 @@ static const struct technique_param msm_soft_params[] = {
      offsetof(struct msm_soft_settings, sat_format), PARAM_ENUM, 1, 0, 0, msm_soft_sat_formats, NULL},
     PARAM_ROW_LIGHT_SIZE_SCALE(struct msm_soft_settings),
     {"moment_bias", "alpha, the moments drawn towards a spread distribution's: guards rounding, "
-     "bleeds as it grows; int32 adds 7.1 x its fixed-point step", offsetof(struct msm_soft_settings, moment_bias), PARAM_FLOAT, 3e-5, 1e-7, 0.01, NULL,
-     TUNE(3e-6, 3e-5, 3e-4)},
+     "bleeds as it grows; int32 adds 7.1 x its fixed-point step",
+     offsetof(struct msm_soft_settings, moment_bias), PARAM_FLOAT, 3e-5, 1e-7, 0.01, NULL, TUNE(3e-6, 3e-5, 3e-4)},
     {"depth_bias", "subtracted from the receiver's linear depth before both queries",
      offsetof(struct msm_soft_settings, depth_bias), PARAM_FLOAT, 0.0, 0.0, 0.05, NULL, TUNE(0, 1e-3, 1e-2)},
     {"min_blocker_fraction", "blocked share of the search box below which it is lit",
@@ -83,8 +82,8 @@ static void msm_soft_request(const void *settings, const struct light_frustum *f
                              struct shadowmap_request *r)
 {
     const struct msm_soft_settings *s = settings;
-    r->msm_sat.format = msm_soft_sat_format_ids[s->sat_format];
-    r->msm_sat.max_box_texels = light_frustum_search_box_texels(f, s->light_size_scale, map_size_texels);
+    sat_request_search_box(&r->msm_sat, msm_soft_sat_format_ids[s->sat_format], f, s->light_size_scale,
+                           map_size_texels);
 }
 
 const struct technique technique_msm_soft = {

@@ -28,7 +28,6 @@
  * curved receiver, overlapping blockers), which sets a wrong penumbra width;
  * box-shaped kernels; SAT precision as savsm. */
 #include "param_rows.h"
-#include "scene/light_frustum.h"
 
 struct pcss_savsm_settings {
     int sat_format;              /* enum sat_format */
@@ -53,8 +52,8 @@ static void pcss_savsm_request(const void *settings, const struct light_frustum 
                                int map_size_texels, struct shadowmap_request *r)
 {
     const struct pcss_savsm_settings *s = settings;
-    r->moments_sat.format = (enum sat_format)s->sat_format;
-    r->moments_sat.max_box_texels = light_frustum_search_box_texels(f, s->light_size_scale, map_size_texels);
+    sat_request_search_box(&r->moments_sat, (enum sat_format)s->sat_format, f, s->light_size_scale,
+                           map_size_texels);
 }
 
 const struct technique technique_pcss_savsm = {

@@ -3,6 +3,7 @@
  * technique technique_<name>`), shaders/<name>.glsl, and X(<name>) here. */
 #include "technique.h"
 #include "base/util.h"
+#include "scene/light_frustum.h"
 
 #include <string.h>
 
@@ -49,4 +50,11 @@ void technique_request(const struct technique *t, const void *settings,
     if (t->request)
         t->request(settings, f, map_size_texels, r);
     r->products |= SM_DEPTH;
+}
+
+void sat_request_search_box(struct sat_request *r, enum sat_format format, const struct light_frustum *f,
+                            float light_size_scale, int map_size_texels)
+{
+    r->format = format;
+    r->max_box_texels = light_frustum_search_box_texels(f, light_size_scale, map_size_texels);
 }

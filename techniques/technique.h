@@ -161,6 +161,12 @@ void technique_request(const struct technique *t, const void *settings,
                        const struct light_frustum *f, int map_size_texels,
                        struct shadowmap_request *r);
 
+/* The SAT request of a technique whose widest box is its blocker search
+ * (pcss_savsm, vssm, msm_soft): format, and the search box at the far
+ * plane as the widest box read, which sets int32's fixed-point scale. */
+void sat_request_search_box(struct sat_request *r, enum sat_format format, const struct light_frustum *f,
+                            float light_size_scale, int map_size_texels);
+
 /* NULL-terminated, in registry order. */
 extern const struct technique *const technique_list[];
 

@@ -54,7 +54,6 @@
  * receiver's sub-boxes still see its curvature; box kernels; SAT
  * precision as savsm. */
 #include "param_rows.h"
-#include "scene/light_frustum.h"
 
 struct vssm_settings {
     int sat_format;              /* enum sat_format */
@@ -85,8 +84,8 @@ static void vssm_request(const void *settings, const struct light_frustum *f, in
                          struct shadowmap_request *r)
 {
     const struct vssm_settings *s = settings;
-    r->moments_sat.format = (enum sat_format)s->sat_format;
-    r->moments_sat.max_box_texels = light_frustum_search_box_texels(f, s->light_size_scale, map_size_texels);
+    sat_request_search_box(&r->moments_sat, (enum sat_format)s->sat_format, f, s->light_size_scale,
+                           map_size_texels);
 }
 
 const struct technique technique_vssm = {
