@@ -1,5 +1,5 @@
 /* msm — moment shadow maps (Peters and Klein 2015, "Moment shadow mapping",
- * I3D), Hamburger 4MSM.
+ * I3D), Hamburger or Hausdorff 4MSM.
  *
  * Computes V = 1 - G, G the sharpest lower bound on the share of the
  * filter region's depths in front of the receiver that is consistent with
@@ -15,6 +15,12 @@
  * variance, msm's puts that mass at the far depth.
  *
  * Parameters:
+ *   bound               hamburger: the bound over distributions on the
+ *                       whole line, as above; hausdorff: over those on
+ *                       [-1, 1], where depths lie. Where Hamburger's roots
+ *                       leave [-1, 1] the least mass in front sits on
+ *                       {-1, z, x, 1} instead, a tighter bound (less
+ *                       bleeding) for a second branch's cost.
  *   moment_bias         alpha: the moments drawn towards those of a spread
  *                       distribution, (1 - alpha) b + alpha (0, 0.375, 0,
  *                       0.375), which keeps B invertible against fp32
@@ -33,17 +39,23 @@
  * 0.001) trades that for detached shadows; fp32 power moments lose
  * precision for depths crowded near one value, which the moment bias
  * covers at the cost of bleeding. No contact hardening: the blur is
- * fixed. The Hausdorff variant and the optimised moment basis of
- * the paper are not implemented. */
+ * fixed. The paper's optimised moment basis (precision in 16 bits) is
+ * not implemented: the moments are fp32. */
 #include "param_rows.h"
 
 struct msm_settings {
+    int bound;               /* 0: hamburger, 1: hausdorff */
     float moment_bias;       /* [1e-7, 0.01]: 0 leaves B singular where one depth covers the region */
     float depth_bias;        /* linear depth, [0, 0.05] */
     int blur_radius_texels;  /* [0, SM_MAX_BLUR_RADIUS_TEXELS] */
 };
 
+static const char *const msm_bounds[] = {"hamburger", "hausdorff", NULL};
+
 static const struct technique_param msm_params[] = {
+    {"bound", "hamburger: over distributions on the whole line; hausdorff: on [-1, 1], tighter where "
+     "Hamburger's support leaves it", offsetof(struct msm_settings, bound), PARAM_ENUM, 0, 0, 0, msm_bounds,
+     TUNE_CHOICES},
     {"moment_bias", "alpha, the moments drawn towards a spread distribution's: guards fp32 rounding, "
      "bleeds as it grows", offsetof(struct msm_settings, moment_bias), PARAM_FLOAT, 3e-5, 1e-7, 0.01, NULL,
      TUNE(3e-7, 3e-6, 3e-5, 3e-4, 3e-3)},
@@ -64,7 +76,7 @@ static void msm_request(const void *settings, const struct light_frustum *f, int
 
 const struct technique technique_msm = {
     .name = "msm",
-    .summary = "Hamburger 4MSM: the sharpest bound from four filtered moments, little bleeding",
+    .summary = "4MSM (Hamburger or Hausdorff): the sharpest bound from four filtered moments, little bleeding",
     .needs = SM_MSM,
     .params = msm_params,
     .settings_size = sizeof(struct msm_settings),

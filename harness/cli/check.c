@@ -104,6 +104,7 @@ static const struct {
     {"overlapping_occluders", "evsm@bleed_reduction=0.3"},
     {"overlapping_occluders", "msm@moment_bias=0.003,blur_radius_texels=8"},
     {"grazing_receiver", "msm@depth_bias=0.001"},
+    {"stanford_bunny", "msm@bound=hausdorff"},
     {"floating_box_sphere", "msm_soft@sat_format=fp32"},
     {"parallel_planes", "msm_soft@light_size_scale=0.5"},
     {"overlapping_occluders", "msm_soft@moment_bias=0.003"},
