@@ -20,12 +20,14 @@ vec4 msm_bias(vec4 b, float alpha)
 // Klein's (on {-1, 0, 1}: of index 2) does not: mixed with one depth,
 // their moments stay on that space's edge, where the matrix
 // E[(1 - W²)(1, W)^T (1, W)] is singular, and fp32's rounding alone
-// (2^-25 of the moments) made msm_occlusion_hausdorff give up to 1000
-// alpha of shadow to a receiver on its own depth (measured on 1e5 random
-// depths). The uniform's Hankel and localised matrices have least
-// eigenvalues 0.0793 and 2/15: alpha (0.0793 - ||E||) covers moment
-// errors E of up to 0.0793 alpha, which fp32's (3e-8) is far below at any
-// alpha msm allows.
+// (2^-25 of the moments) gave a receiver on its own depth 146 alpha of
+// shadow (test_msm's control). The uniform's Hankel and localised
+// matrices have least eigenvalues 0.0793 and 2/15: the bias keeps both
+// positive definite against moment errors E with ||E|| < 0.0793 alpha.
+// fp32's rounding alone (||E|| <= sqrt(8) 2^-25 = 8.4e-8, as for
+// msm_quantisation_bias) is covered from alpha 1.1e-6 up; below that
+// (moment_bias goes down to 1e-7), and for the blur's own rounding, it is
+// not guaranteed.
 const vec4 MSM_HAUSDORFF_BIAS_TARGET = vec4(0.0, 1.0 / 3.0, 0.0, 0.2);
 
 vec4 msm_hausdorff_bias(vec4 b, float alpha)
@@ -121,8 +123,9 @@ float msm_quartic_mean(vec4 m, vec4 r)
 // that is 1 in front of z and 0 behind at the four points, touching at x
 // (p'(x) = 0): then G's derivative in x is the very expectation that
 // fixes x, 0, and an x off by fp32 rounding errs G only to second order.
-// All in V = W - z, the moments shifted to the receiver (m), where the
-// mass near z is small numbers rather than differences of large ones.
+// All in V = W - z, the moments shifted to the receiver (m): the shift
+// itself cancels O(1) terms once, in fp32, and what follows works on the
+// small shifted moments without cancelling again.
 // msm_soft keeps Hamburger, whose z_blocker it needs.
 float msm_occlusion_hausdorff(vec4 b, float z)
 {

@@ -6,6 +6,8 @@
 #include "sat.glsl"
 
 const int N = VSSM_SUBDIVISIONS;
+// Adaptive: levels of 2 x 2 splits, ceil(log2 N) (N <= 8).
+const int LEVELS = N > 4 ? 3 : N > 2 ? 2 : N > 1 ? 1 : 0;
 
 // The depth t of the receiver at uv: its own depth at its own uv; with
 // receiver_plane, elsewhere its plane's (fitted in hardware depth, where
@@ -44,10 +46,60 @@ bool vssm_reliable(vec2 mean_var, float t)
     return t > mean_var.x && mean_var.x - var / (t - mean_var.x) >= 0.0;
 }
 
-// The centre of sub-box (i, j) of the N x N grid over centre ± half.
-vec2 vssm_sub_centre(vec2 centre, vec2 half_uv, int i, int j)
+// One box's estimate at receiver depth t: the search's blockers, or the
+// filter's visibility (in x).
+vec2 vssm_estimate(bool search, vec2 mean_var, float t)
 {
-    return centre + half_uv * ((2.0 * vec2(i, j) + 1.0) / float(N) - 1.0);
+    if (search)
+        return vssm_blockers(mean_var, t);
+    float p = chebyshev_upper_bound(mean_var.x, mean_var.y, t, VSSM_MIN_VARIANCE);
+    return vec2(reduce_light_bleeding(p, VSSM_BLEED_REDUCTION), 0.0);
+}
+
+// The box centre ± half_uv, whose estimate is not to be trusted, as the
+// area-weighted mean of estimates of its parts, each at the receiver's
+// depth at its centre. Uniform: N x N sub-boxes. Adaptive (the paper's
+// scheme): 2 x 2, and each part still not to be trusted split again, down
+// to parts 1/2^LEVELS of the box wide; a part trusted on the way is
+// estimated whole. A part past the map reads as no blockers, lit.
+vec2 vssm_subdivided(ShadowInput s, vec2 centre, vec2 half_uv, bool search)
+{
+    vec2 sum = vec2(0.0), mean_var;
+    const vec2 outside = search ? vec2(0.0) : vec2(1.0, 0.0);
+#if VSSM_ADAPTIVE
+    // Depth first; a pop pushes at most 4, and parts at the last level are
+    // never pushed: at most 3 LEVELS - 2 entries of (centre, level),
+    // sized 3 LEVELS + 1 so that N = 1 (LEVELS 0) still compiles.
+    vec3 stack[3 * LEVELS + 1];
+    int top = 0;
+    stack[top++] = vec3(centre, 0.0);
+    while (top > 0) {
+        vec3 e = stack[--top];
+        int level = int(e.z) + 1;
+        vec2 h = half_uv / float(1 << level);
+        float weight = 1.0 / float(1 << (2 * level));
+        for (int k = 0; k < 4; k++) {
+            vec2 c = e.xy + h * vec2((k & 1) != 0 ? 1.0 : -1.0, (k & 2) != 0 ? 1.0 : -1.0);
+            float t = vssm_receiver_depth(s, c);
+            if (!sat_mean_variance(c, h, mean_var))
+                sum += weight * outside;
+            else if (level < LEVELS && !vssm_reliable(mean_var, t))
+                stack[top++] = vec3(c, float(level));
+            else
+                sum += weight * vssm_estimate(search, mean_var, t);
+        }
+    }
+    return sum;
+#else
+    for (int j = 0; j < N; j++)
+        for (int i = 0; i < N; i++) {
+            vec2 c = centre + half_uv * ((2.0 * vec2(i, j) + 1.0) / float(N) - 1.0);
+            sum += sat_mean_variance(c, half_uv / float(N), mean_var)
+                       ? vssm_estimate(search, mean_var, vssm_receiver_depth(s, c))
+                       : outside;
+        }
+    return sum / float(N * N);
+#endif
 }
 
 float shadow_visibility(ShadowInput s)
@@ -60,17 +112,8 @@ float shadow_visibility(ShadowInput s)
     vec2 search_uv = sm_search_half_uv(s, VSSM_LIGHT_SIZE_SCALE);
     if (!sat_mean_variance(s.uv, search_uv, mean_var))
         return 1.0;
-    vec2 blockers = vssm_blockers(mean_var, t);
-    if (!vssm_reliable(mean_var, t) && N > 1) {
-        blockers = vec2(0.0);
-        for (int j = 0; j < N; j++)
-            for (int i = 0; i < N; i++) {
-                vec2 c = vssm_sub_centre(s.uv, search_uv, i, j);
-                if (sat_mean_variance(c, search_uv / float(N), mean_var))
-                    blockers += vssm_blockers(mean_var, vssm_receiver_depth(s, c));
-            }
-        blockers /= float(N * N);
-    }
+    vec2 blockers = N > 1 && !vssm_reliable(mean_var, t) ? vssm_subdivided(s, s.uv, search_uv, true)
+                                                         : vssm_blockers(mean_var, t);
     if (!(blockers.x > 0.0) || blockers.x < VSSM_MIN_BLOCKER_FRACTION)  // none: lit, also at a fraction of 0
         return 1.0;
     float z_occ = blockers.y / blockers.x;
@@ -80,17 +123,6 @@ float shadow_visibility(ShadowInput s)
     vec2 filter_uv = sm_filter_half_uv(s, sm_world_depth(z_occ), VSSM_LIGHT_SIZE_SCALE);
     if (!sat_mean_variance(s.uv, filter_uv, mean_var))
         return 1.0;
-    if (vssm_reliable(mean_var, t) || N == 1)
-        return reduce_light_bleeding(chebyshev_upper_bound(mean_var.x, mean_var.y, t, VSSM_MIN_VARIANCE),
-                                     VSSM_BLEED_REDUCTION);
-    float v = 0.0;
-    for (int j = 0; j < N; j++)
-        for (int i = 0; i < N; i++) {
-            vec2 c = vssm_sub_centre(s.uv, filter_uv, i, j);
-            float p = 1.0;
-            if (sat_mean_variance(c, filter_uv / float(N), mean_var))
-                p = chebyshev_upper_bound(mean_var.x, mean_var.y, vssm_receiver_depth(s, c), VSSM_MIN_VARIANCE);
-            v += reduce_light_bleeding(p, VSSM_BLEED_REDUCTION);
-        }
-    return v / float(N * N);
+    return (N > 1 && !vssm_reliable(mean_var, t) ? vssm_subdivided(s, s.uv, filter_uv, false)
+                                                 : vssm_estimate(false, mean_var, t)).x;
 }

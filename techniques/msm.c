@@ -23,9 +23,10 @@
  *                       bleeding) for a second branch's cost.
  *   moment_bias         alpha: the moments drawn towards those of a spread
  *                       distribution, (1 - alpha) b + alpha (0, 0.375, 0,
- *                       0.375), which keeps B invertible against fp32
- *                       rounding and flat regions (one depth); larger
- *                       values bleed more.
+ *                       0.375) (hausdorff: the uniform's, (0, 1/3, 0,
+ *                       1/5), msm_common.glsl), which keeps B invertible
+ *                       against fp32 rounding and flat regions (one
+ *                       depth); larger values bleed more.
  *   depth_bias          subtracted from the receiver's linear depth before
  *                       the test (linear depth units): against acne.
  *   blur_radius_texels  Gaussian prefilter of the moments (sigma = r / 2;

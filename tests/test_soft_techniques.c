@@ -49,15 +49,23 @@ static cJSON *run_cells(const char *name, const char *args, int want_status)
     return m;
 }
 
-/* The metric `key` of the cell of `technique` (first match), or NAN. */
-static double metric(const cJSON *m, const char *technique, const char *key)
+/* The metric `key` of the first cell whose `field` ("technique", or
+ * "cell": its name as run gives it) is `name`, or NAN. */
+static double metric_of(const cJSON *m, const char *field, const char *name, const char *key)
 {
     const cJSON *c;
-    cJSON_ArrayForEach(c, cJSON_GetObjectItem(m, "cells"))
-        if (strcmp(cJSON_GetObjectItem(c, "technique")->valuestring, technique) == 0)
+    cJSON_ArrayForEach(c, cJSON_GetObjectItem(m, "cells")) {
+        const char *value = cJSON_GetStringValue(cJSON_GetObjectItem(c, field));
+        if (value && strcmp(value, name) == 0)
             return cJSON_GetNumberValue(cJSON_GetObjectItem(c, key));
-    CHECK(false, "no cell for %s", technique);
+    }
+    CHECK(false, "no cell with %s %s", field, name);
     return NAN;
+}
+
+static double metric(const cJSON *m, const char *technique, const char *key)
+{
+    return metric_of(m, "technique", technique, key);
 }
 
 static void no_nonfinite(const cJSON *m, const char *what)
@@ -247,6 +255,48 @@ static void soft_leak(void)
     }
 }
 
+/* vssm's adaptive subdivision. One level (N = 2) is the uniform 2 x 2 by
+ * construction: the same sub-boxes, weights and estimates, so the same
+ * image (metrics equal to the last digit). Where every box holds two
+ * depths (parallel_planes) no box is split, adaptive or not: pcss_savsm's
+ * ramp, within the 2e-4 penumbra_order allows. On overlapping_occluders,
+ * three levels (N = 8) must still leak less than pcss_savsm, as uniform
+ * subdivision does (measured at 160²: see the output). */
+static void vssm_adaptive(void)
+{
+    cJSON *m = run_cells("adaptive_plates", "--scene overlapping_occluders --technique pcss_savsm,vssm "
+                                            "--sweep vssm.adaptive=false,true --sweep vssm.subdivisions=2,8 "
+                                            "--width 160 --height 160 --gt-samples 256", 0);
+    if (m) {
+        static const char *const keys[] = {"rmse", "penumbra_rmse", "leak_fraction", "dark_fraction"};
+        for (int k = 0; k < 4; k++)
+            CHECK(metric_of(m, "cell", "vssm@adaptive=true,subdivisions=2", keys[k]) ==
+                      metric_of(m, "cell", "vssm@adaptive=false,subdivisions=2", keys[k]),
+                  "one adaptive level must be the uniform 2 x 2: %s differs", keys[k]);
+        const double pcss_savsm = metric(m, "pcss_savsm", "leak_fraction");
+        double leak[2], pen[2];
+        for (int a = 0; a < 2; a++) {
+            const char *cell = a ? "vssm@adaptive=true,subdivisions=8" : "vssm@adaptive=false,subdivisions=8";
+            leak[a] = metric_of(m, "cell", cell, "leak_fraction"), pen[a] = metric_of(m, "cell", cell, "penumbra_rmse");
+        }
+        printf("overlapping plates, N = 8: leak_fraction uniform %.4f, adaptive %.4f (pcss_savsm %.4f); "
+               "penumbra_rmse uniform %.4f, adaptive %.4f\n", leak[0], leak[1], pcss_savsm, pen[0], pen[1]);
+        CHECK(leak[1] < pcss_savsm - 0.05, "adaptive vssm must leak less than pcss_savsm: %.4f against %.4f",
+              leak[1], pcss_savsm);
+        no_nonfinite(m, "adaptive plates");
+        cJSON_Delete(m);
+    }
+    m = run_cells("adaptive_planes", "--scene parallel_planes --technique pcss_savsm,vssm --set vssm.adaptive=true "
+                                     "--set vssm.subdivisions=8 --width 160 --height 160 --gt-samples 256", 0);
+    if (m) {
+        const double pcss_savsm = metric(m, "pcss_savsm", "penumbra_rmse"), vssm = metric(m, "vssm", "penumbra_rmse");
+        printf("parallel planes, penumbra_rmse: adaptive vssm (N = 8) %.5f, pcss_savsm %.5f\n", vssm, pcss_savsm);
+        CHECK(fabs(vssm - pcss_savsm) < 2e-4, "adaptive vssm must draw pcss_savsm's ramp: %.4f against %.4f", vssm,
+              pcss_savsm);
+        cJSON_Delete(m);
+    }
+}
+
 /* A NaN or Inf in any cell fails the run (exit 1): every technique at its
  * defaults on every shipped scene (rect and disk lights, so both tap
  * patterns). */
@@ -285,6 +335,7 @@ int main(int argc, char **argv)
     penumbra_order();
     vsm_bleeding();
     soft_leak();
+    vssm_adaptive();
     all_finite();
     depth_range_finite();
     remove_tree(dir);

@@ -116,6 +116,7 @@ static const struct {
     {"contact_hardening", "vssm@min_blocker_fraction=0.05"},
     {"overlapping_occluders", "vssm@bleed_reduction=0.3"},
     {"overlapping_occluders", "vssm@subdivisions=4"},
+    {"overlapping_occluders", "vssm@adaptive=true,subdivisions=4"},
     {"curved_receivers", "vssm@receiver_plane=false"},
 };
 #define TABLE_COUNT ((int)(sizeof table / sizeof *table))
