@@ -5,10 +5,11 @@
 float shadow_visibility(ShadowInput s)
 {
     vec4 b = textureGrad(sm_msm, s.uv, s.uv_dx, s.uv_dy);  // trilinear at the footprint
-    float z = sm_moment_depth(s.depth - MSM_DEPTH_BIAS), z_blocker;
+    float z = sm_moment_depth(s.depth - MSM_DEPTH_BIAS);
 #if MSM_BOUND == MSM_BOUND_HAUSDORFF
     return 1.0 - msm_occlusion_hausdorff(msm_hausdorff_bias(b, MSM_MOMENT_BIAS), z);
 #else
+    float z_blocker;
     return 1.0 - msm_occlusion(msm_bias(b, MSM_MOMENT_BIAS), z, z_blocker);
 #endif
 }

@@ -131,30 +131,30 @@ float msm_occlusion_hausdorff(vec4 b, float z)
 {
     float z2, z3, z_blocker;
     msm_roots(b, z, z2, z3);
-    float hamburger = msm_hamburger(b, z, z2, z3, z_blocker);
-    if (z <= -1.0 || z >= 1.0 || (z2 >= -1.0 && z3 <= 1.0))  // NaN roots fail the test
-        return hamburger;
-    float zz = z * z;
-    vec4 m = vec4(b.x - z,
-                  b.y - 2.0 * z * b.x + zz,
-                  b.z - 3.0 * z * b.y + 3.0 * zz * b.x - zz * z,
-                  b.w - 4.0 * z * b.z + 6.0 * zz * b.y - 4.0 * zz * z * b.x + zz * zz);
-    float u0 = -1.0 - z, u1 = 1.0 - z;  // the ends, shifted
-    // v = x - z from E[(V - u0) V (V - v)(V - u1)] = 0; (V - u0)(V - u1) =
-    // V² + 2 z V - (1 - z²).
-    float v = (m.w + 2.0 * z * m.z - (1.0 - zz) * m.y) / (m.z + 2.0 * z * m.y - (1.0 - zz) * m.x);
-    if (isnan(v) || isinf(v) || v == 0.0 || z + v <= -1.0 || z + v >= 1.0)
-        return hamburger;  // rounding left no valid x: Hamburger's bound is still a bound
-    float g;
-    if (v > 0.0) {
-        // Only -1 in front: p = V (V - v)² (V - u1), scaled to 1 at u0.
-        g = msm_quartic_mean(m, vec4(0.0, v, v, u1)) / (u0 * (u0 - v) * (u0 - v) * (u0 - u1));
-    } else {
-        // -1 and x in front: 1 - p = (V - u0)(V - v)² l(V), l linear with
-        // 1 - p = 1 at z (V = 0) and at 1 (V = u1).
-        float l0 = -1.0 / (u0 * v * v), l1 = 1.0 / ((u1 - u0) * (u1 - v) * (u1 - v));
-        g = 1.0 - (l1 * msm_quartic_mean(m, vec4(u0, v, v, 0.0)) -
-                   l0 * msm_quartic_mean(m, vec4(u0, v, v, u1))) / u1;
+    if (z > -1.0 && z < 1.0 && !(z2 >= -1.0 && z3 <= 1.0)) {  // NaN roots fail the test: here
+        float zz = z * z;
+        vec4 m = vec4(b.x - z,
+                      b.y - 2.0 * z * b.x + zz,
+                      b.z - 3.0 * z * b.y + 3.0 * zz * b.x - zz * z,
+                      b.w - 4.0 * z * b.z + 6.0 * zz * b.y - 4.0 * zz * z * b.x + zz * zz);
+        float u0 = -1.0 - z, u1 = 1.0 - z;  // the ends, shifted
+        // v = x - z from E[(V - u0) V (V - v)(V - u1)] = 0; (V - u0)(V - u1)
+        // = V² + 2 z V - (1 - z²).
+        float v = (m.w + 2.0 * z * m.z - (1.0 - zz) * m.y) / (m.z + 2.0 * z * m.y - (1.0 - zz) * m.x);
+        if (v > 0.0 && z + v < 1.0) {
+            // Only -1 in front: p = V (V - v)² (V - u1), scaled to 1 at u0.
+            float g = msm_quartic_mean(m, vec4(0.0, v, v, u1)) / (u0 * (u0 - v) * (u0 - v) * (u0 - u1));
+            return clamp(g, 0.0, 1.0);
+        }
+        if (v < 0.0 && z + v > -1.0) {
+            // -1 and x in front: 1 - p = (V - u0)(V - v)² l(V), l linear
+            // with 1 - p = 1 at z (V = 0) and at 1 (V = u1).
+            float l0 = -1.0 / (u0 * v * v), l1 = 1.0 / ((u1 - u0) * (u1 - v) * (u1 - v));
+            float g = 1.0 - (l1 * msm_quartic_mean(m, vec4(u0, v, v, 0.0)) -
+                             l0 * msm_quartic_mean(m, vec4(u0, v, v, u1))) / u1;
+            return clamp(g, 0.0, 1.0);
+        }
+        // Rounding left no valid x (0, NaN, infinite or past an end).
     }
-    return clamp(g, 0.0, 1.0);
+    return msm_hamburger(b, z, z2, z3, z_blocker);  // a bound still, and this one where its roots hold
 }

@@ -102,9 +102,17 @@ vec2 vssm_subdivided(ShadowInput s, vec2 centre, vec2 half_uv, bool search)
 #endif
 }
 
+// The box at the pixel, centre ± half_uv, of moments mean_var: its
+// estimate at the pixel's depth, or its parts' where that is not to be
+// trusted.
+vec2 vssm_box(ShadowInput s, vec2 half_uv, vec2 mean_var, bool search)
+{
+    return N > 1 && !vssm_reliable(mean_var, s.depth) ? vssm_subdivided(s, s.uv, half_uv, search)
+                                                      : vssm_estimate(search, mean_var, s.depth);
+}
+
 float shadow_visibility(ShadowInput s)
 {
-    float t = s.depth;
     vec2 mean_var;
 
     // 1. Blockers of the search box; where its estimate is not to be
@@ -112,8 +120,7 @@ float shadow_visibility(ShadowInput s)
     vec2 search_uv = sm_search_half_uv(s, VSSM_LIGHT_SIZE_SCALE);
     if (!sat_mean_variance(s.uv, search_uv, mean_var))
         return 1.0;
-    vec2 blockers = N > 1 && !vssm_reliable(mean_var, t) ? vssm_subdivided(s, s.uv, search_uv, true)
-                                                         : vssm_blockers(mean_var, t);
+    vec2 blockers = vssm_box(s, search_uv, mean_var, true);
     if (!(blockers.x > 0.0) || blockers.x < VSSM_MIN_BLOCKER_FRACTION)  // none: lit, also at a fraction of 0
         return 1.0;
     float z_occ = blockers.y / blockers.x;
@@ -123,6 +130,5 @@ float shadow_visibility(ShadowInput s)
     vec2 filter_uv = sm_filter_half_uv(s, sm_world_depth(z_occ), VSSM_LIGHT_SIZE_SCALE);
     if (!sat_mean_variance(s.uv, filter_uv, mean_var))
         return 1.0;
-    return (N > 1 && !vssm_reliable(mean_var, t) ? vssm_subdivided(s, s.uv, filter_uv, false)
-                                                 : vssm_estimate(false, mean_var, t)).x;
+    return vssm_box(s, filter_uv, mean_var, false).x;
 }
