@@ -24,8 +24,8 @@ int image_write_exr(const char *path, int width, int height, const struct exr_ch
 int image_read_exr(const char *path, int width, int height, struct exr_channel *channels,
                    int channel_count, char **comments);
 
-/* Writes 8-bit pixels (comps 1, 3 or 4), top row first. Returns 0 or -1. */
-int image_write_png(const char *path, int width, int height, int comps, const uint8_t *pixels);
+/* 8-bit sRGB RGB PNG, top row first. Returns 0 or -1 (logged). */
+int image_write_png(const char *path, int width, int height, const uint8_t *rgb);
 
 /* 16-bit grey PNG, linear (no transfer curve), top row first. Returns 0 or
  * -1 (logged). */

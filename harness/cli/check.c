@@ -758,7 +758,7 @@ static int write_page(const struct check *ch, const char *out)
                            &pic);
         char *name = util_printf("%s/%s/%s.png", out, c->scene->name, c->label);
         char *dir = util_printf("%s/%s", out, c->scene->name);
-        int rc = util_mkdirs(dir) || image_write_png(name, pic.width, pic.height, 3, pic.rgb);
+        int rc = util_mkdirs(dir) || image_write_png(name, pic.width, pic.height, pic.rgb);
         picture_free(&pic);
         free(base), free(shown_px), free(name), free(dir);
         if (rc) {

@@ -490,7 +490,7 @@ static void strip_put(struct strip *s, const struct picture *p, int frame, int f
 
 static int strip_write(struct strip *s, const char *path)
 {
-    int rc = image_write_png(path, s->w * s->frames, s->ph, 3, s->rgb);
+    int rc = image_write_png(path, s->w * s->frames, s->ph, s->rgb);
     free(s->rgb);
     memset(s, 0, sizeof *s);
     return rc;

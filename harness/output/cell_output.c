@@ -12,7 +12,7 @@ static int write_visibility_png(const char *dir, const char *name, const float *
     struct picture p;
     picture_visibility(v, distance, scored, w, h, &p);
     char *path = util_printf("%s/%s.png", dir, name);
-    int rc = image_write_png(path, p.width, p.height, 3, p.rgb);
+    int rc = image_write_png(path, p.width, p.height, p.rgb);
     free(path);
     picture_free(&p);
     return rc;
@@ -33,7 +33,7 @@ int output_cell_images(const char *dir, const struct cell_images *im)
              image_write_exr(vis_exr, w, h, &(struct exr_channel){"V", (float *)im->v}, 1, NULL) ||
              image_write_exr(err_exr, w, h, &(struct exr_channel){"E", error}, 1, NULL) ||
              write_visibility_png(dir, "visibility", im->v, im->distance, NULL, w, h) ||
-             image_write_png(heat, hm.width, hm.height, 3, hm.rgb);
+             image_write_png(heat, hm.width, hm.height, hm.rgb);
     picture_free(&hm);
     free(vis_exr), free(err_exr), free(heat), free(error);
     return rc ? -1 : 0;
