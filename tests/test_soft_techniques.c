@@ -297,6 +297,50 @@ static void vssm_adaptive(void)
     }
 }
 
+/* Adaptive subdivision's deeper levels (2 and 3): with a vssm.glsl whose
+ * vssm_reliable() trusts no box, both schemes split every box down to
+ * 1/N, so adaptive N (its parts found by 2 x 2 splits, weighted 4^-level)
+ * must give uniform N x N's parts and weights: the same metrics up to the
+ * summation order (1e-6: fp32 sums of at most 64 terms in [0, 1]; a level-3
+ * weight of 1/60 for 1/64 moved rmse by 4.6e-3, a level-2 part of a third
+ * of the box for a quarter by 1.9e-2). The test above pins level 1. */
+static void vssm_adaptive_levels(void)
+{
+    char *probe = util_printf("%s/probe_shaders", dir);
+    char *cmd = util_printf("cp -r '%s/shaders' '%s'", SB_SOURCE_DIR, probe);
+    int copied = run_cmd(cmd, NULL, NULL);
+    free(cmd);
+    char *path = util_printf("%s/vssm.glsl", probe), *text = NULL;
+    size_t size;
+    static const char head[] = "bool vssm_reliable(vec2 mean_var, float t)\n{\n";
+    char *at = copied == 0 && util_read_file(path, &text, &size) == 0 ? strstr(text, head) : NULL;
+    CHECK(at, "probe: vssm.glsl must define vssm_reliable as \"%s\"", head);
+    if (at) {
+        struct strbuf s = {0};
+        strbuf_append(&s, text, (size_t)(at - text) + strlen(head));
+        strbuf_printf(&s, "    return false;  // the probe: no box is trusted\n%s", at + strlen(head));
+        util_write_file_atomic(path, s.data, s.len);
+        strbuf_free(&s);
+        char *args = util_printf("--scene overlapping_occluders --technique vssm --sweep vssm.adaptive=false,true "
+                                 "--sweep vssm.subdivisions=4,8 --width 96 --height 96 --gt-samples 64 --shaders %s",
+                                 probe);
+        cJSON *m = run_cells("adaptive_levels", args, 0);
+        free(args);
+        static const char *const keys[] = {"rmse", "penumbra_rmse", "leak_fraction", "dark_fraction"};
+        for (int n = 4; m && n <= 8; n += 4)
+            for (int k = 0; k < 4; k++) {
+                char uniform[64], adaptive[64];
+                snprintf(uniform, sizeof uniform, "vssm@adaptive=false,subdivisions=%d", n);
+                snprintf(adaptive, sizeof adaptive, "vssm@adaptive=true,subdivisions=%d", n);
+                double u = metric_of(m, "cell", uniform, keys[k]), a = metric_of(m, "cell", adaptive, keys[k]);
+                CHECK(fabs(a - u) <= 1e-6, "every box split: adaptive N = %d must be uniform %d x %d: %s %.7f "
+                      "against %.7f", n, n, n, keys[k], a, u);
+            }
+        cJSON_Delete(m);
+    }
+    free(text), free(path), free(probe);
+}
+
 /* A NaN or Inf in any cell fails the run (exit 1): every technique at its
  * defaults on every shipped scene (rect and disk lights, so both tap
  * patterns). */
@@ -336,6 +380,7 @@ int main(int argc, char **argv)
     vsm_bleeding();
     soft_leak();
     vssm_adaptive();
+    vssm_adaptive_levels();
     all_finite();
     depth_range_finite();
     remove_tree(dir);
