@@ -26,7 +26,10 @@
  *                       0.375) (hausdorff: the uniform's, (0, 1/3, 0,
  *                       1/5), msm_common.glsl), which keeps B invertible
  *                       against fp32 rounding and flat regions (one
- *                       depth); larger values bleed more.
+ *                       depth); larger values bleed more. Hausdorff's
+ *                       guarantee against fp32 rounding holds from 1.1e-6
+ *                       up; the range goes down to 1e-7 for Hamburger's,
+ *                       and tuning measures what lower values do.
  *   depth_bias          subtracted from the receiver's linear depth before
  *                       the test (linear depth units): against acne.
  *   blur_radius_texels  Gaussian prefilter of the moments (sigma = r / 2;
@@ -57,8 +60,8 @@ static const struct technique_param msm_params[] = {
     {"bound", "hamburger: over distributions on the whole line; hausdorff: on [-1, 1], tighter where "
      "Hamburger's support leaves it", offsetof(struct msm_settings, bound), PARAM_ENUM, 0, 0, 0, msm_bounds,
      TUNE_CHOICES},
-    {"moment_bias", "alpha, the moments drawn towards a spread distribution's: guards fp32 rounding, "
-     "bleeds as it grows", offsetof(struct msm_settings, moment_bias), PARAM_FLOAT, 3e-5, 1e-7, 0.01, NULL,
+    {"moment_bias", "alpha, the moments drawn towards a spread distribution's: guards fp32 rounding "
+     "(hausdorff: guaranteed from 1.1e-6 up, msm_common.glsl), bleeds as it grows", offsetof(struct msm_settings, moment_bias), PARAM_FLOAT, 3e-5, 1e-7, 0.01, NULL,
      TUNE(3e-7, 3e-6, 3e-5, 3e-4, 3e-3)},
     {"depth_bias", "subtracted from the receiver's linear depth before the test",
      offsetof(struct msm_settings, depth_bias), PARAM_FLOAT, 0.0, 0.0, 0.05, NULL, TUNE(0, 1e-4, 1e-3, 1e-2)},
