@@ -327,6 +327,8 @@ static void vary(const char *scene)
     CHECK(b && !strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(b, "breaks_at_or_above")) ?: "", "32"),
           "pcf breaks at radius 32");
     CHECK(b && cJSON_IsNull(cJSON_GetObjectItem(b, "breaks_at_or_below")), "pcf holds at radius 0.5");
+    CHECK(b && !strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(b, "broken_values")) ?: "-", "32"),
+          "pcf's broken values: 32 alone");
     CHECK(b && !strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(b, "reference")) ?: "", "2"),
           "the reference is pcf's default radius, 2");
     /* Every point scored, finite, and the light's scale reached the truth:

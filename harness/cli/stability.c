@@ -745,6 +745,20 @@ static void break_points(struct stab *st, int s, int var, const struct technique
     }
 }
 
+/* Every value that breaks t on scene s under var, in the variable's
+ * order, as text ("" for none): past a break point a value may hold again
+ * (a break point is where breaking starts, not a range). */
+static void broken_values(struct stab *st, int s, int var, const struct technique *t, struct strbuf *out)
+{
+    const struct variation *v = &st->vars[var];
+    const struct vary_point *ref = find_point(st, s, var, v->reference, t);
+    for (int k = 0; ref && k < v->count; k++) {
+        const struct vary_point *p = find_point(st, s, var, k, t);
+        if (k != v->reference && p && broken(p, ref))
+            strbuf_list_printf(out, ", ", "%s", v->texts[k]);
+    }
+}
+
 /* ---- outputs ------------------------------------------------------------ */
 
 static const char break_rule[] =
@@ -879,6 +893,10 @@ static int write_data(struct stab *st, cJSON *run)
                     cJSON_AddStringToObject(j, "breaks_at_or_above", v->texts[above]);
                 else
                     cJSON_AddNullToObject(j, "breaks_at_or_above");
+                struct strbuf all = {0};
+                broken_values(st, s, var, t, &all);
+                cJSON_AddStringToObject(j, "broken_values", all.data ? all.data : "");
+                strbuf_free(&all);
                 cJSON_AddItemToArray(breaks, j);
             }
     cJSON_AddStringToObject(doc, "break_rule", break_rule);
@@ -1156,7 +1174,8 @@ static int write_html(struct stab *st, cJSON *run)
     if (st->var_count) {
         strbuf_printf(&h, "<h2 id=\"vary\">Sensitivity: where each technique breaks</h2>\n<p>Break rule: %s. A "
                           "break point is the first value, walking away from the reference value (the dashed "
-                          "line), that breaks the technique; the charts ring every broken value.</p>\n",
+                          "line), that breaks the technique; a larger or smaller value may hold again, so the last column lists every "
+                          "broken value, and the charts ring them.</p>\n",
                       break_rule);
         for (int var = 0; var < st->var_count; var++) {
             const struct variation *v = &st->vars[var];
@@ -1166,7 +1185,8 @@ static int write_html(struct stab *st, cJSON *run)
                 strbuf_printf(&h, " on ");
                 strbuf_xml(&h, st->scenes[s].name);
                 strbuf_printf(&h, "</h3>\n<table><thead><tr><th>technique</th><th>breaks at or below</th><th>"
-                                  "reference</th><th>breaks at or above</th></tr></thead><tbody>\n");
+                                  "reference</th><th>breaks at or above</th><th>every broken value</th></tr>"
+                                  "</thead><tbody>\n");
                 for (int i = 0; i < o->technique_count; i++) {
                     const struct technique *t = o->techniques[i];
                     if (v->kind == VARY_PARAM && t != v->t)
@@ -1179,6 +1199,11 @@ static int write_html(struct stab *st, cJSON *run)
                     strbuf_xml(&h, v->texts[v->reference]);
                     strbuf_printf(&h, "</td><td>");
                     strbuf_xml(&h, above >= 0 ? v->texts[above] : "holds");
+                    struct strbuf all = {0};
+                    broken_values(st, s, var, t, &all);
+                    strbuf_printf(&h, "</td><td>");
+                    strbuf_xml(&h, all.data ? all.data : "none");
+                    strbuf_free(&all);
                     strbuf_printf(&h, "</td></tr>\n");
                 }
                 strbuf_printf(&h, "</tbody></table>\n");
