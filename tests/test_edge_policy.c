@@ -395,7 +395,7 @@ int main(int argc, char **argv)
 {
     if (argc < 2 || !mkdtemp(dir))
         return 1;
-    if (gl_context_create() != 0) {
+    if (gl_context_create(GL_BACKEND_OSMESA) != 0) {
         CHECK(false, "set-up");
         return check_finish();
     }

@@ -385,7 +385,7 @@ int main(void)
 {
     if (!mkdtemp(dir))
         return 1;
-    if (gl_context_create() != 0) {
+    if (gl_context_create(GL_BACKEND_OSMESA) != 0) {
         CHECK(false, "set-up");
         return check_finish();
     }

@@ -73,7 +73,7 @@ int main(void)
     put("bad.frag", "#version 450 core\n#include \"helpers.glsl\"\n#include \"broken_inc.glsl\"\n"
                     "out vec4 c;\nfloat tail();\nvoid main() { c = vec4(broken() + tail()); }\n");
     put("tail.glsl", "float tail() { return helper(); }\n");
-    if (gl_context_create() != 0 || shader_init(dir) != 0) {
+    if (gl_context_create(GL_BACKEND_OSMESA) != 0 || shader_init(dir) != 0) {
         CHECK(false, "GL context");
         return check_finish();
     }

@@ -81,14 +81,16 @@ int bench_main(const struct run_options *o)
     if (light_frustum_fit(&s, &f) != 0 || shader_init(o->shader_dir) != 0)
         goto out_free_scene;
     status = EXIT_CHECK_FAILED;
-    if (gl_context_create() != 0)
+    if (gl_context_create(o->gl) != 0) {  /* no such context here: bad usage (exit 2), as a bad --shaders */
+        status = EXIT_USAGE;
         goto out_free_scene;
+    }
     if (shadowmap_create(&sm, &s, &(struct shadowmap_desc){.size_texels = o->shadow_map_size}) != 0 ||
         receiver_create(&rcv, &s, o->width, o->height) != 0)
         goto out_free_gl;
     scene_mesh_upload(&s, &mesh);
     struct stage_timer timer = {.sm = &sm, .mesh = &mesh, .receiver = &rcv, .warmup = o->warmup,
-                                .frames = o->frames};
+                                .frames = o->frames, .timing = o->timing};
 
     /* The cells: every technique, then a fetch probe at the tap loops
      * (PARAM_TAPS) of each technique that has any; all timed interleaved. */
@@ -112,9 +114,9 @@ int bench_main(const struct run_options *o)
     for (int i = 0; i < cell_count; i++)
         if (!(cells[i].program = receiver_program(cells[i].technique, cells[i].settings, s.light.shape)))
             goto out_free_programs;
-    printf("scene %s, %dx%d, %d^2 shadow map, median of %d frames after %d warm-up, interleaved, on %s\n",
-           s.name, o->width, o->height, sm.desc.size_texels, o->frames, o->warmup,
-           gl_context_renderer());
+    printf("scene %s, %dx%d, %d^2 shadow map, median of %d frames after %d warm-up, interleaved, on %s (%s, %s), "
+           "timed by %s\n", s.name, o->width, o->height, sm.desc.size_texels, o->frames, o->warmup,
+           gl_context_renderer(), gl_context_vendor(), gl_context_platform(), stage_timing_text(o->timing));
     if (stage_timer_run(&timer, cells, cell_count, times) != 0)
         goto out_free_programs;
 

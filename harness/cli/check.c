@@ -965,8 +965,10 @@ int check_main(const struct run_options *o)
     if (shader_init(o->shader_dir) != 0)  /* a bad --shaders is bad usage */
         goto out;
     status = EXIT_CHECK_FAILED;
-    if (gl_context_create() != 0)
+    if (gl_context_create(o->gl) != 0) {  /* no such context here: bad usage (exit 2), as a bad --shaders */
+        status = EXIT_USAGE;
         goto out;
+    }
     git = run_git_describe();
     date = run_utc_date();
 

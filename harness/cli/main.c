@@ -52,8 +52,9 @@ static const char usage_main[] =
 static const char usage_run[] =
     "usage: shadowbench run [options]\n"
     "\n"
-    "Renders every selected technique on every selected scene headless (OSMesa),\n"
-    "scores its visibility V_tech against the ray-traced ground truth V_gt and\n"
+    "Renders every selected technique on every selected scene headless (OSMesa, or\n"
+    "EGL with --gl egl), scores its visibility V_tech against the ray-traced\n"
+    "ground truth V_gt and\n"
     "writes, under --out: report.html (open it in a browser, no server needed),\n"
     "matrix.csv, matrix.json, run.json, charts/*.svg (error against time with the\n"
     "Pareto front, per scene and over all scenes; failure metrics per technique)\n"
@@ -95,6 +96,14 @@ static const char usage_run[] =
     "  --no-cache            always ray trace the ground truth, store nothing\n"
     "  --shaders DIR         GLSL folder (default: found next to the executable or in\n"
     "                        the source tree; or $SHADOWBENCH_SHADERS)\n"
+    "  --gl osmesa|egl       the GL context: osmesa (default: llvmpipe, the CPU) or egl\n"
+    "                        (headless: a GPU through EGL's device platform where one\n"
+    "                        is present, else Mesa's surfaceless llvmpipe); run.json\n"
+    "                        names the renderer, vendor, platform and timing method\n"
+    "  --timing auto|wall|query  how stages are timed: wall clock around glFinish or\n"
+    "                        GL_TIME_ELAPSED queries; auto (default): wall on a CPU\n"
+    "                        rasteriser (llvmpipe, where queries do not measure the\n"
+    "                        work), queries on a GPU\n"
     "  -q, --quiet           only errors on stderr;  -v, --verbose: GL debug messages\n"
     "\n"
     "Timing: a scene's cells are first rendered and scored, one by one, then timed\n"
@@ -135,8 +144,9 @@ static const char usage_bench[] =
     "usage: shadowbench bench [options]\n"
     "\n"
     "Times every selected technique on one scene, without ground truth or files:\n"
-    "the median wall time (around glFinish; GL timer queries do not measure\n"
-    "llvmpipe's work) of K frames after warm-up, per stage: shadow map (the depth\n"
+    "the median time (--timing: wall clock around glFinish on llvmpipe, where GL\n"
+    "timer queries do not measure the work; GL_TIME_ELAPSED queries on a GPU) of\n"
+    "K frames after warm-up, per stage: shadow map (the depth\n"
     "pass), filter prep (moments, blur, mipmaps, summed-area table) and receiver\n"
     "pass, and the quartiles of the frame totals. Then the texture-fetch limit on\n"
     "the same scene: a receiver pass that does only the depth fetches of each\n"
@@ -156,6 +166,8 @@ static const char usage_bench[] =
     "  --warmup K            untimed frames first, 0.." RUN_STR(RUN_MAX_WARMUP) " (default "
     RUN_STR(BENCH_DEFAULT_WARMUP) ")\n"
     "  --shaders DIR         GLSL folder, as for run\n"
+    "  --gl osmesa|egl       the GL context, as for run\n"
+    "  --timing auto|wall|query  how stages are timed, as for run\n"
     "  -q, --quiet, -v, --verbose\n";
 
 static const char usage_check[] =
@@ -185,6 +197,7 @@ static const char usage_check[] =
     "  --out DIR             where check.html goes (default " CHECK_DEFAULT_OUT ")\n"
     "  --cache DIR, --no-cache   ground-truth cache, as for run\n"
     "  --shaders DIR         GLSL folder, as for run\n"
+    "  --gl osmesa|egl       the GL context, as for run\n"
     "  -q, --quiet, -v, --verbose\n"
     "\n"
     "exit status: 0 every cell passed; 1 a cell regressed, has no baseline or\n"
@@ -232,6 +245,8 @@ static const char usage_tune[] =
     "  --out DIR             output folder (default " TUNE_DEFAULT_OUT ")\n"
     "  --cache DIR, --no-cache   ground-truth cache, as for run\n"
     "  --shaders DIR         GLSL folder, as for run\n"
+    "  --gl osmesa|egl       the GL context, as for run\n"
+    "  --timing auto|wall|query  how stages are timed, as for run\n"
     "  -q, --quiet, -v, --verbose\n"
     "\n"
     "The default (every technique on every shipped scene) takes about 10 minutes\n"
@@ -324,6 +339,7 @@ static const char usage_stability[] =
     "  --out DIR             (default " STABILITY_DEFAULT_OUT ")\n"
     "  --cache DIR, --no-cache   ground-truth cache, as for run\n"
     "  --shaders DIR         GLSL folder, as for run\n"
+    "  --gl osmesa|egl       the GL context, as for run\n"
     "  -q, --quiet, -v, --verbose\n"
     "\n"
     "exit status: 0 done; 1 a technique produced NaN/Inf or a motion had nothing\n"
@@ -339,7 +355,7 @@ enum {
     OPT_SCENE = 256, OPT_TECHNIQUE, OPT_SET, OPT_WIDTH, OPT_HEIGHT, OPT_GT_SAMPLES,
     OPT_SM_SIZE, OPT_FRAMES, OPT_WARMUP, OPT_OUT, OPT_CACHE, OPT_NO_CACHE, OPT_SHADERS, OPT_SWEEP,
     OPT_BASELINES, OPT_UPDATE, OPT_STRICT, OPT_TUNED, OPT_SETTINGS, OPT_OBJECTIVE, OPT_WRITE_TUNED,
-    OPT_MOTION, OPT_VARY, OPT_ACCUMULATE,
+    OPT_MOTION, OPT_VARY, OPT_ACCUMULATE, OPT_GL, OPT_TIMING,
 };
 
 static const struct option long_options[] = {
@@ -357,6 +373,8 @@ static const struct option long_options[] = {
     {"cache", required_argument, NULL, OPT_CACHE},
     {"no-cache", no_argument, NULL, OPT_NO_CACHE},
     {"shaders", required_argument, NULL, OPT_SHADERS},
+    {"gl", required_argument, NULL, OPT_GL},
+    {"timing", required_argument, NULL, OPT_TIMING},
     {"baselines", required_argument, NULL, OPT_BASELINES},
     {"update", no_argument, NULL, OPT_UPDATE},
     {"strict", no_argument, NULL, OPT_STRICT},
@@ -461,7 +479,7 @@ static int apply_set(struct run_options *o, const char *arg)
 static bool takes(enum run_command cmd, int c)
 {
     bool gl = c == OPT_TECHNIQUE || c == OPT_SET || c == OPT_SM_SIZE || c == OPT_FRAMES ||
-              c == OPT_WARMUP || c == OPT_SHADERS;
+              c == OPT_WARMUP || c == OPT_SHADERS || c == OPT_GL;
     bool gt = c == OPT_GT_SAMPLES || c == OPT_OUT || c == OPT_CACHE || c == OPT_NO_CACHE;
     bool check = c == OPT_BASELINES || c == OPT_UPDATE || c == OPT_STRICT;
     if (c == OPT_SWEEP || c == OPT_SETTINGS)
@@ -470,6 +488,8 @@ static bool takes(enum run_command cmd, int c)
         return cmd == RUN_CMD_STABILITY;
     if (c == OPT_OBJECTIVE || c == OPT_WRITE_TUNED)
         return cmd == RUN_CMD_TUNE;
+    if (c == OPT_TIMING)  /* the commands that time */
+        return cmd == RUN_CMD_RUN || cmd == RUN_CMD_BENCH || cmd == RUN_CMD_TUNE;
     if (c == OPT_TUNED)
         return cmd == RUN_CMD_RUN || cmd == RUN_CMD_CHECK || cmd == RUN_CMD_TUNE;
     switch (cmd) {
@@ -480,7 +500,7 @@ static bool takes(enum run_command cmd, int c)
     case RUN_CMD_STABILITY: return !check && c != OPT_WARMUP && c != OPT_TUNED;
     case RUN_CMD_CHECK:  /* the settings are the baselines' */
         return check || c == OPT_SCENE || c == OPT_TECHNIQUE || c == OPT_OUT || c == OPT_CACHE ||
-               c == OPT_NO_CACHE || c == OPT_SHADERS;
+               c == OPT_NO_CACHE || c == OPT_SHADERS || c == OPT_GL;
     }
     return false;
 }
@@ -623,6 +643,14 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
         case OPT_CACHE: rc = folder_option("cache", optarg, &o->cache_dir); break;
         case OPT_NO_CACHE: o->cache_dir = NULL; break;
         case OPT_SHADERS: o->shader_dir = optarg; break;
+        case OPT_GL:
+            if ((rc = gl_backend_parse(optarg, &o->gl)) != 0)
+                log_error("--gl %s: not a GL backend (osmesa, egl)", optarg);
+            break;
+        case OPT_TIMING:
+            if ((rc = stage_timing_parse(optarg, &o->timing)) != 0)
+                log_error("--timing %s: not a timing method (auto, wall, query)", optarg);
+            break;
         case OPT_BASELINES: rc = folder_option("baselines", optarg, &o->baselines_dir); break;
         case OPT_UPDATE: o->update = true; break;
         case OPT_STRICT: o->strict = true; break;

@@ -345,7 +345,7 @@ static int run_scene(struct scene_run *sr, const struct scene *scene, struct run
                                                     o->gt_samples, 0, o->cache_dir, 0}) != 0)
         return -1;
     struct stage_timer timer = sr->ss.timer;
-    timer.warmup = o->warmup, timer.frames = o->frames;
+    timer.warmup = o->warmup, timer.frames = o->frames, timer.timing = o->timing;
     timer.on_round = timing_progress, timer.user = sr;
 
     struct stage_timer_cell *tc = xcalloc((size_t)o->config_count, sizeof *tc);
@@ -441,7 +441,10 @@ cJSON *run_json(const struct run_options *o, double seconds)
     cJSON_AddStringToObject(r, "shadowbench_version", SB_VERSION);
     cJSON_AddStringToObject(r, "git_describe", git);
     cJSON_AddStringToObject(r, "gl_renderer", gl_context_renderer());
+    cJSON_AddStringToObject(r, "gl_vendor", gl_context_vendor());
     cJSON_AddStringToObject(r, "gl_version", gl_context_version());
+    cJSON_AddStringToObject(r, "gl_platform", gl_context_platform());
+    cJSON_AddStringToObject(r, "timing_method", stage_timing_text(o->timing));
     cJSON_AddStringToObject(r, "embree_version", RTC_VERSION_STRING);
     cJSON_AddStringToObject(r, "openexr_version", OPENEXR_VERSION_STRING);
     cJSON_AddStringToObject(r, "cpu", cpu);
@@ -582,8 +585,10 @@ int run_main(const struct run_options *o)
         status = EXIT_USAGE;
         goto out_free_scenes;
     }
-    if (gl_context_create() != 0)
+    if (gl_context_create(o->gl) != 0) {  /* no such context here: bad usage (exit 2), as a bad --shaders */
+        status = EXIT_USAGE;
         goto out_free_scenes;
+    }
     for (int s = 0; s < scene_count; s++)  /* every program first: a compile error fails at once */
         for (int i = 0; i < o->config_count; i++)
             if (!run_program_get(&programs, o->configs[i].technique, run_config_settings(&o->configs[i], &scenes[s]),
@@ -598,8 +603,9 @@ int run_main(const struct run_options *o)
         log_info("no tuned settings in %s for %s: their default cells only (shadowbench tune --write-tuned "
                  "writes them)", o->tuned_dir, o->untuned.data);
     log_info("run: %d scene(s) x %d technique configuration(s), %dx%d, %d GT samples, %d^2 shadow "
-             "map, median of %d frames after %d warm-up, cells interleaved, on %s", scene_count, o->config_count, o->width,
-             o->height, o->gt_samples, o->shadow_map_size, o->frames, o->warmup, gl_context_renderer());
+             "map, median of %d frames after %d warm-up, cells interleaved, on %s (%s, %s), timed by %s", scene_count,
+             o->config_count, o->width, o->height, o->gt_samples, o->shadow_map_size, o->frames, o->warmup,
+             gl_context_renderer(), gl_context_vendor(), gl_context_platform(), stage_timing_text(o->timing));
     cells = xcalloc((size_t)cells_total, sizeof *cells);
     frontiers_build(&frontiers, o, scenes, scene_count);
     int failed = 0;

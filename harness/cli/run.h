@@ -2,6 +2,7 @@
 #ifndef SB_RUN_H
 #define SB_RUN_H
 
+#include "gl/gl_context.h"
 #include "gl/scene_mesh.h"
 #include "render/receiver.h"
 #include "render/stage_timer.h"
@@ -110,6 +111,8 @@ struct run_options {
     const char *out_dir;
     const char *cache_dir;               /* NULL: no ground-truth cache */
     const char *shader_dir;              /* NULL: found automatically */
+    enum gl_backend gl;                  /* --gl: the context's backend */
+    enum stage_timing timing;            /* --timing: how stages are timed */
     const char *baselines_dir;           /* check: the baselines read (and written by update) */
     bool update;                         /* check: record the selected baselines anew */
     bool strict;                         /* check: an improvement fails too */

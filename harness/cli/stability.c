@@ -1347,8 +1347,10 @@ int stability_main(const struct run_options *o)
     if (check_motion_nodes(&st) != 0 || run_claim_out_dir(o->out_dir) != 0 || shader_init(o->shader_dir) != 0)
         goto out;
     status = EXIT_CHECK_FAILED;
-    if (gl_context_create() != 0)
+    if (gl_context_create(o->gl) != 0) {  /* no such context here: bad usage (exit 2), as a bad --shaders */
+        status = EXIT_USAGE;
         goto out;
+    }
     remove_last_run(o->out_dir);
     for (size_t i = 0; i < sizeof stale / sizeof *stale; i++) {  /* this run's, or none */
         char *path = util_printf("%s/%s", o->out_dir, stale[i]);
@@ -1382,6 +1384,7 @@ int stability_main(const struct run_options *o)
             p->broken = ref && broken(p, ref);
         }
         cJSON *run = run_json(o, (util_now_ms() - start) * 1e-3);
+        cJSON_DeleteItemFromObject(run, "timing_method");  /* stability times nothing */
         cJSON_AddNumberToObject(run, "accumulate", o->accumulate);
         char *charts = util_printf("%s/charts", o->out_dir);
         rc = util_mkdirs(charts) || write_html(&st, run) || write_data(&st, run);

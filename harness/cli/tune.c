@@ -125,7 +125,7 @@ static int measure(struct tuner *tn, const int *point, int k, int warmup, int fr
     struct scene_setup *ss = &tn->setups[k];
     const struct stage_timer_cell cell = {tn->t, s, program_for(tn, s, k)};
     struct stage_timer timer = ss->timer;
-    timer.warmup = warmup, timer.frames = frames;
+    timer.warmup = warmup, timer.frames = frames, timer.timing = tn->o->timing;
     struct stage_times times;
     int rc = !cell.program || stage_timer_run(&timer, &cell, 1, &times) != 0;
     free(s);
@@ -331,6 +331,8 @@ static cJSON *technique_json(const struct tuner *tn, const int *start, const int
     cJSON_AddStringToObject(j, "date", date);
     cJSON_AddStringToObject(j, "git_describe", git);
     cJSON_AddStringToObject(j, "gl_renderer", gl_context_renderer());
+    cJSON_AddStringToObject(j, "gl_vendor", gl_context_vendor());
+    cJSON_AddStringToObject(j, "timing_method", stage_timing_text(tn->o->timing));
     free(date), free(git);
     return j;
 }
@@ -533,8 +535,10 @@ int tune_main(const struct run_options *o)
         begin_tune(o, false, 0) != 0 || shader_init(o->shader_dir) != 0)
         goto out;
     status = EXIT_CHECK_FAILED;
-    if (gl_context_create() != 0)
+    if (gl_context_create(o->gl) != 0) {  /* no such context here: bad usage (exit 2), as a bad --shaders */
+        status = EXIT_USAGE;
         goto out;
+    }
     log_info("tune: %d technique(s) on %d scenes, %dx%d, %d GT samples, %d^2 shadow map, objective mean %s, "
              "median of %d frames per cell, on %s", o->technique_count, scene_count, o->width, o->height,
              o->gt_samples, o->shadow_map_size, metric_info[o->objective].key, o->frames, gl_context_renderer());

@@ -1,6 +1,6 @@
 /* The GL 4.5 core entry points shadowbench uses, loaded at run time through
- * a getproc function (OSMesaGetProcAddress headless, glfwGetProcAddress in
- * the viewer): libOSMesa does not export every 4.5 function, so nothing is
+ * a getproc function (OSMesaGetProcAddress or eglGetProcAddress headless,
+ * gl_context.h's backends; glfwGetProcAddress in the viewer): libOSMesa does not export every 4.5 function, so nothing is
  * linked directly. Adding a function is one line in GL_FUNCS; gl_load()
  * refuses to start when one is missing, so list only what is called. */
 #ifndef SB_GL_H
@@ -72,6 +72,11 @@
     X(PFNGLOBJECTLABELPROC, glObjectLabel) \
     X(PFNGLDISPATCHCOMPUTEPROC, glDispatchCompute) \
     X(PFNGLMEMORYBARRIERPROC, glMemoryBarrier) \
+    X(PFNGLGENQUERIESPROC, glGenQueries) \
+    X(PFNGLDELETEQUERIESPROC, glDeleteQueries) \
+    X(PFNGLBEGINQUERYPROC, glBeginQuery) \
+    X(PFNGLENDQUERYPROC, glEndQuery) \
+    X(PFNGLGETQUERYOBJECTUI64VPROC, glGetQueryObjectui64v) \
     X(PFNGLGENSAMPLERSPROC, glGenSamplers) \
     X(PFNGLDELETESAMPLERSPROC, glDeleteSamplers) \
     X(PFNGLBINDSAMPLERPROC, glBindSampler) \

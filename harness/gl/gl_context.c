@@ -1,46 +1,31 @@
 #include "gl_context.h"
 #include "gl.h"
+#include "gl_backend.h"
 #include "base/log.h"
 
-/* osmesa.h includes GL/gl.h, whose prototypes would clash with gl.h's
- * entry-point pointers of the same names; glcorearb.h (through gl.h)
- * already has every type it needs, so GL/gl.h is skipped through its
- * include guard. */
-#define __gl_h_
-#define GLAPIENTRY APIENTRY
-#include <GL/osmesa.h>
+#include <string.h>
 
-#include <stddef.h>
+static const struct gl_backend_ops *current;
+static char platform[64];
 
-static OSMesaContext context;
-static unsigned char dummy_buffer[4 * 4 * 4]; /* OSMesa needs one; we render to FBOs */
-
-static gl_proc osmesa_getproc(const char *name)
+int gl_backend_parse(const char *name, enum gl_backend *out)
 {
-    return (gl_proc)OSMesaGetProcAddress(name);
+    if (strcmp(name, "osmesa") == 0)
+        *out = GL_BACKEND_OSMESA;
+    else if (strcmp(name, "egl") == 0)
+        *out = GL_BACKEND_EGL;
+    else
+        return -1;
+    return 0;
 }
 
-int gl_context_create(void)
+int gl_context_create(enum gl_backend backend)
 {
-    static const int attribs[] = {
-        OSMESA_FORMAT, OSMESA_RGBA,
-        OSMESA_DEPTH_BITS, 0,
-        OSMESA_PROFILE, OSMESA_CORE_PROFILE,
-        OSMESA_CONTEXT_MAJOR_VERSION, 4,
-        OSMESA_CONTEXT_MINOR_VERSION, 5,
-        0,
-    };
-    context = OSMesaCreateContextAttribs(attribs, NULL);
-    if (!context) {
-        log_error("OpenGL: OSMesa could not create a 4.5 core context (is libosmesa6 installed?)");
+    const struct gl_backend_ops *ops = backend == GL_BACKEND_EGL ? &gl_backend_egl : &gl_backend_osmesa;
+    if (ops->create(platform, sizeof platform) != 0)
         return -1;
-    }
-    if (!OSMesaMakeCurrent(context, dummy_buffer, GL_UNSIGNED_BYTE, 4, 4)) {
-        log_error("OpenGL: OSMesaMakeCurrent failed");
-        gl_context_destroy();
-        return -1;
-    }
-    if (!gl_load(osmesa_getproc)) {
+    current = ops;
+    if (!gl_load(ops->getproc)) {
         gl_context_destroy();
         return -1;
     }
@@ -50,25 +35,46 @@ int gl_context_create(void)
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glDepthFunc(GL_GREATER);
     glEnable(GL_DEPTH_TEST);
-    log_debug("OpenGL: %s, %s", gl_context_renderer(), gl_context_version());
+    log_debug("OpenGL: %s, %s, %s, through %s", gl_context_renderer(), gl_context_vendor(), gl_context_version(),
+              platform);
     return 0;
 }
 
 void gl_context_destroy(void)
 {
-    if (context) {
-        OSMesaMakeCurrent(NULL, NULL, 0, 0, 0);  /* releases the framebuffer first */
-        OSMesaDestroyContext(context);
-    }
-    context = NULL;
+    if (current)
+        current->destroy();
+    current = NULL;
+}
+
+static const char *gl_string(GLenum name)
+{
+    const char *s = current ? (const char *)glGetString(name) : NULL;
+    return s ? s : "none";
 }
 
 const char *gl_context_renderer(void)
 {
-    return context ? (const char *)glGetString(GL_RENDERER) : "none";
+    return gl_string(GL_RENDERER);
+}
+
+const char *gl_context_vendor(void)
+{
+    return gl_string(GL_VENDOR);
 }
 
 const char *gl_context_version(void)
 {
-    return context ? (const char *)glGetString(GL_VERSION) : "none";
+    return gl_string(GL_VERSION);
+}
+
+const char *gl_context_platform(void)
+{
+    return current ? platform : "none";
+}
+
+bool gl_context_is_cpu(void)
+{
+    const char *r = gl_context_renderer();
+    return strstr(r, "llvmpipe") || strstr(r, "softpipe") || strstr(r, "swrast");
 }

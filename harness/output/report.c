@@ -452,9 +452,23 @@ void report_html_end(struct strbuf *h, const char *heading, const cJSON *run, co
     cJSON_free(env);
 }
 
+/* The device the times come from, as run.json names it: "<GL_RENDERER>
+ * (<GL_VENDOR>, <platform>), <timing method>"; NULL if unnamed. */
+static char *timed_device(const cJSON *run)
+{
+    const char *renderer = cJSON_GetStringValue(cJSON_GetObjectItem(run, "gl_renderer"));
+    const char *vendor = cJSON_GetStringValue(cJSON_GetObjectItem(run, "gl_vendor"));
+    const char *platform = cJSON_GetStringValue(cJSON_GetObjectItem(run, "gl_platform"));
+    const char *method = cJSON_GetStringValue(cJSON_GetObjectItem(run, "timing_method"));
+    if (!renderer)
+        return NULL;
+    return util_printf("%s (%s, %s), %s", renderer, vendor ? vendor : "vendor unknown",
+                       platform ? platform : "platform unknown", method ? method : "timing method unknown");
+}
+
 static int write_html(const struct report *r)
 {
-    const char *device = cJSON_GetStringValue(cJSON_GetObjectItem(r->run, "gl_renderer"));
+    char *device = timed_device(r->run);
     struct strbuf h = {0};
     strbuf_printf(&h, "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
                       "<title>shadowbench report</title>\n<style>\n%s</style></head><body>\n"
@@ -531,6 +545,7 @@ static int write_html(const struct report *r)
     char *path = util_printf("%s/report.html", r->out_dir);
     rc |= util_write_file_atomic(path, h.data, h.len);
     free(path);
+    free(device);
     strbuf_free(&h);
     return rc ? -1 : 0;
 }

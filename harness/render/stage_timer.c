@@ -1,28 +1,79 @@
 #include "stage_timer.h"
 #include "base/util.h"
+#include "gl/gl_context.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 enum { STAGE_SHADOWMAP, STAGE_FILTER_PREP, STAGE_RECEIVER, STAGE_COUNT };
 
+static const char *const timing_names[] = {"auto", "wall", "query"};
+
+int stage_timing_parse(const char *name, enum stage_timing *out)
+{
+    for (int m = 0; m < 3; m++)
+        if (strcmp(name, timing_names[m]) == 0) {
+            *out = (enum stage_timing)m;
+            return 0;
+        }
+    return -1;
+}
+
+enum stage_timing stage_timing_resolve(enum stage_timing m)
+{
+    return m != STAGE_TIMING_AUTO ? m : gl_context_is_cpu() ? STAGE_TIMING_WALL : STAGE_TIMING_QUERY;
+}
+
+const char *stage_timing_text(enum stage_timing m)
+{
+    return stage_timing_resolve(m) == STAGE_TIMING_QUERY ? "GL_TIME_ELAPSED queries"
+                                                          : "wall clock around glFinish";
+}
+
+/* A stage's timing: begun, then its ms (query: GL_TIME_ELAPSED, which the
+ * read waits for; wall: glFinish, then the clock). */
+struct stage_clock {
+    GLuint query;  /* 0: wall clock */
+    double t0;
+};
+
+static void stage_begin(struct stage_clock *k)
+{
+    if (k->query)
+        glBeginQuery(GL_TIME_ELAPSED, k->query);
+    k->t0 = util_now_ms();
+}
+
+static double stage_end(struct stage_clock *k)
+{
+    if (!k->query) {
+        glFinish();
+        return util_now_ms() - k->t0;
+    }
+    glEndQuery(GL_TIME_ELAPSED);
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(k->query, GL_QUERY_RESULT, &ns);
+    return (double)ns * 1e-6;
+}
+
 /* One frame of a cell with request r, its stages' ms added to ms (may be
- * NULL: untimed). */
+ * NULL: untimed) by clock k. */
 static void frame(const struct stage_timer *t, const struct stage_timer_cell *c,
-                  const struct shadowmap_request *r, double ms[STAGE_COUNT])
+                  const struct shadowmap_request *r, struct stage_clock *k, double ms[STAGE_COUNT])
 {
     for (int p = 0; p < SM_PRODUCT_COUNT; p++)
         if (r->products & (1u << p)) {
-            double t0 = util_now_ms();
+            stage_begin(k);
             shadowmap_render_product(t->sm, t->mesh, p, r);
-            glFinish();
+            const double dt = stage_end(k);
             if (ms)
-                ms[p == SM_PRODUCT_DEPTH ? STAGE_SHADOWMAP : STAGE_FILTER_PREP] += util_now_ms() - t0;
+                ms[p == SM_PRODUCT_DEPTH ? STAGE_SHADOWMAP : STAGE_FILTER_PREP] += dt;
         }
-    double t0 = util_now_ms();
+    stage_begin(k);
     receiver_render(t->receiver, c->program, t->mesh, t->sm);
-    glFinish();
+    const double dt = stage_end(k);
     if (ms)
-        ms[STAGE_RECEIVER] += util_now_ms() - t0;
+        ms[STAGE_RECEIVER] += dt;
 }
 
 static int request(const struct stage_timer *t, const struct stage_timer_cell *c,
@@ -41,6 +92,9 @@ int stage_timer_run(const struct stage_timer *t, const struct stage_timer_cell *
     double *samples = xcalloc((size_t)n * STAGE_COUNT * (size_t)frames, sizeof(double));
     double *totals = xcalloc((size_t)frames, sizeof(double));
     int rc = 0;
+    struct stage_clock clock = {0};
+    if (stage_timing_resolve(t->timing) == STAGE_TIMING_QUERY)
+        glGenQueries(1, &clock.query);
     for (int i = 0; i < n && !rc; i++)
         rc = request(t, &cells[i], &requests[i]);
     glFinish();
@@ -49,7 +103,7 @@ int stage_timer_run(const struct stage_timer *t, const struct stage_timer_cell *
         const int f = k - t->warmup;  /* < 0: a warm-up round */
         for (int i = 0; i < n; i++) {
             double ms[STAGE_COUNT] = {0};
-            frame(t, &cells[i], &requests[i], ms);
+            frame(t, &cells[i], &requests[i], &clock, ms);
             for (int s = 0; s < STAGE_COUNT && f >= 0; s++)
                 samples[(i * STAGE_COUNT + s) * frames + f] = ms[s];
         }
@@ -69,6 +123,8 @@ int stage_timer_run(const struct stage_timer *t, const struct stage_timer_cell *
             .total_q3_ms = util_quantile(totals, frames, 0.75),
         };
     }
+    if (clock.query)
+        glDeleteQueries(1, &clock.query);
     free(totals);
     free(samples);
     free(requests);
@@ -80,6 +136,7 @@ int stage_timer_render(const struct stage_timer *t, const struct stage_timer_cel
     struct shadowmap_request r;
     if (request(t, c, &r) != 0)
         return -1;
-    frame(t, c, &r, NULL);
+    struct stage_clock wall = {0};
+    frame(t, c, &r, &wall, NULL);
     return 0;
 }

@@ -1,10 +1,12 @@
-/* Wall time of the GL stages of a frame (DESIGN.md §7). The cells of a scene
- * are timed interleaved: warm-up rounds, then K rounds, each round one frame
- * of every cell in turn, so a slow spell of the machine is shared by the
- * cells rather than landing on one. A cell's frame is the whole of its work:
- * its shadow-map products rendered afresh, then its receiver pass; each
- * stage is bracketed by glFinish, since on llvmpipe GL timer queries do not
- * measure the work. */
+/* Time of the GL stages of a frame (DESIGN.md §7). The cells of a scene are
+ * timed interleaved: warm-up rounds, then K rounds, each round one frame of
+ * every cell in turn, so a slow spell of the machine is shared by the cells
+ * rather than landing on one. A cell's frame is the whole of its work: its
+ * shadow-map products rendered afresh, then its receiver pass. Each stage is
+ * timed by wall clock around glFinish on a CPU rasteriser (llvmpipe, where
+ * GL timer queries do not measure the work), by a GL_TIME_ELAPSED query on
+ * a GPU (the wall clock there would add the driver's submission and the
+ * stall). */
 #ifndef SB_STAGE_TIMER_H
 #define SB_STAGE_TIMER_H
 
@@ -29,11 +31,24 @@ struct stage_times {
     double total_ms, total_q1_ms, total_q3_ms;
 };
 
+enum stage_timing { STAGE_TIMING_AUTO, STAGE_TIMING_WALL, STAGE_TIMING_QUERY };
+
+/* "auto", "wall" or "query" into *out: 0, or -1 for another name (not logged). */
+int stage_timing_parse(const char *name, enum stage_timing *out);
+
+/* The method auto picks for the current context (wall on a CPU
+ * rasteriser, query elsewhere), or m itself. */
+enum stage_timing stage_timing_resolve(enum stage_timing m);
+
+/* The method in words, for run.json and the charts. */
+const char *stage_timing_text(enum stage_timing m);
+
 struct stage_timer {
     struct shadowmap *sm;
     const struct scene_mesh *mesh;
     const struct receiver *receiver;
     int warmup, frames;  /* frames in [1, STAGE_TIMER_MAX_FRAMES] */
+    enum stage_timing timing;
     /* Called after each round (may be NULL): progress on long work. */
     void (*on_round)(void *user, int round, int rounds);
     void *user;
