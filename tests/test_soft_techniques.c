@@ -319,7 +319,7 @@ static void vssm_adaptive_levels(void)
         struct strbuf s = {0};
         strbuf_append(&s, text, (size_t)(at - text) + strlen(head));
         strbuf_printf(&s, "    return false;  // the probe: no box is trusted\n%s", at + strlen(head));
-        util_write_file_atomic(path, s.data, s.len);
+        CHECK(util_write_file_atomic(path, s.data, s.len) == 0, "probe: cannot write %s", path);
         strbuf_free(&s);
         char *args = util_printf("--scene overlapping_occluders --technique vssm --sweep vssm.adaptive=false,true "
                                  "--sweep vssm.subdivisions=4,8 --width 96 --height 96 --gt-samples 64 --shaders %s",

@@ -191,9 +191,9 @@ int image_read_exr(const char *path, int width, int height, struct exr_channel *
 
 /* Encodes pixels (rows top first, packed) as format into a buffer of the
  * largest size the encoding can take, so the image is encoded once, and
- * writes it to path atomically. PNG_IMAGE_FLAG_FAST: zlib's fast setting;
- * a run writes two pictures a cell, and the default setting took most of a
- * cell's output time (measured in Speed). */
+ * writes it to path atomically. PNG_IMAGE_FLAG_FAST: libpng's setting for
+ * speed over size; a run writes two pictures a cell, and stb_image_write's
+ * encoder took most of a cell's output time (measured in Speed). */
 static int write_png(const char *path, int width, int height, png_uint_32 format, const void *pixels)
 {
     png_image im = {.version = PNG_IMAGE_VERSION, .width = (png_uint_32)width,

@@ -1,5 +1,5 @@
 /* Image files: float EXR through the OpenEXR C API, 8-bit PNG through
- * stb_image_write, 16-bit grey PNG through libpng's simplified API. Rows are top row first (DESIGN.md §8). Every write is
+ * libpng's simplified API, as is 16-bit grey PNG. Rows are top row first (DESIGN.md §8). Every write is
  * atomic: a temporary file renamed into place. */
 #ifndef SB_IMAGE_H
 #define SB_IMAGE_H

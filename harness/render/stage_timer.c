@@ -26,6 +26,8 @@ enum stage_timing stage_timing_resolve(enum stage_timing m)
 
 const char *stage_timing_text(enum stage_timing m)
 {
+    if (m == STAGE_TIMING_AUTO && strcmp(gl_context_renderer(), "none") == 0)
+        return "auto (no GL context yet)";  /* run.json before the context: decided with it */
     return stage_timing_resolve(m) == STAGE_TIMING_QUERY ? "GL_TIME_ELAPSED queries"
                                                           : "wall clock around glFinish";
 }
