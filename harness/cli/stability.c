@@ -751,10 +751,9 @@ static void break_points(struct stab *st, int s, int var, const struct technique
 static void broken_values(struct stab *st, int s, int var, const struct technique *t, struct strbuf *out)
 {
     const struct variation *v = &st->vars[var];
-    const struct vary_point *ref = find_point(st, s, var, v->reference, t);
-    for (int k = 0; ref && k < v->count; k++) {
+    for (int k = 0; k < v->count; k++) {
         const struct vary_point *p = find_point(st, s, var, k, t);
-        if (k != v->reference && p && broken(p, ref))
+        if (k != v->reference && p && p->broken)  /* p->broken: against the reference, when measured */
             strbuf_list_printf(out, ", ", "%s", v->texts[k]);
     }
 }
