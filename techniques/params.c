@@ -75,6 +75,8 @@ static void put(const struct technique_param *p, void *settings, double v)
 
 void params_put(const struct technique_param *p, void *settings, double v) { put(p, settings, v); }
 
+double params_get(const struct technique_param *p, const void *settings) { return get(p, settings); }
+
 int params_tune_values(const struct technique_param *p, double *values, int max)
 {
     int n = 0;

@@ -29,6 +29,9 @@ int params_tune_values(const struct technique_param *p, double *values, int max)
 /* Sets p to v (a value of p's type, in range: e.g. one of its tune values). */
 void params_put(const struct technique_param *p, void *settings, double v);
 
+/* p's value in settings, as a number (PARAM_ENUM: the index). */
+double params_get(const struct technique_param *p, const void *settings);
+
 /* Applies the technique's rules across parameters (technique.check).
  * Returns 0, or -1 after logging "<technique>: <reason>". */
 int params_check(const struct technique *t, const void *settings);

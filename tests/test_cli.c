@@ -67,7 +67,7 @@ int main(int argc, char **argv)
     const char *small = "--scene floating_box_sphere --width 16 --height 16 --gt-samples 1 --no-cache";
 
     expect(2, "", NULL);
-    expect(2, "frobnicate", "unknown command 'frobnicate' (commands: run, gt, bench, check, tune, stability, list; see --help)");
+    expect(2, "frobnicate", "unknown command 'frobnicate' (commands: run, gt, bench, check, tune, stability, view, list; see --help)");
     struct strbuf known = {0};  /* every registered technique, in registry order */
     for (int i = 0; technique_list[i]; i++)
         strbuf_printf(&known, "%s%s", i ? ", " : "", technique_list[i]->name);
@@ -152,7 +152,7 @@ int main(int argc, char **argv)
     expect(2, "run --set vsm.bleed_reduction=1", "vsm.bleed_reduction: 1 is out of range [0.0, 0.99]");
     expect(2, "bench --gt-samples 16", "--gt-samples: unknown option for bench (see --help)");
     expect(2, "bench --out x", "--out: unknown option for bench (see --help)");
-    expect(2, "bench --scene a --scene b", "--scene: gt and bench take one scene");
+    expect(2, "bench --scene a --scene b", "--scene: gt, bench and view take one scene");
     expect(2, "run --width 8", "--width: 8 is out of range [16, 8192]");
     expect(2, "run --frames x", "--frames: 'x' is not a whole number");
     expect(2, "run --gt-samples 1000",

@@ -8,6 +8,7 @@
 #include "sweep.h"
 #include "tune.h"
 #include "tuned.h"
+#include "view.h"
 #include "base/log.h"
 #include "base/util.h"
 #include "render/stage_timer.h"
@@ -43,6 +44,8 @@ static const char usage_main[] =
     "         time) and a setting per scene chosen on the other scenes\n"
     "  stability  flicker under motion, and where each technique breaks as the\n"
     "         shadow map, the light or a parameter varies\n"
+    "  view   one scene in a window (GLFW): switch techniques, move the light and\n"
+    "         the camera, step parameters, the ground truth refining behind\n"
     "  list   techniques with every parameter (default, range, meaning), and scenes\n"
     "\n"
     "'shadowbench <command> --help' explains each command's options.\n"
@@ -345,6 +348,56 @@ static const char usage_stability[] =
     "exit status: 0 done; 1 a technique produced NaN/Inf or a motion had nothing\n"
     "to score, or a runtime error; 2 bad usage or input.\n";
 
+static const char usage_view[] =
+    "usage: shadowbench view --scene S [options]\n"
+    "\n"
+    "Opens one scene in a window (GLFW, OpenGL 4.5 core) shaded by a technique:\n"
+    "unshadowed shading (the area light's irradiance E, closed form) times V_tech.\n"
+    "Each frame renders the technique's products afresh, then its receiver pass,\n"
+    "timed as bench times them. The ground truth of each pose is ray traced on the\n"
+    "other threads, at 1, 4, 16, ... light samples per pixel up to --gt-samples,\n"
+    "each level shown when done; with it the overlay gives rmse and penumbra_rmse.\n"
+    "Without a display (a server, CI) run it under xvfb-run.\n"
+    "\n"
+    "keys:\n"
+    "  Tab, Shift+Tab        next, previous technique (those of --technique, else all)\n"
+    "  1 2 3 4               view: shaded, V_tech, V_gt, signed error (V_tech - V_gt)\n"
+    "  Space                 split screen: left technique | right technique\n"
+    "  B, Shift+B            next, previous right-hand technique\n"
+    "  [ ]                   select the left technique's previous, next parameter\n"
+    "  - =                   its previous, next value (its tune list or choices;\n"
+    "                        else int +-1, float x/1.25, within its range)\n"
+    "  arrows                move the light along its own x and y\n"
+    "  A D, W S, Q E         orbit the camera (yaw, pitch), move it closer, away\n"
+    "  mouse                 left drag: orbit; right drag: move the light; wheel: closer\n"
+    "  R                     reset the light and the camera\n"
+    "  H                     overlay on, off\n"
+    "  Esc                   quit\n"
+    "\n"
+    "options:\n"
+    "  --scene S             a glTF file, or the name of a shipped scene (required)\n"
+    "  --technique T[,T...]  the techniques Tab steps through, the first shown\n"
+    "                        (default: all); the second is the split's right side\n"
+    "  --set T.P=V           as for run (repeatable); the view starts from defaults\n"
+    "  --width W, --height H the picture in pixels, " SIZE_RANGE " (default " RUN_STR(RUN_DEFAULT_SIZE) " x "
+    RUN_STR(RUN_DEFAULT_SIZE) ")\n"
+    "  --gt-samples N        the ground truth's last level, a square n*n (default "
+    RUN_STR(VIEW_DEFAULT_GT_SAMPLES) ")\n"
+    "  --shadow-map-size N   texels, " MAP_RANGE " (default " RUN_STR(SHADOWMAP_DEFAULT_SIZE) ")\n"
+    "  --frames N            draw N frames, then exit (default: until the window closes)\n"
+    "  --screenshot FILE     write the window's last frame to FILE (PNG) and exit\n"
+    "                        (after 1 frame unless --frames); that frame first waits\n"
+    "                        for the pose's last ground-truth level\n"
+    "  --script FILE         key events to replay: lines 'FRAME KEY' (the key pressed\n"
+    "                        before frame FRAME, counted from 0; KEY: A-Z, 0-9, TAB,\n"
+    "                        SPACE, LEFT, RIGHT, UP, DOWN, MINUS, EQUAL, LEFT_BRACKET,\n"
+    "                        RIGHT_BRACKET, ESCAPE, each optionally shift+KEY); # comments\n"
+    "  --shaders DIR         GLSL folder, as for run\n"
+    "  -q, --quiet, -v, --verbose  (key events and refusals are logged at the default level)\n"
+    "\n"
+    "exit status: 0 done; 1 a runtime error (a shader that does not compile, a\n"
+    "screenshot not written); 2 bad usage or input, or no window system.\n";
+
 static const char usage_list[] =
     "usage: shadowbench list\n"
     "\n"
@@ -355,7 +408,7 @@ enum {
     OPT_SCENE = 256, OPT_TECHNIQUE, OPT_SET, OPT_WIDTH, OPT_HEIGHT, OPT_GT_SAMPLES,
     OPT_SM_SIZE, OPT_FRAMES, OPT_WARMUP, OPT_OUT, OPT_CACHE, OPT_NO_CACHE, OPT_SHADERS, OPT_SWEEP,
     OPT_BASELINES, OPT_UPDATE, OPT_STRICT, OPT_TUNED, OPT_SETTINGS, OPT_OBJECTIVE, OPT_WRITE_TUNED,
-    OPT_MOTION, OPT_VARY, OPT_ACCUMULATE, OPT_GL, OPT_TIMING,
+    OPT_MOTION, OPT_VARY, OPT_ACCUMULATE, OPT_GL, OPT_TIMING, OPT_SCREENSHOT, OPT_SCRIPT,
 };
 
 static const struct option long_options[] = {
@@ -385,6 +438,8 @@ static const struct option long_options[] = {
     {"motion", required_argument, NULL, OPT_MOTION},
     {"vary", required_argument, NULL, OPT_VARY},
     {"accumulate", required_argument, NULL, OPT_ACCUMULATE},
+    {"screenshot", required_argument, NULL, OPT_SCREENSHOT},
+    {"script", required_argument, NULL, OPT_SCRIPT},
     {"quiet", no_argument, NULL, 'q'},
     {"verbose", no_argument, NULL, 'v'},
     {"help", no_argument, NULL, 'h'},
@@ -486,6 +541,11 @@ static bool takes(enum run_command cmd, int c)
         return cmd == RUN_CMD_RUN;
     if (c == OPT_MOTION || c == OPT_VARY || c == OPT_ACCUMULATE)
         return cmd == RUN_CMD_STABILITY;
+    if (cmd == RUN_CMD_VIEW || c == OPT_SCREENSHOT || c == OPT_SCRIPT)
+        return cmd == RUN_CMD_VIEW && (c == OPT_SCENE || c == OPT_TECHNIQUE || c == OPT_SET || c == OPT_WIDTH ||
+                                       c == OPT_HEIGHT || c == OPT_GT_SAMPLES || c == OPT_SM_SIZE ||
+                                       c == OPT_FRAMES || c == OPT_SHADERS || c == OPT_SCREENSHOT ||
+                                       c == OPT_SCRIPT);
     if (c == OPT_OBJECTIVE || c == OPT_WRITE_TUNED)
         return cmd == RUN_CMD_TUNE;
     if (c == OPT_TIMING)  /* the commands that time */
@@ -498,6 +558,7 @@ static bool takes(enum run_command cmd, int c)
     case RUN_CMD_GT: return !gl && !check;
     case RUN_CMD_BENCH: return !gt && !check;
     case RUN_CMD_STABILITY: return !check && c != OPT_WARMUP && c != OPT_TUNED;
+    case RUN_CMD_VIEW: break;  /* above */
     case RUN_CMD_CHECK:  /* the settings are the baselines' */
         return check || c == OPT_SCENE || c == OPT_TECHNIQUE || c == OPT_OUT || c == OPT_CACHE ||
                c == OPT_NO_CACHE || c == OPT_SHADERS || c == OPT_GL;
@@ -519,7 +580,7 @@ static int parse_gt_samples(const char *text, int *out)
     return 0;
 }
 
-static const char *const command_names[] = {"run", "gt", "bench", "check", "tune", "stability"};
+static const char *const command_names[] = {"run", "gt", "bench", "check", "tune", "stability", "view"};
 
 static int parse_choice(const char *opt, const char *text, const char *const *names, int *out)
 {
@@ -586,9 +647,9 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
         switch (c) {
         case OPT_SCENE:
             if (o->scene_count == RUN_MAX_SCENES ||
-                ((cmd == RUN_CMD_GT || cmd == RUN_CMD_BENCH) && o->scene_count == 1)) {
+                ((cmd == RUN_CMD_GT || cmd == RUN_CMD_BENCH || cmd == RUN_CMD_VIEW) && o->scene_count == 1)) {
                 log_error("--scene: %s", o->scene_count == RUN_MAX_SCENES ? "too many scenes"
-                                                                          : "gt and bench take one scene");
+                                                                          : "gt, bench and view take one scene");
                 return -1;
             }
             o->scenes[o->scene_count++] = optarg;
@@ -674,6 +735,8 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
             break;
         }
         case OPT_WRITE_TUNED: o->write_tuned = true; break;
+        case OPT_SCREENSHOT: o->screenshot = optarg; break;
+        case OPT_SCRIPT: o->script = optarg; break;
         case 'q': log_set_level(LOG_ERROR); break;
         case 'v': log_set_level(LOG_DEBUG); break;
         case 'h': fputs(usage, stdout); return 1;
@@ -689,10 +752,12 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
         log_error("--strict: has no effect with --update (which records every cell)");
         return -1;
     }
-    if (cmd == RUN_CMD_GT && o->scene_count == 0) {
-        log_error("gt: --scene is required (see --help)");
+    if ((cmd == RUN_CMD_GT || cmd == RUN_CMD_VIEW) && o->scene_count == 0) {
+        log_error("%s: --scene is required (see --help)", command_names[cmd]);
         return -1;
     }
+    if (cmd == RUN_CMD_VIEW && o->screenshot && o->frames == 0)
+        o->frames = 1;
     if (tuned_given && cmd == RUN_CMD_TUNE && !o->write_tuned) {
         log_error("--tuned: tune writes there only with --write-tuned");
         return -1;
@@ -767,15 +832,15 @@ int main(int argc, char **argv)
     if (strcmp(cmd, "list") == 0)
         return cmd_list(argc - 1, argv + 1);
     static const char *const usages[] = {usage_run, usage_gt, usage_bench, usage_check, usage_tune,
-                                         usage_stability};
+                                         usage_stability, usage_view};
     static int (*const mains[])(const struct run_options *) = {run_main, run_gt, bench_main, check_main,
-                                                               tune_main, stability_main};
+                                                               tune_main, stability_main, view_main};
     const int commands = (int)(sizeof mains / sizeof *mains);
     int k = 0;
     while (k < commands && strcmp(cmd, command_names[k]) != 0)
         k++;
     if (k == commands) {
-        log_error("unknown command '%s' (commands: run, gt, bench, check, tune, stability, list; see --help)", cmd);
+        log_error("unknown command '%s' (commands: run, gt, bench, check, tune, stability, view, list; see --help)", cmd);
         return EXIT_USAGE;
     }
     struct run_options o = {.argc = argc, .argv = argv};

@@ -33,11 +33,12 @@ void run_options_defaults(struct run_options *o, enum run_command cmd)
     o->width = o->height = bench ? BENCH_DEFAULT_SIZE : tune ? TUNE_DEFAULT_SIZE
                          : stability                  ? STABILITY_DEFAULT_SIZE
                                                       : RUN_DEFAULT_SIZE;
-    o->gt_samples = GT_DEFAULT_SAMPLES;
+    o->gt_samples = cmd == RUN_CMD_VIEW ? VIEW_DEFAULT_GT_SAMPLES : GT_DEFAULT_SAMPLES;
     o->shadow_map_size = SHADOWMAP_DEFAULT_SIZE;
     o->frames = bench       ? BENCH_DEFAULT_FRAMES
                 : tune      ? TUNE_DEFAULT_FRAMES
                 : stability ? STABILITY_DEFAULT_FRAMES
+                : cmd == RUN_CMD_VIEW ? 0  /* until the window closes */
                             : RUN_DEFAULT_FRAMES;
     o->warmup = bench ? BENCH_DEFAULT_WARMUP : tune ? TUNE_DEFAULT_WARMUP : RUN_DEFAULT_WARMUP;
     o->out_dir = cmd == RUN_CMD_GT      ? GT_DEFAULT_OUT

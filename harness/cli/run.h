@@ -22,7 +22,7 @@ enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_USAGE = 2 };
 #define RUN_MAX_CONFIGS 256
 
 /* The commands that render: they share struct run_options. */
-enum run_command { RUN_CMD_RUN, RUN_CMD_GT, RUN_CMD_BENCH, RUN_CMD_CHECK, RUN_CMD_TUNE, RUN_CMD_STABILITY };
+enum run_command { RUN_CMD_RUN, RUN_CMD_GT, RUN_CMD_BENCH, RUN_CMD_CHECK, RUN_CMD_TUNE, RUN_CMD_STABILITY, RUN_CMD_VIEW };
 
 /* Which cells of each technique run makes (--settings). */
 enum run_settings_mode { RUN_SETTINGS_BOTH, RUN_SETTINGS_DEFAULT, RUN_SETTINGS_TUNED };
@@ -55,6 +55,7 @@ enum run_settings_mode { RUN_SETTINGS_BOTH, RUN_SETTINGS_DEFAULT, RUN_SETTINGS_T
 #define STABILITY_DEFAULT_ACCUMULATE 0.1  /* stability: a new frame's weight in the moving average */
 #define STABILITY_MIN_FRAMES 2
 #define STABILITY_MAX_FRAMES 256
+#define VIEW_DEFAULT_GT_SAMPLES 256  /* view: the last level of the ground truth's refinement */
 #define RUN_MAX_MOTIONS 16
 #define RUN_MAX_VARIES 16
 #define RUN_STR_(x) #x
@@ -125,6 +126,8 @@ struct run_options {
     const char *varies[RUN_MAX_VARIES];    /* stability: --vary specs as given */
     int vary_count;
     double accumulate;                   /* stability: the accumulation's weight of a new frame */
+    const char *screenshot;              /* view: the PNG the last frame is written to */
+    const char *script;                  /* view: key events replayed */
     int argc;                            /* the command line, for run.json */
     char **argv;
 };

@@ -264,20 +264,6 @@ static int check_motion_nodes(const struct stab *st)
     return 0;
 }
 
-/* A parameter's value as a number (the chart's x): its member. */
-static double param_number(const struct technique_param *p, const void *settings)
-{
-    const char *at = (const char *)settings + p->offset;
-    if (p->type == PARAM_FLOAT) {
-        float v;
-        memcpy(&v, at, sizeof v);
-        return v;
-    }
-    int v;
-    memcpy(&v, at, sizeof v);
-    return v;
-}
-
 static void sort_values(struct variation *v)
 {
     for (int i = 1; i < v->count; i++)  /* insertion sort: a handful of values */
@@ -328,7 +314,7 @@ static int parse_vary(const struct run_options *o, const char *spec, struct vari
         }
         const void *base = run_settings(o, v->t);
         work = memcpy(xmalloc(v->t->settings_size), base, v->t->settings_size);
-        reference = param_number(v->p, base);
+        reference = params_get(v->p, base);
     } else {
         int k = 0;
         while (k < VARY_PARAM && strcmp(variables[k].name, v->name) != 0)
@@ -356,7 +342,7 @@ static int parse_vary(const struct run_options *o, const char *spec, struct vari
             rc = -1;
         } else if (v->kind == VARY_PARAM) {
             rc = params_set(v->t, work, v->p->name, text);
-            value = rc ? 0 : param_number(v->p, work);
+            value = rc ? 0 : params_get(v->p, work);
         } else if ((rc = parse_number(v->name, text, &value)) == 0) {
             const bool whole = v->kind != VARY_MAP_SIZE || value == floor(value);
             if (!whole || value < variables[v->kind].lo || value > variables[v->kind].hi) {

@@ -17,6 +17,6 @@ struct gl_backend_ops {
     gl_proc (*getproc)(const char *name);
 };
 
-extern const struct gl_backend_ops gl_backend_osmesa, gl_backend_egl;
+extern const struct gl_backend_ops gl_backend_osmesa, gl_backend_egl, gl_backend_glfw;
 
 #endif

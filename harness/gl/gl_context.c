@@ -21,7 +21,9 @@ int gl_backend_parse(const char *name, enum gl_backend *out)
 
 int gl_context_create(enum gl_backend backend)
 {
-    const struct gl_backend_ops *ops = backend == GL_BACKEND_EGL ? &gl_backend_egl : &gl_backend_osmesa;
+    static const struct gl_backend_ops *const backends[] = {
+        [GL_BACKEND_OSMESA] = &gl_backend_osmesa, [GL_BACKEND_EGL] = &gl_backend_egl, [GL_BACKEND_GLFW] = &gl_backend_glfw};
+    const struct gl_backend_ops *ops = backends[backend];
     if (ops->create(platform, sizeof platform) != 0)
         return -1;
     current = ops;

@@ -8,7 +8,8 @@
 
 #include <stdbool.h>
 
-enum gl_backend { GL_BACKEND_OSMESA, GL_BACKEND_EGL };
+/* GLFW: a window, for the viewer only (gl_window.h); not a --gl choice. */
+enum gl_backend { GL_BACKEND_OSMESA, GL_BACKEND_EGL, GL_BACKEND_GLFW };
 
 /* "osmesa" or "egl" into *out: 0, or -1 for another name (not logged). */
 int gl_backend_parse(const char *name, enum gl_backend *out);

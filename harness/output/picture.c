@@ -60,8 +60,7 @@ void picture_diverging(float t, uint8_t rgb[3])
         rgb[c] = (uint8_t)lrintf((1.0f - f) * stops[i][c] + f * stops[i + 1][c]);
 }
 
-/* Text with stb_easy_font's glyph quads, each filled as a scale x scale block. */
-static void text(struct picture *p, int x, int y, int scale, const char *s, const uint8_t c[3])
+void picture_text(struct picture *p, int x, int y, int scale, const char *s, const uint8_t c[3])
 {
     static char quads[64 * 1024];
     int n = stb_easy_font_print(0, 0, (char *)s, NULL, quads, sizeof quads);
@@ -74,7 +73,7 @@ static void text(struct picture *p, int x, int y, int scale, const char *s, cons
     }
 }
 
-static int text_width(const char *s, int scale) { return stb_easy_font_width((char *)s) * scale; }
+int picture_text_width(const char *s, int scale) { return stb_easy_font_width((char *)s) * scale; }
 
 void picture_error_heatmap(const float *v_tech, const float *v_gt, const float *scored, int width,
                            int height, struct picture *out)
@@ -117,9 +116,9 @@ void picture_difference(const float *a, const float *b, const float *shown, int 
     snprintf(lo, sizeof lo, "-%.2g", (double)legend->scale);
     snprintf(hi, sizeof hi, "+%.2g", (double)legend->scale);
     int ty = bar_y + bar_h + 2;
-    text(out, bar_x0, ty, scale, lo, ink);
-    text(out, (bar_x0 + bar_x1) / 2 - text_width("0", scale) / 2, ty, scale, "0", ink);
-    text(out, bar_x1 - text_width(hi, scale), ty, scale, hi, ink);
+    picture_text(out, bar_x0, ty, scale, lo, ink);
+    picture_text(out, (bar_x0 + bar_x1) / 2 - picture_text_width("0", scale) / 2, ty, scale, "0", ink);
+    picture_text(out, bar_x1 - picture_text_width(hi, scale), ty, scale, hi, ink);
     /* Each end's words on two lines: "too" / "dark". */
     const char *ends[2] = {legend->negative, legend->positive};
     for (int e = 0; e < 2; e++) {
@@ -127,8 +126,8 @@ void picture_difference(const float *a, const float *b, const float *shown, int 
         snprintf(words[0], sizeof words[0], "%.*s", space ? (int)(space - ends[e]) : (int)strlen(ends[e]), ends[e]);
         snprintf(words[1], sizeof words[1], "%s", space ? space + 1 : "");
         int x = e ? bar_x1 + 4 : 2;
-        text(out, x, bar_y, scale, words[0], ink);
-        text(out, x, bar_y + 8 * scale, scale, words[1], ink);
+        picture_text(out, x, bar_y, scale, words[0], ink);
+        picture_text(out, x, bar_y + 8 * scale, scale, words[1], ink);
     }
-    text(out, (width - text_width(legend->caption, scale)) / 2, ty + 9 * scale, scale, legend->caption, ink);
+    picture_text(out, (width - picture_text_width(legend->caption, scale)) / 2, ty + 9 * scale, scale, legend->caption, ink);
 }

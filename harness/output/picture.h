@@ -39,6 +39,13 @@ struct picture_legend {
 void picture_difference(const float *a, const float *b, const float *shown, int width, int height,
                         const struct picture_legend *legend, struct picture *out);
 
+/* Text at (x, y) (its top left), in stb_easy_font's glyphs, each glyph
+ * pixel a scale x scale block of colour c; clipped to the picture. */
+void picture_text(struct picture *p, int x, int y, int scale, const char *s, const uint8_t c[3]);
+
+/* The width in pixels picture_text gives s. */
+int picture_text_width(const char *s, int scale);
+
 /* Diverging colormap: t in [-1, 1] -> RGB. */
 void picture_diverging(float t, uint8_t rgb[3]);
 

@@ -441,13 +441,15 @@ int gt_render(const struct scene *s, const struct light_frustum *f, const struct
 
     const int tiles_x = (w + TILE - 1) / TILE, tiles_y = (h + TILE - 1) / TILE;
     const long long tiles = (long long)tiles_x * tiles_y;
-    const bool show = isatty(STDERR_FILENO) && log_get_level() >= LOG_INFO;
+    const bool show = !tr.desc.quiet && isatty(STDERR_FILENO) && log_get_level() >= LOG_INFO;
     atomic_llong done = 0, rays = 0, samples = 0;
     double start = util_now_ms(), last_report = start;
     bool reported = false;
 
 #pragma omp parallel for schedule(dynamic, 4)
     for (long long t = 0; t < tiles; t++) {
+        if (tr.desc.cancel && atomic_load(tr.desc.cancel))
+            continue;  /* an OpenMP loop cannot break: the remaining tiles are skipped */
         long long resolved;
         long long r = trace_tile(&tr, (int)(t % tiles_x) * TILE, (int)(t / tiles_x) * TILE, out, &resolved);
         atomic_fetch_add(&rays, r);
@@ -471,7 +473,7 @@ int gt_render(const struct scene *s, const struct light_frustum *f, const struct
     out->msamples_per_second = out->seconds > 0 ? (double)out->samples / out->seconds * 1e-6 : 0;
     rtcReleaseScene(tr.rtc);
     cull_free(tr.cull);
-    return 0;
+    return tr.desc.cancel && atomic_load(tr.desc.cancel) ? 1 : 0;
 }
 
 void gt_image_free(struct gt_image *g)

@@ -9,6 +9,7 @@
 #include "scene/light_frustum.h"
 #include "scene/scene.h"
 
+#include <stdatomic.h>
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -30,6 +31,9 @@ struct gt_desc {
     uint32_t seed;      /* default 1 */
     bool trace_all;     /* trace every sample, none decided by cull.h: the same pixels, slower
                            (the tests compare the two) */
+    bool quiet;         /* no progress line, even on a terminal */
+    const atomic_bool *cancel;  /* optional: once it reads true the render stops early, its
+                                   image incomplete (gt_render returns 1) */
 };
 
 /* A scored pixel sees at least this fraction of the light above its
@@ -55,7 +59,8 @@ struct gt_image {
 };
 
 /* Renders on all cores, with progress on stderr when it is a terminal.
- * Returns 0 or -1 (logged). */
+ * Returns 0, 1 when d->cancel stopped it (out is allocated but incomplete:
+ * free it), or -1 (logged). */
 int gt_render(const struct scene *s, const struct light_frustum *f, const struct gt_desc *d,
               struct gt_image *out);
 

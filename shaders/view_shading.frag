@@ -1,0 +1,70 @@
+#version 450 core
+// The viewer's unshadowed shading: the irradiance E at a surface point
+// from the area light at unit radiance, counting only the part of the light
+// above the point's tangent plane and in front of the light (it emits
+// towards its -z). The ground truth estimates the same integral by
+// sampling (its E, harness/truth/groundtruth.c); here it is closed form:
+// the light as a polygon (a rect's 4 corners, a disk as a 64-gon), clipped
+// to the tangent plane, then Lambert's formula
+//   E = 1/2 sum_i angle(r_i, r_i+1) * dot(n, normalize(cross(r_i, r_i+1)))
+// with r_i the vertices relative to the point.
+in vec3 v_pos_world;
+in vec3 v_normal_world;
+
+uniform vec3 u_light_pos, u_light_x, u_light_y, u_light_z;
+uniform float u_light_half_width, u_light_half_height;  // rect
+uniform float u_light_radius;                           // disk
+uniform int u_light_disk;
+
+layout(location = 0) out float o_irradiance;
+
+#define DISK_SIDES 64
+#define MAX_VERTS (DISK_SIDES + 2)
+
+void main()
+{
+    vec3 n = normalize(v_normal_world);
+    vec3 p = v_pos_world;
+    if (dot(p - u_light_pos, u_light_z) >= 0.0) {  // behind the light
+        o_irradiance = 0.0;
+        return;
+    }
+    vec3 poly[MAX_VERTS];
+    int count;
+    if (u_light_disk != 0) {
+        count = DISK_SIDES;
+        // the polygon of the same area as the disk
+        float r = u_light_radius * sqrt(6.28318530718 / (DISK_SIDES * sin(6.28318530718 / DISK_SIDES)));
+        for (int i = 0; i < DISK_SIDES; i++) {
+            float a = 6.28318530718 * float(i) / DISK_SIDES;
+            poly[i] = u_light_pos + r * (cos(a) * u_light_x + sin(a) * u_light_y) - p;
+        }
+    } else {
+        count = 4;
+        vec3 x = u_light_half_width * u_light_x, y = u_light_half_height * u_light_y;
+        poly[0] = u_light_pos - x - y - p;
+        poly[1] = u_light_pos + x - y - p;
+        poly[2] = u_light_pos + x + y - p;
+        poly[3] = u_light_pos - x + y - p;
+    }
+    // clip to the tangent plane, dot(n, r) >= 0 (Sutherland-Hodgman)
+    vec3 clipped[MAX_VERTS];
+    int kept = 0;
+    for (int i = 0; i < count; i++) {
+        vec3 a = poly[i], b = poly[(i + 1) % count];
+        float da = dot(n, a), db = dot(n, b);
+        if (da >= 0.0 && kept < MAX_VERTS)
+            clipped[kept++] = a;
+        if ((da >= 0.0) != (db >= 0.0) && kept < MAX_VERTS)
+            clipped[kept++] = a + (b - a) * (da / (da - db));
+    }
+    float e = 0.0;
+    for (int i = 0; i < kept; i++) {
+        vec3 a = normalize(clipped[i]), b = normalize(clipped[(i + 1) % kept]);
+        vec3 c = cross(a, b);
+        float len = length(c);
+        if (len > 1e-7)
+            e += acos(clamp(dot(a, b), -1.0, 1.0)) * dot(n, c / len);
+    }
+    o_irradiance = 0.5 * abs(e);
+}

@@ -1,0 +1,236 @@
+/* Protects issue 16's viewer (`shadowbench view`), run under Xvfb: its
+ * screenshot shows the shadow where the ground truth (the `gt` command's,
+ * an independent path) has it; a scripted Tab changes the technique and
+ * the picture; the split screen is the two techniques' own pictures side
+ * by side; the V_gt view is the ground truth itself, traced in the
+ * background for the pose on screen (also after the light moved); the
+ * overlay's metrics are run's; bad input and no display are one line and
+ * exit 2. */
+#include "check.h"
+#include "run_cmd.h"
+#include "base/image.h"
+
+#include <cjson/cJSON.h>
+#include <png.h>
+#include <string.h>
+
+#define W 160
+#define H 160
+
+static const char *sb;
+static char dir[] = "/tmp/sb_test_view_XXXXXX";
+
+/* An RGB PNG into grey (its green channel: the grey views are r = g = b). */
+static uint8_t *read_grey(const char *path)
+{
+    png_image img = {.version = PNG_IMAGE_VERSION};
+    uint8_t *rgb = NULL, *grey = NULL;
+    if (png_image_begin_read_from_file(&img, path) && img.width == W && img.height == H) {
+        img.format = PNG_FORMAT_RGB;
+        rgb = malloc(PNG_IMAGE_SIZE(img));
+        if (png_image_finish_read(&img, NULL, rgb, 0, NULL)) {
+            grey = malloc(W * H);
+            for (int i = 0; i < W * H; i++)
+                grey[i] = rgb[3 * i + 1];
+        }
+    }
+    CHECK(grey, "%s: not a %d x %d PNG", path, W, H);
+    png_image_free(&img);
+    free(rgb);
+    return grey;
+}
+
+/* Runs the viewer under Xvfb with a script; returns its exit status, its
+ * stderr in err, and its screenshot (grey) when shot is given. */
+static int view(const char *name, const char *script, const char *extra, struct strbuf *err, uint8_t **shot)
+{
+    char *script_path = util_printf("%s/%s.txt", dir, name), *png = util_printf("%s/%s.png", dir, name);
+    util_write_file_atomic(script_path, script, strlen(script));
+    char *cmd = util_printf("xvfb-run -a -s '-screen 0 640x480x24' %s view --scene parallel_planes --technique pcss,hard "
+                            "--width %d --height %d --gt-samples 16 --shadow-map-size 512 --script %s --screenshot %s "
+                            "--frames 3 %s",
+                            sb, W, H, script_path, png, extra);
+    int status = run_cmd(cmd, err, NULL);
+    CHECK(status == 0, "%s: exit %d: %s", name, status, err->data);
+    if (shot)
+        *shot = status == 0 ? read_grey(png) : NULL;
+    free(cmd), free(script_path), free(png);
+    return status;
+}
+
+/* The logged "rmse X" of the viewer's last frame, or NAN. */
+static double logged_rmse(const char *err)
+{
+    const char *at = err ? strstr(err, ": rmse ") : NULL;
+    return at ? atof(at + 7) : NAN;
+}
+
+static void refusals(void)
+{
+    const char *bad[][2] = {
+        {"view", "--scene is required"},
+        {"view --scene parallel_planes --scene thin_features", "take one scene"},
+        {"view --scene parallel_planes --gl egl", "unknown option for view"},
+        {"view --scene parallel_planes --script /nonexistent/script.txt", "--script"},
+        {"view --scene parallel_planes --screenshot /nonexistent/folder/a.png", "not a writable folder"},
+        {"view --scene no_such_scene", "no_such_scene"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
+        char *cmd = util_printf("%s %s", sb, bad[i][0]);
+        struct strbuf err = {0};
+        int status = run_cmd(cmd, &err, NULL);
+        const char *nl = strchr(err.data, '\n');
+        CHECK(status == 2 && strstr(err.data, bad[i][1]) && nl && !nl[1],
+              "'%s': exit %d, one line naming '%s': %s", bad[i][0], status, bad[i][1], err.data);
+        strbuf_free(&err);
+        free(cmd);
+    }
+    /* scripts: an unknown key, frames out of order, not 'FRAME KEY' */
+    const char *scripts[][2] = {{"0 F13\n", "unknown key 'F13'"}, {"2 TAB\n1 TAB\n", "comes before"},
+                                {"TAB\n", "not 'FRAME KEY'"}};
+    for (size_t i = 0; i < sizeof scripts / sizeof *scripts; i++) {
+        char *path = util_printf("%s/bad%zu.txt", dir, i);
+        util_write_file_atomic(path, scripts[i][0], strlen(scripts[i][0]));
+        char *cmd = util_printf("%s view --scene parallel_planes --script %s", sb, path);
+        struct strbuf err = {0};
+        int status = run_cmd(cmd, &err, NULL);
+        const char *nl = strchr(err.data, '\n');
+        CHECK(status == 2 && strstr(err.data, scripts[i][1]) && nl && !nl[1], "script %zu: exit %d: %s", i, status,
+              err.data);
+        strbuf_free(&err);
+        free(cmd), free(path);
+    }
+    /* no display: one line that says what to do */
+    char *cmd = util_printf("env -u DISPLAY -u WAYLAND_DISPLAY %s view --scene parallel_planes", sb);
+    struct strbuf err = {0};
+    int status = run_cmd(cmd, &err, NULL);
+    const char *nl = strchr(err.data, '\n');
+    CHECK(status == 2 && strstr(err.data, "xvfb-run") && nl && !nl[1], "no display: exit %d: %s", status, err.data);
+    strbuf_free(&err);
+    free(cmd);
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2) {
+        fprintf(stderr, "usage: %s path/to/shadowbench\n", argv[0]);
+        return 2;
+    }
+    sb = argv[1];
+    if (!mkdtemp(dir))
+        return 2;
+    CHECK(system("command -v xvfb-run >/dev/null") == 0, "xvfb-run is not installed (tools/setup installs xvfb)");
+    refusals();
+
+    /* The ground truth at the same size and samples, by the gt command. */
+    char *cmd = util_printf("%s gt --scene parallel_planes --width %d --height %d --gt-samples 16 --no-cache -q "
+                            "--out %s/gt", sb, W, H, dir);
+    struct strbuf err = {0};
+    CHECK(run_cmd(cmd, &err, NULL) == 0, "gt: %s", err.data);
+    free(cmd);
+    strbuf_free(&err);
+    char *gt_path = util_printf("%s/gt/parallel_planes/groundtruth.exr", dir);
+    struct exr_channel ch[] = {{"V", NULL}, {"mask", NULL}};
+    const bool have_gt = image_read_exr(gt_path, W, H, ch, 2, NULL) == 0;
+    CHECK(have_gt, "%s", gt_path);
+    free(gt_path);
+    const float *gt = ch[0].data, *mask = ch[1].data;
+
+    /* The overlay off (H), the V_tech view (2): pcss, then Tab to hard. */
+    uint8_t *pcss = NULL, *hard = NULL, *split = NULL, *vgt = NULL, *shaded = NULL, *plain = NULL;
+    struct strbuf e1 = {0}, e2 = {0}, e3 = {0}, e4 = {0}, e5 = {0}, e6 = {0}, e7 = {0};
+    view("pcss", "0 H\n0 2\n", "", &e1, &pcss);
+    view("hard", "0 H\n0 2\n1 TAB\n", "", &e2, &hard);
+    view("split", "0 H\n0 2\n0 SPACE\n", "", &e3, &split);
+    view("vgt", "0 H\n0 3\n", "", &e4, &vgt);
+    view("shaded", "", "", &e5, &shaded);
+    view("plain", "0 H\n", "", &e7, &plain);
+    CHECK(strstr(e2.data, "left technique hard") != NULL, "the scripted Tab is logged: %s", e2.data);
+
+    if (have_gt && pcss && hard && split && vgt && shaded && plain) {
+        /* The shadow where V_gt has it: pcss's umbra and lit pixels by V_gt
+         * (pcss is exact in both on these parallel planes: V_tech 0 and 1,
+         * sRGB 0 and 255; 12 levels is sRGB's step near 0.004). */
+        double umbra = 0, lit = 0, diff = 0;
+        int n_umbra = 0, n_lit = 0, n_pen = 0, vgt_off = 0, split_off = 0;
+        for (int i = 0; i < W * H; i++) {
+            if (mask[i] < 0.5f)
+                continue;
+            if (gt[i] < 0.02f)
+                umbra += pcss[i], n_umbra++;
+            else if (gt[i] > 0.98f)
+                lit += pcss[i], n_lit++;
+            else if (gt[i] > 0.1f && gt[i] < 0.9f)
+                diff += abs(pcss[i] - hard[i]), n_pen++;
+            /* the V_gt view is the gt command's V: the same samples, the same sRGB step */
+            vgt_off += abs(vgt[i] - image_srgb8(gt[i])) > 0;
+        }
+        CHECK(n_umbra > W * H / 20 && n_lit > W * H / 20 && n_pen > W * H / 20,
+              "the scene has umbra, lit and penumbra pixels: %d, %d, %d", n_umbra, n_lit, n_pen);
+        CHECK(n_umbra && umbra / n_umbra <= 12, "pcss's umbra is dark on screen: mean grey %.1f", umbra / n_umbra);
+        CHECK(n_lit && lit / n_lit >= 243, "pcss's lit side is bright on screen: mean grey %.1f", lit / n_lit);
+        /* hard has no penumbra: where V_gt is inside (0.1, 0.9) it is 0 or 1,
+         * pcss in between; a mean difference of 20 grey levels is far below
+         * what that gives and far above any rendering noise (none: both are
+         * deterministic). */
+        CHECK(n_pen && diff / n_pen > 20, "Tab changed the picture in the penumbra: mean |diff| %.1f", diff / n_pen);
+        CHECK(vgt_off == 0, "the V_gt view is the gt command's V at every scored pixel (%d differ)", vgt_off);
+        /* the split: left half pcss's picture, right half hard's, a line between */
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++) {
+                const int i = y * W + x;
+                if (x < W / 2 - 1)
+                    split_off += split[i] != pcss[i];
+                else if (x >= W / 2)
+                    split_off += split[i] != hard[i];
+                else
+                    split_off += split[i] != 255;
+            }
+        CHECK(split_off == 0, "the split screen is pcss | hard exactly (%d pixels differ)", split_off);
+        /* the overlay (on by default, H turns it off) writes white text at
+         * the top left and nothing elsewhere */
+        int text = 0, elsewhere = 0;
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++) {
+                const int i = y * W + x;
+                if (y < 40 && x < 120)
+                    text += shaded[i] == 255 && plain[i] != 255;
+                else if (y >= 130)  /* below its 10 lines of 11 pixels */
+                    elsewhere += shaded[i] != plain[i];
+            }
+        CHECK(text > 50, "the overlay's text is there: %d white pixels", text);
+        CHECK(elsewhere == 0, "the overlay leaves the bottom of the picture alone: %d differ", elsewhere);
+    }
+
+    /* The overlay's metrics are run's: the same cell, the same ground truth. */
+    cmd = util_printf("%s run --scene parallel_planes --technique pcss --settings default --width %d --height %d "
+                      "--gt-samples 16 --shadow-map-size 512 --frames 1 --no-cache -q --out %s/run",
+                      sb, W, H, dir);
+    CHECK(run_cmd(cmd, &err, NULL) == 0, "run: %s", err.data);
+    free(cmd);
+    strbuf_free(&err);
+    char *metrics_path = util_printf("%s/run/parallel_planes/pcss/metrics.json", dir), *text = NULL;
+    size_t size;
+    cJSON *m = util_read_file(metrics_path, &text, &size) == 0 ? cJSON_Parse(text) : NULL;
+    const cJSON *rmse = cJSON_GetObjectItem(m, "rmse");
+    CHECK(cJSON_IsNumber(rmse), "%s: rmse", metrics_path);
+    /* 5e-7: the log prints six decimals */
+    if (cJSON_IsNumber(rmse))
+        CHECK_NEAR(logged_rmse(e1.data), rmse->valuedouble, 5e-7, "the viewer's rmse is run's");
+    cJSON_Delete(m);
+    free(text), free(metrics_path);
+
+    /* After the light moved, the ground truth shown is the new pose's: pcss
+     * still scores as well against it (against the old pose's it would not). */
+    view("moved", "0 RIGHT\n0 RIGHT\n0 RIGHT\n1 UP\n", "", &e6, NULL);
+    const double moved = logged_rmse(e6.data), still = logged_rmse(e1.data);
+    CHECK(moved < 2 * still + 0.01, "pcss after the light moved: rmse %.4f (still: %.4f)", moved, still);
+
+    free(pcss), free(hard), free(split), free(vgt), free(shaded), free(plain);
+    free(ch[0].data), free(ch[1].data);
+    struct strbuf *errs[] = {&e1, &e2, &e3, &e4, &e5, &e6, &e7};
+    for (int i = 0; i < 7; i++)
+        strbuf_free(errs[i]);
+    remove_tree(dir);
+    return check_finish();
+}
