@@ -9,6 +9,7 @@
 #include "check.h"
 #include "run_cmd.h"
 #include "base/image.h"
+#include "cli/view.h"
 
 #include <cjson/cJSON.h>
 #include <png.h>
@@ -20,8 +21,10 @@
 static const char *sb;
 static char dir[] = "/tmp/sb_test_view_XXXXXX";
 
-/* An RGB PNG into grey (its green channel: the grey views are r = g = b). */
-static uint8_t *read_grey(const char *path)
+/* An RGB PNG into grey (its green channel: the grey views are r = g = b);
+ * where the picture shows no geometry (picture.c's slate blue, r != g), 0
+ * in *geometry when given. */
+static uint8_t *read_grey(const char *path, uint8_t **geometry)
 {
     png_image img = {.version = PNG_IMAGE_VERSION};
     uint8_t *rgb = NULL, *grey = NULL;
@@ -30,8 +33,13 @@ static uint8_t *read_grey(const char *path)
         rgb = malloc(PNG_IMAGE_SIZE(img));
         if (png_image_finish_read(&img, NULL, rgb, 0, NULL)) {
             grey = malloc(W * H);
-            for (int i = 0; i < W * H; i++)
+            if (geometry)
+                *geometry = malloc(W * H);
+            for (int i = 0; i < W * H; i++) {
                 grey[i] = rgb[3 * i + 1];
+                if (geometry)
+                    (*geometry)[i] = rgb[3 * i] == rgb[3 * i + 1];
+            }
         }
     }
     CHECK(grey, "%s: not a %d x %d PNG", path, W, H);
@@ -42,20 +50,79 @@ static uint8_t *read_grey(const char *path)
 
 /* Runs the viewer under Xvfb with a script; returns its exit status, its
  * stderr in err, and its screenshot (grey) when shot is given. */
-static int view(const char *name, const char *script, const char *extra, struct strbuf *err, uint8_t **shot)
+static int view_scene(const char *scene, const char *name, const char *script, struct strbuf *err, uint8_t **shot,
+                      uint8_t **geometry)
 {
     char *script_path = util_printf("%s/%s.txt", dir, name), *png = util_printf("%s/%s.png", dir, name);
     util_write_file_atomic(script_path, script, strlen(script));
-    char *cmd = util_printf("xvfb-run -a -s '-screen 0 640x480x24' %s view --scene parallel_planes --technique pcss,hard "
+    char *cmd = util_printf("xvfb-run -a -s '-screen 0 640x480x24' %s view --scene %s --technique pcss,hard "
                             "--width %d --height %d --gt-samples 16 --shadow-map-size 512 --script %s --screenshot %s "
-                            "--frames 3 %s",
-                            sb, W, H, script_path, png, extra);
+                            "--frames 3",
+                            sb, scene, W, H, script_path, png);
     int status = run_cmd(cmd, err, NULL);
     CHECK(status == 0, "%s: exit %d: %s", name, status, err->data);
     if (shot)
-        *shot = status == 0 ? read_grey(png) : NULL;
+        *shot = status == 0 ? read_grey(png, geometry) : NULL;
     free(cmd), free(script_path), free(png);
     return status;
+}
+
+static int view(const char *name, const char *script, struct strbuf *err, uint8_t **shot)
+{
+    return view_scene("parallel_planes", name, script, err, shot, NULL);
+}
+
+/* The gt command's channels of scene at W x H and samples; 0 or -1. */
+static int ground_truth(const char *scene, int samples, struct exr_channel *ch, int count)
+{
+    char *cmd = util_printf("%s gt --scene %s --width %d --height %d --gt-samples %d --no-cache -q --out %s/gt_%s",
+                            sb, scene, W, H, samples, dir, scene);
+    struct strbuf err = {0};
+    int rc = run_cmd(cmd, &err, NULL);
+    CHECK(rc == 0, "gt %s: %s", scene, err.data);
+    char *path = util_printf("%s/gt_%s/%s/groundtruth.exr", dir, scene, scene);
+    rc = rc == 0 ? image_read_exr(path, W, H, ch, count, NULL) : -1;
+    CHECK(rc == 0, "%s", path);
+    free(cmd), free(path);
+    strbuf_free(&err);
+    return rc;
+}
+
+/* The E view (5) is the closed form of the irradiance the ground truth
+ * samples (its E, 1024 samples): on flat receivers (the shading normal is
+ * the geometric one) within one sRGB step at every pixel, VIEW_WHITE x the mean
+ * over the geometry being white in both (seen: at most 1 step, a mean of
+ * 0.04, on both lights; a normal tilted by 0.2 gives 6). The picture is E
+ * up to its scale, which the logged mean pins: within 0.5 % of the ground
+ * truth's mean (the disk is a 64-gon of its area; seen: 0.10 % rect, 0.11 %
+ * disk, about the sampled E's own error; the disk 1.3x too wide gives 68 %). */
+static void irradiance_check(const char *scene)
+{
+    struct exr_channel ch[] = {{"E", NULL}};
+    uint8_t *shot = NULL, *geometry = NULL;
+    struct strbuf err = {0};
+    char *name = util_printf("e_%s", scene);
+    if (ground_truth(scene, 1024, ch, 1) == 0 && view_scene(scene, name, "0 H\n0 5\n", &err, &shot, &geometry) == 0 &&
+        shot) {
+        double sum = 0;
+        long n = 0;
+        for (int i = 0; i < W * H; i++)
+            if (geometry[i])
+                sum += ch[0].data[i], n++;
+        const float exposure = (float)((double)n / (VIEW_WHITE * sum));
+        int worst = 0;
+        for (int i = 0; i < W * H; i++)
+            if (geometry[i]) {
+                const int d = abs(shot[i] - image_srgb8(fminf(ch[0].data[i] * exposure, 1.0f)));
+                worst = d > worst ? d : worst;
+            }
+        CHECK(n > W * H / 2 && worst <= 1, "%s: E view against the ground truth's E: %d sRGB steps off", scene, worst);
+        const char *at = strstr(err.data, "mean E ");
+        const double mean = at ? atof(at + 7) : NAN, truth = sum / (double)n;
+        CHECK(fabs(mean - truth) <= 0.005 * truth, "%s: mean E %.6g, the ground truth's %.6g", scene, mean, truth);
+    }
+    free(ch[0].data), free(shot), free(geometry), free(name);
+    strbuf_free(&err);
 }
 
 /* The logged "rmse X" of the viewer's last frame, or NAN. */
@@ -122,29 +189,23 @@ int main(int argc, char **argv)
     CHECK(system("command -v xvfb-run >/dev/null") == 0, "xvfb-run is not installed (tools/setup installs xvfb)");
     refusals();
 
-    /* The ground truth at the same size and samples, by the gt command. */
-    char *cmd = util_printf("%s gt --scene parallel_planes --width %d --height %d --gt-samples 16 --no-cache -q "
-                            "--out %s/gt", sb, W, H, dir);
-    struct strbuf err = {0};
-    CHECK(run_cmd(cmd, &err, NULL) == 0, "gt: %s", err.data);
-    free(cmd);
-    strbuf_free(&err);
-    char *gt_path = util_printf("%s/gt/parallel_planes/groundtruth.exr", dir);
+    irradiance_check("parallel_planes");
+    irradiance_check("parallel_planes_disk");
+
+    /* The ground truth at the viewer's size and samples, by the gt command. */
     struct exr_channel ch[] = {{"V", NULL}, {"mask", NULL}};
-    const bool have_gt = image_read_exr(gt_path, W, H, ch, 2, NULL) == 0;
-    CHECK(have_gt, "%s", gt_path);
-    free(gt_path);
+    const bool have_gt = ground_truth("parallel_planes", 16, ch, 2) == 0;
     const float *gt = ch[0].data, *mask = ch[1].data;
 
     /* The overlay off (H), the V_tech view (2): pcss, then Tab to hard. */
     uint8_t *pcss = NULL, *hard = NULL, *split = NULL, *vgt = NULL, *shaded = NULL, *plain = NULL;
     struct strbuf e1 = {0}, e2 = {0}, e3 = {0}, e4 = {0}, e5 = {0}, e6 = {0}, e7 = {0};
-    view("pcss", "0 H\n0 2\n", "", &e1, &pcss);
-    view("hard", "0 H\n0 2\n1 TAB\n", "", &e2, &hard);
-    view("split", "0 H\n0 2\n0 SPACE\n", "", &e3, &split);
-    view("vgt", "0 H\n0 3\n", "", &e4, &vgt);
-    view("shaded", "", "", &e5, &shaded);
-    view("plain", "0 H\n", "", &e7, &plain);
+    view("pcss", "0 H\n0 2\n", &e1, &pcss);
+    view("hard", "0 H\n0 2\n1 TAB\n", &e2, &hard);
+    view("split", "0 H\n0 2\n0 SPACE\n", &e3, &split);
+    view("vgt", "0 H\n0 3\n", &e4, &vgt);
+    view("shaded", "", &e5, &shaded);
+    view("plain", "0 H\n", &e7, &plain);
     CHECK(strstr(e2.data, "left technique hard") != NULL, "the scripted Tab is logged: %s", e2.data);
 
     if (have_gt && pcss && hard && split && vgt && shaded && plain) {
@@ -203,7 +264,8 @@ int main(int argc, char **argv)
     }
 
     /* The overlay's metrics are run's: the same cell, the same ground truth. */
-    cmd = util_printf("%s run --scene parallel_planes --technique pcss --settings default --width %d --height %d "
+    struct strbuf err = {0};
+    char *cmd = util_printf("%s run --scene parallel_planes --technique pcss --settings default --width %d --height %d "
                       "--gt-samples 16 --shadow-map-size 512 --frames 1 --no-cache -q --out %s/run",
                       sb, W, H, dir);
     CHECK(run_cmd(cmd, &err, NULL) == 0, "run: %s", err.data);
@@ -222,7 +284,7 @@ int main(int argc, char **argv)
 
     /* After the light moved, the ground truth shown is the new pose's: pcss
      * still scores as well against it (against the old pose's it would not). */
-    view("moved", "0 RIGHT\n0 RIGHT\n0 RIGHT\n1 UP\n", "", &e6, NULL);
+    view("moved", "0 RIGHT\n0 RIGHT\n0 RIGHT\n1 UP\n", &e6, NULL);
     const double moved = logged_rmse(e6.data), still = logged_rmse(e1.data);
     CHECK(moved < 2 * still + 0.01, "pcss after the light moved: rmse %.4f (still: %.4f)", moved, still);
 

@@ -243,8 +243,8 @@ static int script_load(const char *path, struct script_event *out, int max)
 
 #define PITCH_MAX 1.4f  /* radians: the orbit stops short of the poles */
 
-enum view_mode { MODE_SHADED, MODE_VTECH, MODE_VGT, MODE_ERROR, MODE_COUNT };
-static const char *const mode_names[MODE_COUNT] = {"shaded", "V_tech", "V_gt", "error"};
+enum view_mode { MODE_SHADED, MODE_VTECH, MODE_VGT, MODE_ERROR, MODE_E, MODE_COUNT };
+static const char *const mode_names[MODE_COUNT] = {"shaded", "V_tech", "V_gt", "error", "E"};
 
 struct viewer {
     const struct run_options *o;
@@ -419,7 +419,7 @@ static void on_key(struct viewer *v, int key, int mods)
         v->split = !v->split;
         say(v, "split %s", v->split ? "on" : "off");
         break;
-    case GLFW_KEY_1: case GLFW_KEY_2: case GLFW_KEY_3: case GLFW_KEY_4:
+    case GLFW_KEY_1: case GLFW_KEY_2: case GLFW_KEY_3: case GLFW_KEY_4: case GLFW_KEY_5:
         v->mode = (enum view_mode)(key - GLFW_KEY_1);
         say(v, "view %s", mode_names[v->mode]);
         break;
@@ -570,22 +570,29 @@ static int render_side(struct viewer *v, int k)
     return 0;
 }
 
+/* The mean of E over the pixels where side k's GL pass drew geometry. */
+static double mean_irradiance(const struct viewer *v, int k)
+{
+    double sum = 0;
+    long n = 0;
+    for (size_t i = 0; i < (size_t)v->w * (size_t)v->h; i++)
+        if (v->distance[k][i] >= 0)
+            sum += v->irradiance[i], n++;
+    return n ? sum / (double)n : 0;
+}
+
 /* Side k's picture in the current view. */
 static void side_picture(struct viewer *v, int k, struct picture *out)
 {
     const size_t count = (size_t)v->w * (size_t)v->h;
     const bool gt = v->gt_samples > 0;
     switch (v->mode) {
-    case MODE_SHADED: {
-        /* exposure: 1.5 times the mean irradiance over the geometry is white */
-        double sum = 0;
-        long n = 0;
+    case MODE_SHADED:
+    case MODE_E: {
+        const double mean = mean_irradiance(v, k);
+        const float exposure = mean > 0 ? (float)(1.0 / (VIEW_WHITE * mean)) : 1.0f;
         for (size_t i = 0; i < count; i++)
-            if (v->distance[k][i] >= 0)
-                sum += v->irradiance[i], n++;
-        const float exposure = sum > 0 ? (float)((double)n / (1.5 * sum)) : 1.0f;
-        for (size_t i = 0; i < count; i++)
-            v->shade[i] = fminf(v->irradiance[i] * v->v[k][i] * exposure, 1.0f);
+            v->shade[i] = fminf(v->irradiance[i] * (v->mode == MODE_E ? 1.0f : v->v[k][i]) * exposure, 1.0f);
         picture_visibility(v->shade, v->distance[k], NULL, v->w, v->h, out);
         return;
     }
@@ -618,7 +625,7 @@ static void overlay(struct viewer *v, struct picture *p)
     struct strbuf lines[16] = {{0}};
     int n = 0;
     const struct technique *a = side_technique(v, 0), *b = side_technique(v, 1);
-    strbuf_printf(&lines[n++], "%s%s%s   view %s (1-4)   %s", a->name, v->split ? " | " : "",
+    strbuf_printf(&lines[n++], "%s%s%s   view %s (1-5)   %s", a->name, v->split ? " | " : "",
                   v->split ? b->name : "", mode_names[v->mode], v->split ? "split (Space)" : "Tab: technique");
     for (int i = 0; a->params[i].name && n < 9; i++) {
         char text[64];
@@ -852,9 +859,10 @@ int view_main(const struct run_options *o)
         glfwSwapBuffers(win);
     }
     if (status == EXIT_OK)
-        log_info("view: %s, view %s%s%s: rmse %.6f, penumbra_rmse %.6f (V_gt %d spp)", side_technique(&v, 0)->name,
-                 mode_names[v.mode], v.split ? ", right " : "", v.split ? side_technique(&v, 1)->name : "",
-                 v.gt_samples > 0 ? v.m[0].rmse : NAN, v.gt_samples > 0 ? v.m[0].penumbra_rmse : NAN, v.gt_samples);
+        log_info("view: %s, view %s%s%s: rmse %.6f, penumbra_rmse %.6f (V_gt %d spp), mean E %.6g",
+                 side_technique(&v, 0)->name, mode_names[v.mode], v.split ? ", right " : "",
+                 v.split ? side_technique(&v, 1)->name : "", v.gt_samples > 0 ? v.m[0].rmse : NAN,
+                 v.gt_samples > 0 ? v.m[0].penumbra_rmse : NAN, v.gt_samples, mean_irradiance(&v, 0));
     viewer_free(&v);
     gl_context_destroy();
     free(title);
