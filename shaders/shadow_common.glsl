@@ -50,6 +50,17 @@ vec2 sm_depth_gradient(vec2 uv, float depth_hw)
     return all(lessThan(abs(g), vec2(1e10))) ? g : vec2(0.0);
 }
 
+// The surface's geometric normal at p, flipped to face the camera: the
+// ground truth's convention (DESIGN.md §6), so both shade the same side. A
+// triangle too small for screen-space derivatives falls back to the vertex
+// normal rather than giving NaN.
+vec3 sm_facing_normal(vec3 p, vec3 vertex_normal, vec3 camera_pos)
+{
+    vec3 c = cross(dFdx(p), dFdy(p));
+    vec3 n = dot(c, c) > 0.0 ? normalize(c) : normalize(vertex_normal);
+    return dot(n, camera_pos - p) < 0.0 ? -n : n;
+}
+
 // tan(theta) is capped at 10 (theta ~ 84 deg) so grazing receivers keep a
 // finite slope bias.
 ShadowInput sm_make_input(vec3 p, vec3 n)

@@ -7,9 +7,14 @@
 // the light as a polygon (a rect's 4 corners, a disk as a 64-gon), clipped
 // to the tangent plane, then Lambert's formula
 //   E = 1/2 sum_i angle(r_i, r_i+1) * dot(n, normalize(cross(r_i, r_i+1)))
-// with r_i the vertices relative to the point.
+// with r_i the vertices relative to the point, and the normal the ground
+// truth's (the geometric one, facing the camera).
+#include "shadow_common.glsl"
+
 in vec3 v_pos_world;
 in vec3 v_normal_world;
+
+uniform vec3 u_camera_pos;
 
 uniform vec3 u_light_pos, u_light_x, u_light_y, u_light_z;
 uniform float u_light_half_width, u_light_half_height;  // rect
@@ -23,8 +28,8 @@ layout(location = 0) out float o_irradiance;
 
 void main()
 {
-    vec3 n = normalize(v_normal_world);
     vec3 p = v_pos_world;
+    vec3 n = sm_facing_normal(p, v_normal_world, u_camera_pos);
     if (dot(p - u_light_pos, u_light_z) >= 0.0) {  // behind the light
         o_irradiance = 0.0;
         return;
@@ -64,7 +69,7 @@ void main()
         vec3 c = cross(a, b);
         float len = length(c);
         if (len > 1e-7)
-            e += acos(clamp(dot(a, b), -1.0, 1.0)) * dot(n, c / len);
+            e += atan(len, dot(a, b)) * dot(n, c / len);  // the angle, accurate when small
     }
     o_irradiance = 0.5 * abs(e);
 }

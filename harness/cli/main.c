@@ -354,8 +354,10 @@ static const char usage_view[] =
     "Opens one scene in a window (GLFW, OpenGL 4.5 core) shaded by a technique:\n"
     "unshadowed shading (the area light's irradiance E, closed form) times V_tech.\n"
     "Each frame renders the technique's products afresh, then its receiver pass,\n"
-    "timed as bench times them. The ground truth of each pose is ray traced on the\n"
-    "other threads, at 1, 4, 16, ... light samples per pixel up to --gt-samples,\n"
+    "each stage timed as bench times it, one frame at a time (the overlay shows a\n"
+    "moving average; the ground truth's tracing shares the CPU with llvmpipe).\n"
+    "The ground truth of each pose is ray traced on a second thread (all cores),\n"
+    "at 1, 4, 16, ... light samples per pixel up to --gt-samples,\n"
     "each level shown when done; with it the overlay gives rmse and penumbra_rmse.\n"
     "Without a display (a server, CI) run it under xvfb-run.\n"
     "\n"
@@ -542,11 +544,8 @@ static bool takes(enum run_command cmd, int c)
         return cmd == RUN_CMD_RUN;
     if (c == OPT_MOTION || c == OPT_VARY || c == OPT_ACCUMULATE)
         return cmd == RUN_CMD_STABILITY;
-    if (cmd == RUN_CMD_VIEW || c == OPT_SCREENSHOT || c == OPT_SCRIPT)
-        return cmd == RUN_CMD_VIEW && (c == OPT_SCENE || c == OPT_TECHNIQUE || c == OPT_SET || c == OPT_WIDTH ||
-                                       c == OPT_HEIGHT || c == OPT_GT_SAMPLES || c == OPT_SM_SIZE ||
-                                       c == OPT_FRAMES || c == OPT_SHADERS || c == OPT_SCREENSHOT ||
-                                       c == OPT_SCRIPT);
+    if (c == OPT_SCREENSHOT || c == OPT_SCRIPT)
+        return cmd == RUN_CMD_VIEW;
     if (c == OPT_OBJECTIVE || c == OPT_WRITE_TUNED)
         return cmd == RUN_CMD_TUNE;
     if (c == OPT_TIMING)  /* the commands that time */
@@ -559,7 +558,9 @@ static bool takes(enum run_command cmd, int c)
     case RUN_CMD_GT: return !gl && !check;
     case RUN_CMD_BENCH: return !gt && !check;
     case RUN_CMD_STABILITY: return !check && c != OPT_WARMUP && c != OPT_TUNED;
-    case RUN_CMD_VIEW: break;  /* above */
+    case RUN_CMD_VIEW:  /* a window: no --gl, --timing (auto) or output folder */
+        return c == OPT_SCENE || c == OPT_TECHNIQUE || c == OPT_SET || c == OPT_WIDTH || c == OPT_HEIGHT ||
+               c == OPT_GT_SAMPLES || c == OPT_SM_SIZE || c == OPT_FRAMES || c == OPT_SHADERS;
     case RUN_CMD_CHECK:  /* the settings are the baselines' */
         return check || c == OPT_SCENE || c == OPT_TECHNIQUE || c == OPT_OUT || c == OPT_CACHE ||
                c == OPT_NO_CACHE || c == OPT_SHADERS || c == OPT_GL;
@@ -675,9 +676,9 @@ static int parse_options(int argc, char **argv, const char *usage, enum run_comm
                            &o->shadow_map_size);
             break;
         case OPT_FRAMES:
-            rc = cmd == RUN_CMD_STABILITY
-                     ? parse_int("frames", optarg, STABILITY_MIN_FRAMES, STABILITY_MAX_FRAMES, &o->frames)
-                     : parse_int("frames", optarg, 1, STAGE_TIMER_MAX_FRAMES, &o->frames);
+            rc = cmd == RUN_CMD_STABILITY ? parse_int("frames", optarg, STABILITY_MIN_FRAMES, STABILITY_MAX_FRAMES, &o->frames)
+                 : cmd == RUN_CMD_VIEW    ? parse_int("frames", optarg, 1, VIEW_MAX_FRAMES, &o->frames)
+                                          : parse_int("frames", optarg, 1, STAGE_TIMER_MAX_FRAMES, &o->frames);
             break;
         case OPT_MOTION:
         case OPT_VARY: {

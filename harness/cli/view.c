@@ -6,6 +6,7 @@
 #include "gl/shader.h"
 #include "output/picture.h"
 #include "techniques/params.h"
+#include "truth/gt_worker.h"
 
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
@@ -13,149 +14,10 @@
 #include <ctype.h>
 #include <stdarg.h>
 #include <math.h>
-#include <pthread.h>
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
-
-/* ---- the ground truth, traced in the background ------------------------ */
-
-/* One worker thread traces the ground truth of the pose last asked for,
- * at 1, 4, 16, ... light samples per pixel up to the --gt-samples, each
- * level handed over when done. A new pose cancels the level in progress
- * (gt_desc.cancel) and starts again at 1. The scene it traces is a copy of
- * the pose's struct: its arrays are the loaded scene's, which nothing
- * changes while the viewer runs. */
-struct gt_worker {
-    pthread_t thread;
-    pthread_mutex_t lock;
-    pthread_cond_t wake, done_cond;
-    atomic_bool cancel;
-    bool started, quit;
-    unsigned asked;       /* the pose asked for (a count of poses) */
-    struct scene scene;   /* that pose */
-    struct light_frustum frustum;
-    int width, height, max_samples;
-    unsigned done_pose;   /* the pose of done */
-    int done_samples;     /* 0: none yet; -1: tracing it failed */
-    bool fresh, finished; /* done not yet taken; the last level of done_pose is done */
-    struct gt_image done;
-};
-
-static void *gt_worker_main(void *arg)
-{
-    struct gt_worker *w = arg;
-    unsigned taken = 0;
-    pthread_mutex_lock(&w->lock);
-    for (;;) {
-        while (!w->quit && w->asked == taken)
-            pthread_cond_wait(&w->wake, &w->lock);
-        if (w->quit)
-            break;
-        taken = w->asked;
-        const struct scene scene = w->scene;
-        const struct light_frustum frustum = w->frustum;
-        atomic_store(&w->cancel, false);
-        pthread_mutex_unlock(&w->lock);
-        for (int samples = 1, last = 0; !last; samples *= 4) {
-            if (samples >= w->max_samples)
-                samples = w->max_samples, last = 1;
-            struct gt_image g;
-            const struct gt_desc d = {.width = w->width, .height = w->height, .samples = samples,
-                                      .quiet = true, .cancel = &w->cancel};
-            int rc = gt_render(&scene, &frustum, &d, &g);
-            if (rc == 1)
-                gt_image_free(&g);
-            pthread_mutex_lock(&w->lock);
-            const bool current = w->asked == taken;
-            if (rc == 0 && current) {
-                gt_image_free(&w->done);
-                w->done = g;
-                w->done_samples = samples;
-            } else if (rc == 0) {
-                gt_image_free(&g);
-            } else if (rc < 0 && current) {
-                w->done_samples = -1;
-                last = 1;
-            }
-            if (current) {
-                w->done_pose = taken, w->fresh = true, w->finished = last;
-                pthread_cond_broadcast(&w->done_cond);
-            }
-            pthread_mutex_unlock(&w->lock);
-            if (rc != 0 || !current)
-                break;
-        }
-        pthread_mutex_lock(&w->lock);
-    }
-    pthread_mutex_unlock(&w->lock);
-    return NULL;
-}
-
-static int gt_worker_start(struct gt_worker *w, int width, int height, int max_samples)
-{
-    memset(w, 0, sizeof *w);
-    w->width = width, w->height = height, w->max_samples = max_samples;
-    pthread_mutex_init(&w->lock, NULL);
-    pthread_cond_init(&w->wake, NULL);
-    pthread_cond_init(&w->done_cond, NULL);
-    if (pthread_create(&w->thread, NULL, gt_worker_main, w) != 0) {
-        log_error("view: could not start the ground truth's thread");
-        return -1;
-    }
-    w->started = true;
-    return 0;
-}
-
-static void gt_worker_ask(struct gt_worker *w, unsigned pose, const struct scene *s, const struct light_frustum *f)
-{
-    pthread_mutex_lock(&w->lock);
-    w->asked = pose, w->scene = *s, w->frustum = *f;
-    w->finished = false;
-    atomic_store(&w->cancel, true);
-    pthread_cond_signal(&w->wake);
-    pthread_mutex_unlock(&w->lock);
-}
-
-/* Moves the newest level of pose into *out (freeing what it held) and
- * returns its samples per pixel; 0 when there is none newer, -1 when
- * tracing it failed. wait: first wait for the pose's last level. */
-static int gt_worker_take(struct gt_worker *w, unsigned pose, bool wait, struct gt_image *out)
-{
-    int samples = 0;
-    pthread_mutex_lock(&w->lock);
-    while (wait && !(w->done_pose == pose && w->finished))
-        pthread_cond_wait(&w->done_cond, &w->lock);
-    if (w->fresh && w->done_pose == pose) {
-        samples = w->done_samples;
-        if (samples > 0) {
-            gt_image_free(out);
-            *out = w->done;
-            memset(&w->done, 0, sizeof w->done);
-        }
-        w->fresh = false;
-    }
-    pthread_mutex_unlock(&w->lock);
-    return samples;
-}
-
-static void gt_worker_stop(struct gt_worker *w)
-{
-    if (!w->started)
-        return;
-    pthread_mutex_lock(&w->lock);
-    w->quit = true;
-    atomic_store(&w->cancel, true);
-    pthread_cond_signal(&w->wake);
-    pthread_mutex_unlock(&w->lock);
-    pthread_join(w->thread, NULL);
-    gt_image_free(&w->done);
-    pthread_cond_destroy(&w->wake);
-    pthread_cond_destroy(&w->done_cond);
-    pthread_mutex_destroy(&w->lock);
-}
 
 /* ---- keys and the script ------------------------------------------------ */
 
@@ -228,8 +90,11 @@ static int script_load(const char *path, struct script_event *out, int max)
             log_error("--script %s:%d: more than %d events", path, line, max);
             rc = -1;
         } else if (parse_key(key, &out[n].key, &out[n].mods) != 0) {
-            log_error("--script %s:%d: unknown key '%s' (A-Z, 0-9, TAB, SPACE, LEFT, RIGHT, UP, DOWN, MINUS, "
-                      "EQUAL, LEFT_BRACKET, RIGHT_BRACKET, ESCAPE; shift+KEY)", path, line, key);
+            struct strbuf names = {0};
+            for (size_t i = 0; i < sizeof key_names / sizeof *key_names; i++)
+                strbuf_printf(&names, ", %s", key_names[i].name);
+            log_error("--script %s:%d: unknown key '%s' (A-Z, 0-9%s; shift+KEY)", path, line, key, names.data);
+            strbuf_free(&names);
             rc = -1;
         } else {
             out[n++].frame = frame;
@@ -315,6 +180,9 @@ static struct scene posed_scene(const struct viewer *v)
     struct scene s = *v->base;
     struct scene_light *L = &s.light;
     L->pos = v3_add(L->pos, v3_add(v3_scale(L->x, p->light_dx), v3_scale(L->y, p->light_dy)));
+    const struct view_pose still = {0};
+    if (!memcmp(p, &still, sizeof still))
+        return s;  /* the scene's own camera, bit for bit */
     struct scene_camera *c = &s.camera;
     const struct vec3 centre = v3_scale(v3_add(s.bounds_min, s.bounds_max), 0.5f);
     const float along = fmaxf(v3_dot(v3_sub(c->pos, centre), c->z), 1e-3f * v->extent);
@@ -358,8 +226,9 @@ static void say(struct viewer *v, const char *fmt, ...)
 
 /* The next (dir > 0) or previous value of the selected parameter: its
  * table's tune values, or every choice; a parameter without a list steps
- * by one (int) or by a factor 1.25 (float) within its range. A value the
- * technique's rules across parameters refuse is not taken. */
+ * through its choices (bool, enum, taps), by one (int) or by a factor 1.25
+ * (float) within its range. A value the technique's rules across
+ * parameters refuse is not taken. */
 static void step_param(struct viewer *v, int dir)
 {
     const struct technique *t = side_technique(v, 0);
@@ -372,6 +241,11 @@ static void step_param(struct viewer *v, int dir)
     const double now = params_get(p, settings);
     double values[64], next = now;
     int n = params_tune_values(p, values, 64);
+    if (n == 0 && p->type != PARAM_FLOAT && p->type != PARAM_INT)  /* every choice */
+        n = params_tune_values(&(struct technique_param){.type = p->type, .choices = p->choices, .tune = TUNE_CHOICES},
+                               values, 64);
+    for (int i = 0; i < n; i++)  /* as the member holds it: 1e-4 as a float is not 1e-4 */
+        values[i] = p->type == PARAM_FLOAT ? (double)(float)values[i] : values[i];
     if (n > 0) {
         for (int i = 0; i < n; i++)  /* the nearest listed value beyond now, in dir */
             if ((dir > 0 ? values[i] > now : values[i] < now) &&
@@ -469,7 +343,9 @@ static void cursor_callback(GLFWwindow *win, double x, double y)
         p->yaw -= 0.005f * dx, p->pitch = fminf(fmaxf(p->pitch - 0.005f * dy, -PITCH_MAX), PITCH_MAX);
         v->pose_dirty = true;
     } else if (glfwGetMouseButton(win, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS) {
-        const float per_pixel = v->extent / (float)v->w;  /* a drag across the window: the scene's size */
+        int width, height;
+        glfwGetWindowSize(win, &width, &height);
+        const float per_pixel = v->extent / (float)(width > 0 ? width : 1);  /* across the window: the scene's size */
         p->light_dx += per_pixel * dx, p->light_dy -= per_pixel * dy;
         v->pose_dirty = true;
     }
@@ -485,19 +361,11 @@ static void scroll_callback(GLFWwindow *win, double xoff, double yoff)
 
 /* ---- a frame ------------------------------------------------------------ */
 
-static GLuint target(GLenum format, int w, int h)
-{
-    GLuint t;
-    glGenTextures(1, &t);
-    glBindTexture(GL_TEXTURE_2D, t);
-    glTexStorage2D(GL_TEXTURE_2D, 1, format, w, h);
-    return t;
-}
-
 static int shading_create(struct viewer *v)
 {
     struct strbuf defines = {0};
-    shadowmap_shader_defines(&defines);
+    shadowmap_shader_defines(&defines);  /* shadow_common.glsl's, for its facing normal */
+    strbuf_printf(&defines, "#define SM_LIGHT_SHAPE %d\n", (int)v->base->light.shape);
     v->shade_program = shader_program("view: unshadowed shading", defines.data,
                                       (const struct shader_stage[]){{GL_VERTEX_SHADER, {"receiver.vert"}},
                                                                     {GL_FRAGMENT_SHADER, {"view_shading.frag"}}},
@@ -505,8 +373,8 @@ static int shading_create(struct viewer *v)
     strbuf_free(&defines);
     if (!v->shade_program)
         return -1;
-    v->shade_target = target(GL_R32F, v->w, v->h);
-    v->shade_depth = target(GL_DEPTH_COMPONENT32F, v->w, v->h);
+    v->shade_target = gl_texture_2d(GL_R32F, v->w, v->h, "view: irradiance");
+    v->shade_depth = gl_texture_2d(GL_DEPTH_COMPONENT32F, v->w, v->h, "view: irradiance depth");
     glGenFramebuffers(1, &v->shade_fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, v->shade_fbo);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, v->shade_target, 0);
@@ -525,6 +393,8 @@ static void shading_render(struct viewer *v)
     glClearBufferfv(GL_DEPTH, 0, (const float[]){0.0f});
     glUseProgram(p);
     glUniformMatrix4fv(glGetUniformLocation(p, "u_camera_view_proj"), 1, GL_FALSE, v->receiver.view_proj.m);
+    const struct vec3 cam = v->receiver.camera_pos;
+    glUniform3f(glGetUniformLocation(p, "u_camera_pos"), cam.x, cam.y, cam.z);
     glUniform3f(glGetUniformLocation(p, "u_light_pos"), L->pos.x, L->pos.y, L->pos.z);
     glUniform3f(glGetUniformLocation(p, "u_light_x"), L->x.x, L->x.y, L->x.z);
     glUniform3f(glGetUniformLocation(p, "u_light_y"), L->y.x, L->y.y, L->y.z);
@@ -534,11 +404,7 @@ static void shading_render(struct viewer *v)
     glUniform1f(glGetUniformLocation(p, "u_light_radius"), L->radius);
     glUniform1i(glGetUniformLocation(p, "u_light_disk"), L->shape == LIGHT_DISK);
     scene_mesh_draw(&v->mesh);
-    glReadBuffer(GL_COLOR_ATTACHMENT0);
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    glReadPixels(0, 0, v->w, v->h, GL_RED, GL_FLOAT, v->shade);
-    for (int y = 0; y < v->h; y++)  /* GL's rows start at the bottom */
-        memcpy(v->irradiance + (size_t)y * v->w, v->shade + (size_t)(v->h - 1 - y) * v->w, sizeof(float) * v->w);
+    gl_read_red(GL_COLOR_ATTACHMENT0, v->w, v->h, v->irradiance);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
@@ -622,12 +488,12 @@ static void side_picture(struct viewer *v, int k, struct picture *out)
 /* Lines of text on a darkened band at the top left. */
 static void overlay(struct viewer *v, struct picture *p)
 {
-    struct strbuf lines[16] = {{0}};
+    struct strbuf lines[48] = {{0}};
     int n = 0;
     const struct technique *a = side_technique(v, 0), *b = side_technique(v, 1);
     strbuf_printf(&lines[n++], "%s%s%s   view %s (1-5)   %s", a->name, v->split ? " | " : "",
                   v->split ? b->name : "", mode_names[v->mode], v->split ? "split (Space)" : "Tab: technique");
-    for (int i = 0; a->params[i].name && n < 9; i++) {
+    for (int i = 0; a->params[i].name && n < 40; i++) {
         char text[64];
         params_value_text(a, side_settings(v, 0), a->params[i].name, text, sizeof text);
         strbuf_printf(&lines[n++], "%s %s = %s", i == v->param ? ">" : " ", a->params[i].name, text);
@@ -692,7 +558,7 @@ static void present(struct viewer *v, GLFWwindow *win)
     if (p->width != v->show_w || p->height != v->show_h) {
         glDeleteTextures(1, &v->show_texture);
         glDeleteFramebuffers(1, &v->show_fbo);
-        v->show_texture = target(GL_RGB8, p->width, p->height);
+        v->show_texture = gl_texture_2d(GL_RGB8, p->width, p->height, "view: the window's picture");
         glGenFramebuffers(1, &v->show_fbo);
         glBindFramebuffer(GL_FRAMEBUFFER, v->show_fbo);
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, v->show_texture, 0);
@@ -790,6 +656,11 @@ int view_main(const struct run_options *o)
     int events = 0;
     if (o->script && (events = script_load(o->script, script, VIEW_MAX_SCRIPT)) < 0)
         return EXIT_USAGE;
+    if (events && o->frames && script[events - 1].frame >= o->frames) {  /* it would never be pressed */
+        log_error("--script %s: a key at frame %d, past the last of --frames %d (frames count from 0)", o->script,
+                  script[events - 1].frame, o->frames);
+        return EXIT_USAGE;
+    }
     if (o->screenshot) {  /* a folder that is not there is bad input, found before the window opens */
         const char *slash = strrchr(o->screenshot, '/');
         char *dir = slash ? util_printf("%.*s", slash == o->screenshot ? 1 : (int)(slash - o->screenshot), o->screenshot)
@@ -836,8 +707,13 @@ int view_main(const struct run_options *o)
         glfwPollEvents();
         for (; next_event < events && script[next_event].frame <= frame; next_event++)
             on_key(&v, script[next_event].key, script[next_event].mods);
-        if (v.quit || glfwWindowShouldClose(win))
+        if (v.quit || glfwWindowShouldClose(win)) {
+            if (o->screenshot) {
+                log_error("view: closed before frame %d of %d: %s not written", frame + 1, frames, o->screenshot);
+                status = EXIT_CHECK_FAILED;
+            }
             break;
+        }
         if (v.pose_dirty)
             apply_pose(&v);
         /* the screenshot's frame waits for the pose's finished ground truth,
@@ -854,8 +730,8 @@ int view_main(const struct run_options *o)
         shading_render(&v);
         compose(&v);
         present(&v, win);
-        if (last && o->screenshot && screenshot(win, o->screenshot) != 0)
-            status = EXIT_CHECK_FAILED;
+        if (last && o->screenshot)
+            status = screenshot(win, o->screenshot) == 0 ? EXIT_OK : EXIT_CHECK_FAILED;
         glfwSwapBuffers(win);
     }
     if (status == EXIT_OK)

@@ -11,6 +11,7 @@
 #include "run.h"
 
 #define VIEW_MAX_SCRIPT 4096  /* key events in a --script file */
+#define VIEW_MAX_FRAMES 100000000
 #define VIEW_WHITE 2.5       /* the shaded and E views: this times the mean E over the geometry is white */
 
 int view_main(const struct run_options *o);

@@ -1,5 +1,6 @@
 #include "gl.h"
 #include "base/log.h"
+#include "base/util.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -66,4 +67,25 @@ bool gl_framebuffer_complete(GLuint fbo, const char *label)
 void gl_label(GLenum type, GLuint object, const char *label)
 {
     glObjectLabel(type, object, (GLsizei)strlen(label), label);
+}
+
+GLuint gl_texture_2d(GLenum format, int width, int height, const char *label)
+{
+    GLuint t;
+    glGenTextures(1, &t);
+    glBindTexture(GL_TEXTURE_2D, t);
+    glTexStorage2D(GL_TEXTURE_2D, 1, format, width, height);
+    gl_label(GL_TEXTURE, t, label);
+    return t;
+}
+
+void gl_read_red(GLenum attachment, int width, int height, float *out)
+{
+    glReadBuffer(attachment);
+    glPixelStorei(GL_PACK_ALIGNMENT, 4);
+    float *tmp = xmalloc(sizeof(float) * (size_t)width * (size_t)height);
+    glReadPixels(0, 0, width, height, GL_RED, GL_FLOAT, tmp);
+    for (int y = 0; y < height; y++)
+        memcpy(out + (size_t)y * width, tmp + (size_t)(height - 1 - y) * width, sizeof(float) * (size_t)width);
+    free(tmp);
 }

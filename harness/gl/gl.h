@@ -114,4 +114,11 @@ bool gl_framebuffer_complete(GLuint fbo, const char *label);
 /* glObjectLabel with a C string. */
 void gl_label(GLenum type, GLuint object, const char *label);
 
+/* A labelled 2D texture of one level, storage allocated (left bound). */
+GLuint gl_texture_2d(GLenum format, int width, int height, const char *label);
+
+/* The red channel of the read framebuffer's attachment as floats, top
+ * row first (GL's rows start at the bottom). */
+void gl_read_red(GLenum attachment, int width, int height, float *out);
+
 #endif

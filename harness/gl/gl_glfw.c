@@ -28,10 +28,11 @@ GLFWwindow *gl_window(void)
     return window;
 }
 
-/* GLFW stays initialised (no glfwTerminate), for the reason gl_egl.c keeps
- * its display: closing the X connection unloads Mesa's driver, which
- * leaves 240 bytes it allocated unreferenced, reported by LeakSanitizer
- * against an unknown module. One window per process. */
+/* GLFW stays initialised once a window was made (no glfwTerminate), for
+ * the reason gl_egl.c keeps its display: closing the X connection unloads
+ * Mesa's driver, which leaves 240 bytes it allocated unreferenced,
+ * reported by LeakSanitizer against an unknown module. One window per
+ * process. */
 static void glfw_destroy(void)
 {
     if (window)

@@ -8,16 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static GLuint target(GLenum format, int w, int h, const char *label)
-{
-    GLuint t;
-    glGenTextures(1, &t);
-    glBindTexture(GL_TEXTURE_2D, t);
-    glTexStorage2D(GL_TEXTURE_2D, 1, format, w, h);
-    gl_label(GL_TEXTURE, t, label);
-    return t;
-}
-
 int receiver_create(struct receiver *r, const struct scene *s, int width, int height)
 {
     memset(r, 0, sizeof *r);
@@ -25,9 +15,9 @@ int receiver_create(struct receiver *r, const struct scene *s, int width, int he
     r->height = height;
     receiver_set_camera(r, s);
 
-    r->visibility = target(GL_R32F, width, height, "receiver: visibility");
-    r->distance = target(GL_R32F, width, height, "receiver: camera distance");
-    r->depth = target(GL_DEPTH_COMPONENT32F, width, height, "receiver: depth");
+    r->visibility = gl_texture_2d(GL_R32F, width, height, "receiver: visibility");
+    r->distance = gl_texture_2d(GL_R32F, width, height, "receiver: camera distance");
+    r->depth = gl_texture_2d(GL_DEPTH_COMPONENT32F, width, height, "receiver: depth");
     glGenFramebuffers(1, &r->fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, r->visibility, 0);
@@ -91,22 +81,11 @@ void receiver_render(const struct receiver *r, GLuint program, const struct scen
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-static void read_flipped(GLenum attachment, int w, int h, float *out)
-{
-    glReadBuffer(attachment);
-    glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    float *tmp = xmalloc(sizeof(float) * (size_t)w * (size_t)h);
-    glReadPixels(0, 0, w, h, GL_RED, GL_FLOAT, tmp);
-    for (int y = 0; y < h; y++) /* GL's rows start at the bottom */
-        memcpy(out + (size_t)y * w, tmp + (size_t)(h - 1 - y) * w, sizeof(float) * (size_t)w);
-    free(tmp);
-}
-
 void receiver_read(const struct receiver *r, float *visibility, float *distance)
 {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, r->fbo);
-    read_flipped(GL_COLOR_ATTACHMENT0, r->width, r->height, visibility);
-    read_flipped(GL_COLOR_ATTACHMENT1, r->width, r->height, distance);
+    gl_read_red(GL_COLOR_ATTACHMENT0, r->width, r->height, visibility);
+    gl_read_red(GL_COLOR_ATTACHMENT1, r->width, r->height, distance);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
 }
 
