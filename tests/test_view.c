@@ -141,6 +141,9 @@ static void refusals(void)
         {"view --scene parallel_planes --script /nonexistent/script.txt", "--script"},
         {"view --scene parallel_planes --screenshot /nonexistent/folder/a.png", "not a writable folder"},
         {"view --scene no_such_scene", "no_such_scene"},
+        {"view --scene parallel_planes --screenshot ''", "an empty file name"},
+        {"view --scene parallel_planes --screenshot /tmp/", "a folder, not a file"},
+        {"view --scene parallel_planes --screenshot /dev/null", "not a regular file"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
         char *cmd = util_printf("%s %s", sb, bad[i][0]);
@@ -153,20 +156,38 @@ static void refusals(void)
         free(cmd);
     }
     /* scripts: an unknown key, frames out of order, not 'FRAME KEY' */
-    const char *scripts[][2] = {{"0 F13\n", "unknown key 'F13'"}, {"2 TAB\n1 TAB\n", "comes before"},
-                                {"TAB\n", "not 'FRAME KEY'"}};
+#define SCRIPT(text, want) {text, sizeof text - 1, want}  /* the length: one holds a NUL */
+    const struct {
+        const char *text;
+        size_t size;
+        const char *want;
+    } scripts[] = {SCRIPT("0 F13\n", "unknown key 'F13'"), SCRIPT("2 TAB\n1 TAB\n", "comes before"),
+                   SCRIPT("TAB\n", "not 'FRAME KEY'"), SCRIPT("4294967296 TAB\n", "not 'FRAME KEY'"),
+                   SCRIPT("-1 TAB\n", "not 'FRAME KEY'"), SCRIPT("0 TAB\n\0001 BOGUS\n", "a NUL byte")};
+#undef SCRIPT
     for (size_t i = 0; i < sizeof scripts / sizeof *scripts; i++) {
         char *path = util_printf("%s/bad%zu.txt", dir, i);
-        util_write_file_atomic(path, scripts[i][0], strlen(scripts[i][0]));
+        util_write_file_atomic(path, scripts[i].text, scripts[i].size);
         char *cmd = util_printf("%s view --scene parallel_planes --script %s", sb, path);
         struct strbuf err = {0};
         int status = run_cmd(cmd, &err, NULL);
         const char *nl = strchr(err.data, '\n');
-        CHECK(status == 2 && strstr(err.data, scripts[i][1]) && nl && !nl[1], "script %zu: exit %d: %s", i, status,
+        CHECK(status == 2 && strstr(err.data, scripts[i].want) && nl && !nl[1], "script %zu: exit %d: %s", i, status,
               err.data);
         strbuf_free(&err);
         free(cmd), free(path);
     }
+    /* a script larger than any of VIEW_MAX_SCRIPT events (not read) */
+    char *big = util_printf("%s/big.txt", dir), *big_cmd = util_printf("truncate -s 2G %s && %s view --scene parallel_planes "
+                                                                      "--script %s", big, sb, big);
+    struct strbuf big_err = {0};
+    int big_status = run_cmd(big_cmd, &big_err, NULL);
+    CHECK(big_status == 2 && strstr(big_err.data, "more than a script"), "a 2 GB script: exit %d: %s", big_status,
+          big_err.data);
+    unlink(big);
+    strbuf_free(&big_err);
+    free(big), free(big_cmd);
+
     /* a key past the last frame would never be pressed */
     char *late = util_printf("%s/late.txt", dir);
     util_write_file_atomic(late, "5 TAB\n", 6);
@@ -343,6 +364,16 @@ int main(int argc, char **argv)
      * moved, 0.047 still; scored against the base pose's truth instead,
      * 0.60). */
     view("moved", "0 RIGHT\n0 RIGHT\n0 RIGHT\n1 UP\n", &e6, NULL);
+
+    /* The pose stops where floats and the ray tracer would give out: 500
+     * presses of E (the camera 20x farther at most; unbounded, Embree
+     * aborted on the rays) and 200 of RIGHT (the light 2 scene sizes) */
+    struct strbuf far = {0}, far_script = {0};
+    for (int i = 0; i < 500; i++)
+        strbuf_printf(&far_script, "0 E\n%s", i < 200 ? "0 RIGHT\n" : "");
+    view("far", far_script.data, &far, NULL);
+    CHECK(strstr(far.data, "no farther") != NULL, "the limit is said: %s", far.data);
+    strbuf_free(&far), strbuf_free(&far_script);
     const double moved = logged_rmse(e6.data), still = logged_rmse(e1.data);
     CHECK(moved < 2 * still + 0.01, "pcss after the light moved: rmse %.4f (still: %.4f)", moved, still);
 

@@ -12,11 +12,13 @@
 #include <GLFW/glfw3.h>
 
 #include <ctype.h>
+#include <errno.h>
 #include <stdarg.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 /* ---- keys and the script ------------------------------------------------ */
@@ -62,11 +64,22 @@ struct script_event {
  * number of events, or -1 (logged). */
 static int script_load(const char *path, struct script_event *out, int max)
 {
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISREG(st.st_mode) && st.st_size > VIEW_MAX_SCRIPT_BYTES) {
+        log_error("--script %s: %lld bytes, more than a script of %d events needs (%d at most)", path,
+                  (long long)st.st_size, max, VIEW_MAX_SCRIPT_BYTES);
+        return -1;
+    }
     char *text;
     size_t size;
     int err = util_read_file(path, &text, &size);
     if (err != 0) {
         log_error("--script %s: %s", path, util_read_error(err));
+        return -1;
+    }
+    if (memchr(text, 0, size)) {
+        log_error("--script %s: a NUL byte: not a text file", path);
+        free(text);
         return -1;
     }
     int n = 0, line = 0, rc = 0;
@@ -75,15 +88,19 @@ static int script_load(const char *path, struct script_event *out, int max)
         char *hash = strchr(l, '#');
         if (hash)
             *hash = 0;
-        char key[32], extra[2];
-        int frame, fields = sscanf(l, "%d %31s %1s", &frame, key, extra);
-        if (fields <= 0 && strspn(l, " \t\r") == strlen(l))
-            continue;
-        if (fields != 2 || frame < 0) {
-            log_error("--script %s:%d: not 'FRAME KEY' (e.g. '3 TAB')", path, line);
+        char number[32], key[32], extra[2];
+        const int fields = sscanf(l, "%31s %31s %1s", number, key, extra);
+        if (fields <= 0)
+            continue;  /* blank, or a comment */
+        char *end;
+        errno = 0;
+        const long frame = strtol(number, &end, 10);
+        if (fields != 2 || *end || errno || !isdigit((unsigned char)number[0]) || frame > VIEW_MAX_FRAMES) {
+            log_error("--script %s:%d: not 'FRAME KEY' with FRAME a whole number in [0, %d] (e.g. '3 TAB')", path,
+                      line, VIEW_MAX_FRAMES);
             rc = -1;
         } else if (n && frame < out[n - 1].frame) {
-            log_error("--script %s:%d: frame %d comes before the previous line's %d", path, line, frame,
+            log_error("--script %s:%d: frame %ld comes before the previous line's %d", path, line, frame,
                       out[n - 1].frame);
             rc = -1;
         } else if (n == max) {
@@ -97,7 +114,7 @@ static int script_load(const char *path, struct script_event *out, int max)
             strbuf_free(&names);
             rc = -1;
         } else {
-            out[n++].frame = frame;
+            out[n++].frame = (int)frame;
         }
     }
     free(text);
@@ -186,12 +203,24 @@ static struct scene posed_scene(const struct viewer *v)
     struct scene_camera *c = &s.camera;
     const struct vec3 centre = v3_scale(v3_add(s.bounds_min, s.bounds_max), 0.5f);
     const float along = fmaxf(v3_dot(v3_sub(c->pos, centre), c->z), 1e-3f * v->extent);
-    const struct vec3 target = v3_sub(c->pos, v3_scale(c->z, along)), up = c->y;
+    /* yaw about the world's up (glTF's +y), or the camera's own up when it looks along it */
+    const struct vec3 target = v3_sub(c->pos, v3_scale(c->z, along));
+    const struct vec3 up = fabsf(c->z.y) < 0.99f ? v3(0, 1, 0) : c->y;
     struct vec3 arm = v3_sub(c->pos, target);
     arm = turn(arm, up, p->yaw), c->x = turn(c->x, up, p->yaw), c->y = turn(c->y, up, p->yaw), c->z = turn(c->z, up, p->yaw);
     arm = turn(arm, c->x, p->pitch), c->y = turn(c->y, c->x, p->pitch), c->z = turn(c->z, c->x, p->pitch);
     c->pos = v3_add(target, v3_scale(arm, expf(p->dolly)));
     return s;
+}
+
+static void say(struct viewer *v, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void say(struct viewer *v, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(v->message, sizeof v->message, fmt, ap);
+    va_end(ap);
+    log_info("view: %s", v->message);
 }
 
 /* Puts the pose asked for into effect: the shadow map refitted, the
@@ -200,6 +229,16 @@ static struct scene posed_scene(const struct viewer *v)
 static void apply_pose(struct viewer *v)
 {
     v->pose_dirty = false;
+    /* how far a pose may go: past these, float precision and the ray
+     * tracer's range give out */
+    struct view_pose *p = &v->pose;
+    const struct view_pose asked = *p;
+    const float reach = VIEW_LIGHT_REACH * v->extent, dolly = logf(VIEW_DOLLY_REACH);
+    p->light_dx = fminf(fmaxf(p->light_dx, -reach), reach), p->light_dy = fminf(fmaxf(p->light_dy, -reach), reach);
+    p->dolly = fminf(fmaxf(p->dolly, -dolly), dolly);
+    if (memcmp(&asked, p, sizeof asked) != 0)
+        say(v, "no farther: the light stays within %g scene sizes, the camera within %gx its distance",
+            (double)VIEW_LIGHT_REACH, (double)VIEW_DOLLY_REACH);
     struct scene s = posed_scene(v);
     if (shadowmap_refit(&v->sm, &s, NULL) != 0) {
         shadowmap_refit(&v->sm, &v->posed, NULL);
@@ -214,15 +253,6 @@ static void apply_pose(struct viewer *v)
     gt_worker_ask(&v->worker, v->pose_id, &s, &v->sm.frustum);
 }
 
-static void say(struct viewer *v, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void say(struct viewer *v, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(v->message, sizeof v->message, fmt, ap);
-    va_end(ap);
-    log_info("view: %s", v->message);
-}
 
 /* The next (dir > 0) or previous value of the selected parameter: its
  * table's tune values, or every choice; a parameter without a list steps
@@ -650,6 +680,31 @@ static int viewer_open(struct viewer *v, const struct run_options *o, const stru
     return 0;
 }
 
+/* A screenshot's path, checked before the window opens: a file name in a
+ * writable folder, and nothing there yet but a regular file (the PNG
+ * replaces what is there: a device, a FIFO or a link would be lost). */
+static int check_screenshot_path(const char *path)
+{
+    struct stat st;
+    const size_t len = strlen(path);
+    const char *why = !len                                       ? "an empty file name"
+                      : path[len - 1] == '/' || util_is_dir(path) ? "a folder, not a file"
+                      : lstat(path, &st) == 0 && !S_ISREG(st.st_mode)
+                          ? "not a regular file (a device, FIFO or link is not replaced)"
+                          : NULL;
+    if (why) {
+        log_error("--screenshot %s: %s", path, why);
+        return -1;
+    }
+    const char *slash = strrchr(path, '/');
+    char *dir = slash ? util_printf("%.*s", slash == path ? 1 : (int)(slash - path), path) : xstrdup(".");
+    const bool ok = util_is_dir(dir) && access(dir, W_OK) == 0;
+    if (!ok)
+        log_error("--screenshot %s: %s is not a writable folder", path, dir);
+    free(dir);
+    return ok ? 0 : -1;
+}
+
 int view_main(const struct run_options *o)
 {
     static struct script_event script[VIEW_MAX_SCRIPT];
@@ -661,17 +716,8 @@ int view_main(const struct run_options *o)
                   script[events - 1].frame, o->frames);
         return EXIT_USAGE;
     }
-    if (o->screenshot) {  /* a folder that is not there is bad input, found before the window opens */
-        const char *slash = strrchr(o->screenshot, '/');
-        char *dir = slash ? util_printf("%.*s", slash == o->screenshot ? 1 : (int)(slash - o->screenshot), o->screenshot)
-                          : xstrdup(".");
-        const bool ok = util_is_dir(dir) && access(dir, W_OK) == 0;
-        if (!ok)
-            log_error("--screenshot %s: %s is not a writable folder", o->screenshot, dir);
-        free(dir);
-        if (!ok)
-            return EXIT_USAGE;
-    }
+    if (o->screenshot && check_screenshot_path(o->screenshot) != 0)
+        return EXIT_USAGE;
     struct scene s;
     int scene_count = 0;
     if (run_load_scenes(o, &s, &scene_count) != 0)
@@ -734,11 +780,18 @@ int view_main(const struct run_options *o)
             status = screenshot(win, o->screenshot) == 0 ? EXIT_OK : EXIT_CHECK_FAILED;
         glfwSwapBuffers(win);
     }
-    if (status == EXIT_OK)
-        log_info("view: %s, view %s%s%s: rmse %.6f, penumbra_rmse %.6f (V_gt %d spp), mean E %.6g",
-                 side_technique(&v, 0)->name, mode_names[v.mode], v.split ? ", right " : "",
-                 v.split ? side_technique(&v, 1)->name : "", v.gt_samples > 0 ? v.m[0].rmse : NAN,
-                 v.gt_samples > 0 ? v.m[0].penumbra_rmse : NAN, v.gt_samples, mean_irradiance(&v, 0));
+    if (status == EXIT_OK) {
+        char score[160];
+        if (v.gt_samples <= 0)
+            snprintf(score, sizeof score, "%s", v.gt_samples < 0 ? "the ground truth failed" : "no ground truth yet");
+        else if (v.m[0].scored_pixels == 0)
+            snprintf(score, sizeof score, "no pixel scored (V_gt %d spp)", v.gt_samples);
+        else
+            snprintf(score, sizeof score, "rmse %.6f, penumbra_rmse %.6f (V_gt %d spp)", v.m[0].rmse,
+                     v.m[0].penumbra_rmse, v.gt_samples);
+        log_info("view: %s, view %s%s%s: %s, mean E %.6g", side_technique(&v, 0)->name, mode_names[v.mode],
+                 v.split ? ", right " : "", v.split ? side_technique(&v, 1)->name : "", score, mean_irradiance(&v, 0));
+    }
     viewer_free(&v);
     gl_context_destroy();
     free(title);
