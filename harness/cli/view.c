@@ -189,16 +189,15 @@ static struct vec3 turn(struct vec3 a, struct vec3 k, float angle)
 }
 
 /* The scene in the viewer's pose: the light moved in its plane, the camera
- * orbiting the point of its axis nearest the scene's centre (yaw about the
- * scene camera's up, then pitch) and dollied towards or away from it. */
+ * orbiting the point of its axis nearest the scene's centre (yaw, then
+ * pitch) and dollied towards or away from it. */
 static struct scene posed_scene(const struct viewer *v)
 {
     const struct view_pose *p = &v->pose;
     struct scene s = *v->base;
     struct scene_light *L = &s.light;
     L->pos = v3_add(L->pos, v3_add(v3_scale(L->x, p->light_dx), v3_scale(L->y, p->light_dy)));
-    const struct view_pose still = {0};
-    if (!memcmp(p, &still, sizeof still))
+    if (p->yaw == 0 && p->pitch == 0 && p->dolly == 0)
         return s;  /* the scene's own camera, bit for bit */
     struct scene_camera *c = &s.camera;
     const struct vec3 centre = v3_scale(v3_add(s.bounds_min, s.bounds_max), 0.5f);
