@@ -132,6 +132,17 @@ static double logged_rmse(const char *err)
     return at ? atof(at + 7) : NAN;
 }
 
+/* Runs cmd (a shell command line); it must exit 2 with one line naming want. */
+static void refused(const char *cmd, const char *want)
+{
+    struct strbuf err = {0};
+    int status = run_cmd(cmd, &err, NULL);
+    const char *nl = strchr(err.data, '\n');
+    CHECK(status == 2 && strstr(err.data, want) && nl && !nl[1], "'%s': exit %d, one line naming '%s': %s", cmd,
+          status, want, err.data);
+    strbuf_free(&err);
+}
+
 static void refusals(void)
 {
     const char *bad[][2] = {
@@ -147,12 +158,7 @@ static void refusals(void)
     };
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
         char *cmd = util_printf("%s %s", sb, bad[i][0]);
-        struct strbuf err = {0};
-        int status = run_cmd(cmd, &err, NULL);
-        const char *nl = strchr(err.data, '\n');
-        CHECK(status == 2 && strstr(err.data, bad[i][1]) && nl && !nl[1],
-              "'%s': exit %d, one line naming '%s': %s", bad[i][0], status, bad[i][1], err.data);
-        strbuf_free(&err);
+        refused(cmd, bad[i][1]);
         free(cmd);
     }
     /* scripts: an unknown key, frames out of order, not 'FRAME KEY' */
@@ -169,12 +175,7 @@ static void refusals(void)
         char *path = util_printf("%s/bad%zu.txt", dir, i);
         util_write_file_atomic(path, scripts[i].text, scripts[i].size);
         char *cmd = util_printf("%s view --scene parallel_planes --script %s", sb, path);
-        struct strbuf err = {0};
-        int status = run_cmd(cmd, &err, NULL);
-        const char *nl = strchr(err.data, '\n');
-        CHECK(status == 2 && strstr(err.data, scripts[i].want) && nl && !nl[1], "script %zu: exit %d: %s", i, status,
-              err.data);
-        strbuf_free(&err);
+        refused(cmd, scripts[i].want);
         free(cmd), free(path);
     }
     /* a script larger than any of VIEW_MAX_SCRIPT events (not read) */
@@ -201,11 +202,7 @@ static void refusals(void)
 
     /* no display: one line that says what to do */
     char *cmd = util_printf("env -u DISPLAY -u WAYLAND_DISPLAY %s view --scene parallel_planes", sb);
-    struct strbuf err = {0};
-    int status = run_cmd(cmd, &err, NULL);
-    const char *nl = strchr(err.data, '\n');
-    CHECK(status == 2 && strstr(err.data, "xvfb-run") && nl && !nl[1], "no display: exit %d: %s", status, err.data);
-    strbuf_free(&err);
+    refused(cmd, "xvfb-run");
     free(cmd);
 }
 

@@ -140,8 +140,8 @@ struct viewer {
     struct stage_timer timer;
     struct run_programs programs;
 
-    int cycle[RUN_MAX_TECHNIQUES], cycle_count;  /* what Tab and B step through */
-    int side[2];       /* cycle indices of the left (and only) and the right technique */
+    int side[2];       /* o->techniques indices (what Tab and B step through) of the left (and
+                          only) and the right technique */
     int param;         /* the left technique's parameter that - and = step */
     enum view_mode mode;
     bool split, overlay;
@@ -153,7 +153,10 @@ struct viewer {
     unsigned pose_id;                  /* counts the poses put into effect: the ground truth's key */
     bool pose_dirty;
 
-    float *v[2], *distance[2], *scored[2], *irradiance, *shade;
+    float *v[2], *distance[2], *scored[2];
+    float *irradiance;                 /* E of the pose in effect, -1 where no geometry */
+    double mean_irradiance;            /* its mean over the geometry */
+    float *shade;                      /* scratch for a view's values */
     struct stage_times times[2];       /* moving averages */
     bool timed[2];
     struct metrics m[2];
@@ -173,7 +176,7 @@ struct viewer {
 
 static const struct technique *side_technique(const struct viewer *v, int k)
 {
-    return v->o->techniques[v->cycle[v->side[k]]];
+    return v->o->techniques[v->side[k]];
 }
 
 static void *side_settings(const struct viewer *v, int k)
@@ -212,6 +215,60 @@ static struct scene posed_scene(const struct viewer *v)
     return s;
 }
 
+static int shading_create(struct viewer *v)
+{
+    struct strbuf defines = {0};
+    shadowmap_shader_defines(&defines);  /* shadow_common.glsl's, for its facing normal */
+    strbuf_printf(&defines, "#define SM_LIGHT_SHAPE %d\n", (int)v->base->light.shape);
+    v->shade_program = shader_program("view: unshadowed shading", defines.data,
+                                      (const struct shader_stage[]){{GL_VERTEX_SHADER, {"receiver.vert"}},
+                                                                    {GL_FRAGMENT_SHADER, {"view_shading.frag"}}},
+                                      2);
+    strbuf_free(&defines);
+    if (!v->shade_program)
+        return -1;
+    v->shade_target = gl_texture_2d(GL_R32F, v->w, v->h, "view: irradiance");
+    v->shade_depth = gl_texture_2d(GL_DEPTH_COMPONENT32F, v->w, v->h, "view: irradiance depth");
+    glGenFramebuffers(1, &v->shade_fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, v->shade_fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, v->shade_target, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, v->shade_depth, 0);
+    return gl_framebuffer_complete(v->shade_fbo, "view: shading") ? 0 : -1;
+}
+
+/* E, the unshadowed shading (shaders/view_shading.frag), of the pose in
+ * effect into v->irradiance, and its mean over the geometry. */
+static void shading_render(struct viewer *v)
+{
+    const struct scene_light *L = &v->posed.light;
+    const GLuint p = v->shade_program;
+    glBindFramebuffer(GL_FRAMEBUFFER, v->shade_fbo);
+    glViewport(0, 0, v->w, v->h);
+    glClearBufferfv(GL_COLOR, 0, (const float[4]){-1, 0, 0, 0});  /* no geometry */
+    glClearBufferfv(GL_DEPTH, 0, (const float[]){0.0f});
+    glUseProgram(p);
+    glUniformMatrix4fv(glGetUniformLocation(p, "u_camera_view_proj"), 1, GL_FALSE, v->receiver.view_proj.m);
+    const struct vec3 cam = v->receiver.camera_pos;
+    glUniform3f(glGetUniformLocation(p, "u_camera_pos"), cam.x, cam.y, cam.z);
+    glUniform3f(glGetUniformLocation(p, "u_light_pos"), L->pos.x, L->pos.y, L->pos.z);
+    glUniform3f(glGetUniformLocation(p, "u_light_x"), L->x.x, L->x.y, L->x.z);
+    glUniform3f(glGetUniformLocation(p, "u_light_y"), L->y.x, L->y.y, L->y.z);
+    glUniform3f(glGetUniformLocation(p, "u_light_z"), L->z.x, L->z.y, L->z.z);
+    glUniform1f(glGetUniformLocation(p, "u_light_half_width"), 0.5f * L->width);
+    glUniform1f(glGetUniformLocation(p, "u_light_half_height"), 0.5f * L->height);
+    glUniform1f(glGetUniformLocation(p, "u_light_radius"), L->radius);
+    glUniform1i(glGetUniformLocation(p, "u_light_disk"), L->shape == LIGHT_DISK);
+    scene_mesh_draw(&v->mesh);
+    gl_read_red(GL_COLOR_ATTACHMENT0, v->w, v->h, v->irradiance);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    double sum = 0;
+    long n = 0;
+    for (size_t i = 0; i < (size_t)v->w * (size_t)v->h; i++)
+        if (v->irradiance[i] >= 0)
+            sum += v->irradiance[i], n++;
+    v->mean_irradiance = n ? sum / (double)n : 0;
+}
+
 static void say(struct viewer *v, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 static void say(struct viewer *v, const char *fmt, ...)
 {
@@ -247,6 +304,7 @@ static void apply_pose(struct viewer *v)
     }
     v->posed = s, v->shown = v->pose;
     receiver_set_camera(&v->receiver, &s);
+    shading_render(v);
     v->pose_id++;
     v->gt_samples = 0;
     gt_worker_ask(&v->worker, v->pose_id, &s, &v->sm.frustum);
@@ -312,7 +370,8 @@ static void on_key(struct viewer *v, int key, int mods)
     case GLFW_KEY_TAB:
     case GLFW_KEY_B: {
         const int k = key == GLFW_KEY_B;
-        v->side[k] = (v->side[k] + dir + v->cycle_count) % v->cycle_count;
+        const int n = v->o->technique_count;
+        v->side[k] = (v->side[k] + dir + n) % n;
         if (k == 0)
             v->param = 0;
         say(v, "%s technique %s", k ? "right" : "left", side_technique(v, k)->name);
@@ -390,53 +449,6 @@ static void scroll_callback(GLFWwindow *win, double xoff, double yoff)
 
 /* ---- a frame ------------------------------------------------------------ */
 
-static int shading_create(struct viewer *v)
-{
-    struct strbuf defines = {0};
-    shadowmap_shader_defines(&defines);  /* shadow_common.glsl's, for its facing normal */
-    strbuf_printf(&defines, "#define SM_LIGHT_SHAPE %d\n", (int)v->base->light.shape);
-    v->shade_program = shader_program("view: unshadowed shading", defines.data,
-                                      (const struct shader_stage[]){{GL_VERTEX_SHADER, {"receiver.vert"}},
-                                                                    {GL_FRAGMENT_SHADER, {"view_shading.frag"}}},
-                                      2);
-    strbuf_free(&defines);
-    if (!v->shade_program)
-        return -1;
-    v->shade_target = gl_texture_2d(GL_R32F, v->w, v->h, "view: irradiance");
-    v->shade_depth = gl_texture_2d(GL_DEPTH_COMPONENT32F, v->w, v->h, "view: irradiance depth");
-    glGenFramebuffers(1, &v->shade_fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, v->shade_fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, v->shade_target, 0);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, v->shade_depth, 0);
-    return gl_framebuffer_complete(v->shade_fbo, "view: shading") ? 0 : -1;
-}
-
-/* E, the unshadowed shading (shaders/view_shading.frag), into v->irradiance. */
-static void shading_render(struct viewer *v)
-{
-    const struct scene_light *L = &v->posed.light;
-    const GLuint p = v->shade_program;
-    glBindFramebuffer(GL_FRAMEBUFFER, v->shade_fbo);
-    glViewport(0, 0, v->w, v->h);
-    glClearBufferfv(GL_COLOR, 0, (const float[4]){0, 0, 0, 0});
-    glClearBufferfv(GL_DEPTH, 0, (const float[]){0.0f});
-    glUseProgram(p);
-    glUniformMatrix4fv(glGetUniformLocation(p, "u_camera_view_proj"), 1, GL_FALSE, v->receiver.view_proj.m);
-    const struct vec3 cam = v->receiver.camera_pos;
-    glUniform3f(glGetUniformLocation(p, "u_camera_pos"), cam.x, cam.y, cam.z);
-    glUniform3f(glGetUniformLocation(p, "u_light_pos"), L->pos.x, L->pos.y, L->pos.z);
-    glUniform3f(glGetUniformLocation(p, "u_light_x"), L->x.x, L->x.y, L->x.z);
-    glUniform3f(glGetUniformLocation(p, "u_light_y"), L->y.x, L->y.y, L->y.z);
-    glUniform3f(glGetUniformLocation(p, "u_light_z"), L->z.x, L->z.y, L->z.z);
-    glUniform1f(glGetUniformLocation(p, "u_light_half_width"), 0.5f * L->width);
-    glUniform1f(glGetUniformLocation(p, "u_light_half_height"), 0.5f * L->height);
-    glUniform1f(glGetUniformLocation(p, "u_light_radius"), L->radius);
-    glUniform1i(glGetUniformLocation(p, "u_light_disk"), L->shape == LIGHT_DISK);
-    scene_mesh_draw(&v->mesh);
-    gl_read_red(GL_COLOR_ATTACHMENT0, v->w, v->h, v->irradiance);
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-}
-
 /* One frame of side k's technique, timed as the harness times a cell (its
  * products rendered afresh, then the receiver pass), read back. */
 static int render_side(struct viewer *v, int k)
@@ -465,17 +477,6 @@ static int render_side(struct viewer *v, int k)
     return 0;
 }
 
-/* The mean of E over the pixels where side k's GL pass drew geometry. */
-static double mean_irradiance(const struct viewer *v, int k)
-{
-    double sum = 0;
-    long n = 0;
-    for (size_t i = 0; i < (size_t)v->w * (size_t)v->h; i++)
-        if (v->distance[k][i] >= 0)
-            sum += v->irradiance[i], n++;
-    return n ? sum / (double)n : 0;
-}
-
 /* Side k's picture in the current view. */
 static void side_picture(struct viewer *v, int k, struct picture *out)
 {
@@ -484,7 +485,7 @@ static void side_picture(struct viewer *v, int k, struct picture *out)
     switch (v->mode) {
     case MODE_SHADED:
     case MODE_E: {
-        const double mean = mean_irradiance(v, k);
+        const double mean = v->mean_irradiance;
         const float exposure = mean > 0 ? (float)(1.0 / (VIEW_WHITE * mean)) : 1.0f;
         for (size_t i = 0; i < count; i++)
             v->shade[i] = fminf(v->irradiance[i] * (v->mode == MODE_E ? 1.0f : v->v[k][i]) * exposure, 1.0f);
@@ -656,9 +657,7 @@ static int viewer_open(struct viewer *v, const struct run_options *o, const stru
     v->w = o->width, v->h = o->height;
     v->extent = v3_length(v3_sub(s->bounds_max, s->bounds_min));
     v->overlay = true;
-    for (int i = 0; i < o->technique_count; i++)
-        v->cycle[v->cycle_count++] = i;
-    v->side[1] = v->cycle_count > 1 ? 1 : 0;
+    v->side[1] = o->technique_count > 1 ? 1 : 0;
     const size_t count = (size_t)v->w * (size_t)v->h;
     for (int k = 0; k < 2; k++) {
         v->v[k] = xcalloc(count, sizeof(float));
@@ -772,7 +771,6 @@ int view_main(const struct run_options *o)
                 status = EXIT_CHECK_FAILED;
         if (status != EXIT_OK)
             break;
-        shading_render(&v);
         compose(&v);
         present(&v, win);
         if (last && o->screenshot)
@@ -789,7 +787,7 @@ int view_main(const struct run_options *o)
             snprintf(score, sizeof score, "rmse %.6f, penumbra_rmse %.6f (V_gt %d spp)", v.m[0].rmse,
                      v.m[0].penumbra_rmse, v.gt_samples);
         log_info("view: %s, view %s%s%s: %s, mean E %.6g", side_technique(&v, 0)->name, mode_names[v.mode],
-                 v.split ? ", right " : "", v.split ? side_technique(&v, 1)->name : "", score, mean_irradiance(&v, 0));
+                 v.split ? ", right " : "", v.split ? side_technique(&v, 1)->name : "", score, v.mean_irradiance);
     }
     viewer_free(&v);
     gl_context_destroy();
