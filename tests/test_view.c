@@ -357,9 +357,9 @@ int main(int argc, char **argv)
     free(text), free(metrics_path);
 
     /* After the light moved, the ground truth scored against is the new
-     * pose's: pcss still scores as well (at 2388f4a's successor: 0.017
+     * pose's: pcss still scores as well (measured at b7d6545: 0.017
      * moved, 0.047 still; scored against the base pose's truth instead,
-     * 0.60). */
+     * 0.60, from a build patched to ask for the base pose, at 100a43d). */
     view("moved", "0 RIGHT\n0 RIGHT\n0 RIGHT\n1 UP\n", &e6, NULL);
 
     /* The pose stops where floats and the ray tracer would give out: 500
