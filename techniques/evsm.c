@@ -81,12 +81,11 @@ static void evsm_request(const void *settings, const struct light_frustum *f, in
     r->evsm.blur_radius_texels = s->blur_radius_texels;
 }
 
-const struct technique technique_evsm = {
-    .name = "evsm",
+TECHNIQUE(evsm,
     .summary = "Chebyshev bound on exponentially warped moments: far less bleeding than vsm",
     .needs = SM_EVSM,
-    .params = evsm_params,
-    .settings_size = sizeof(struct evsm_settings),
-    .shader = "evsm.glsl",
     .request = evsm_request,
-};
+    .regression = TECHNIQUE_CELLS(
+        {"overlapping_occluders", "variant=evsm2,positive_exponent=20"},
+        {"contact_hardening", "negative_exponent=20,blur_radius_texels=8"},
+        {"grazing_receiver", "min_variance=1e-06"}, {"overlapping_occluders", "bleed_reduction=0.3"}));

@@ -29,11 +29,8 @@ static const struct technique_param hard_params[] = {
     {NULL},
 };
 
-const struct technique technique_hard = {
-    .name = "hard",
+TECHNIQUE(hard,
     .summary = "one depth comparison: aliased hard edge, no penumbra",
     .needs = SM_DEPTH,
-    .params = hard_params,
-    .settings_size = sizeof(struct hard_settings),
-    .shader = "hard.glsl",
-};
+    .regression = TECHNIQUE_CELLS(
+        {"grazing_receiver", "constant_bias=0.005"}, {"grazing_receiver", "slope_bias=4"}));

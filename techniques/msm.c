@@ -78,12 +78,10 @@ static void msm_request(const void *settings, const struct light_frustum *f, int
     r->msm.blur_radius_texels = ((const struct msm_settings *)settings)->blur_radius_texels;
 }
 
-const struct technique technique_msm = {
-    .name = "msm",
+TECHNIQUE(msm,
     .summary = "4MSM (Hamburger or Hausdorff): the sharpest bound from four filtered moments, little bleeding",
     .needs = SM_MSM,
-    .params = msm_params,
-    .settings_size = sizeof(struct msm_settings),
-    .shader = "msm.glsl",
     .request = msm_request,
-};
+    .regression = TECHNIQUE_CELLS(
+        {"overlapping_occluders", "moment_bias=0.003,blur_radius_texels=8"},
+        {"grazing_receiver", "depth_bias=0.001"}, {"stanford_bunny", "bound=hausdorff"}));

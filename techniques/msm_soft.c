@@ -86,12 +86,11 @@ static void msm_soft_request(const void *settings, const struct light_frustum *f
                            map_size_texels);
 }
 
-const struct technique technique_msm_soft = {
-    .name = "msm_soft",
+TECHNIQUE(msm_soft,
     .summary = "PCSS with blocker depth and filtering by 4MSM from a SAT of four moments",
     .needs = SM_MSM_SAT,
-    .params = msm_soft_params,
-    .settings_size = sizeof(struct msm_soft_settings),
-    .shader = "msm_soft.glsl",
     .request = msm_soft_request,
-};
+    .regression = TECHNIQUE_CELLS(
+        {"floating_box_sphere", "sat_format=fp32"}, {"parallel_planes", "light_size_scale=0.5"},
+        {"overlapping_occluders", "moment_bias=0.003"}, {"grazing_receiver", "depth_bias=0.001"},
+        {"contact_hardening", "min_blocker_fraction=0.05"}));

@@ -87,12 +87,13 @@ static int pcf_check(const void *settings, char *why, size_t why_size)
     return -1;
 }
 
-const struct technique technique_pcf = {
-    .name = "pcf",
+TECHNIQUE(pcf,
     .summary = "fixed-width average of depth comparisons: constant blur, no contact hardening",
     .needs = SM_DEPTH,
-    .params = pcf_params,
-    .settings_size = sizeof(struct pcf_settings),
-    .shader = "pcf.glsl",
     .check = pcf_check,
-};
+    .regression = TECHNIQUE_CELLS(
+        {"parallel_planes", "radius_texels=8"}, {"parallel_planes", "pattern=grid,samples=25"},
+        {"parallel_planes", "samples=64"}, {"parallel_planes", "hardware_2x2=true"},
+        {"grazing_receiver", "receiver_plane_bias=false"},
+        {"grazing_receiver", "receiver_plane_bias=false,slope_bias=4"},
+        {"grazing_receiver", "constant_bias=0.005"}));

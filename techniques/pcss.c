@@ -50,11 +50,11 @@ static const struct technique_param pcss_params[] = {
     {NULL},
 };
 
-const struct technique technique_pcss = {
-    .name = "pcss",
+TECHNIQUE(pcss,
     .summary = "blocker search, penumbra by similar triangles, PCF of that width",
     .needs = SM_DEPTH,
-    .params = pcss_params,
-    .settings_size = sizeof(struct pcss_settings),
-    .shader = "pcss.glsl",
-};
+    .regression = TECHNIQUE_CELLS(
+        {"contact_hardening", "blocker_samples=16,filter_samples=64"},
+        {"parallel_planes", "light_size_scale=0.5"}, {"grazing_receiver", "receiver_plane_bias=false"},
+        {"grazing_receiver", "receiver_plane_bias=false,slope_bias=4"},
+        {"grazing_receiver", "constant_bias=0.005"}));

@@ -56,12 +56,11 @@ static void pcss_savsm_request(const void *settings, const struct light_frustum 
                            map_size_texels);
 }
 
-const struct technique technique_pcss_savsm = {
-    .name = "pcss_savsm",
+TECHNIQUE(pcss_savsm,
     .summary = "PCSS with blocker depth and filtering from SAT moments: O(1) in the light size",
     .needs = SM_MOMENTS_SAT,
-    .params = pcss_savsm_params,
-    .settings_size = sizeof(struct pcss_savsm_settings),
-    .shader = "pcss_savsm.glsl",
     .request = pcss_savsm_request,
-};
+    .regression = TECHNIQUE_CELLS(
+        {"floating_box_sphere", "sat_format=fp32"}, {"floating_box_sphere", "sat_format=fp32_centered"},
+        {"parallel_planes", "light_size_scale=0.5"}, {"parallel_planes", "min_variance=0.001"},
+        {"contact_hardening", "min_blocker_fraction=0.05"}, {"overlapping_occluders", "bleed_reduction=0.3"}));

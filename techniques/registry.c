@@ -35,6 +35,14 @@ const struct technique *technique_find(const char *name)
     return NULL;
 }
 
+int technique_index(const struct technique *t)
+{
+    int i = 0;
+    while (technique_list[i] && technique_list[i] != t)
+        i++;
+    return i;
+}
+
 void technique_names(struct strbuf *out, const char *sep)
 {
     for (const struct technique *const *t = technique_list; *t; t++)

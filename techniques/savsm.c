@@ -58,12 +58,11 @@ static void savsm_request(const void *settings, const struct light_frustum *f,
                                         ? s->box_width_texels : SAVSM_MAX_FOOTPRINT_TEXELS;
 }
 
-const struct technique technique_savsm = {
-    .name = "savsm",
+TECHNIQUE(savsm,
     .summary = "VSM over an exact box filter from a summed-area table: bleeding, SAT precision",
     .needs = SM_MOMENTS_SAT,
-    .params = savsm_params,
-    .settings_size = sizeof(struct savsm_settings),
-    .shader = "savsm.glsl",
     .request = savsm_request,
-};
+    .regression = TECHNIQUE_CELLS(
+        {"parallel_planes", "box_width_texels=15"}, {"floating_box_sphere", "sat_format=fp32"},
+        {"floating_box_sphere", "sat_format=fp32_centered"}, {"parallel_planes", "min_variance=0.001"},
+        {"overlapping_occluders", "bleed_reduction=0.3"}));

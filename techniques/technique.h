@@ -139,6 +139,20 @@ struct technique_param {
 #define TUNE(...) ((const double[]){__VA_ARGS__, NAN})
 extern const double TUNE_CHOICES[];
 
+/* A regression cell a technique declares (STYLE.md item 6d): its
+ * parameters away from their defaults, on a shipped scene where they act.
+ * `shadowbench check` renders it against its baseline, and fails when a
+ * parameter is set away from its default by none of its technique's cells,
+ * or when setting one back changes no pixel (pipeline/regression.h). */
+struct technique_cell {
+    const char *scene;   /* a shipped scene's name */
+    const char *params;  /* as a cell's name spells them: "pattern=grid,samples=25" */
+};
+
+/* A technique's regression cells: .regression = TECHNIQUE_CELLS({"scene",
+ * "p=v"}, ...). */
+#define TECHNIQUE_CELLS(...) ((const struct technique_cell[]){__VA_ARGS__, {NULL, NULL}})
+
 struct technique {
     const char *name;
     const char *summary;                   /* one line for `list` */
@@ -154,7 +168,18 @@ struct technique {
     /* Optional. Rules across parameters that a range cannot state: returns
      * 0, or -1 with a one-line reason in why. */
     int (*check)(const void *settings, char *why, size_t why_size);
+    /* Its regression cells (TECHNIQUE_CELLS), ending with {NULL}. */
+    const struct technique_cell *regression;
 };
+
+/* The descriptor that ends techniques/<name>.c: its name, its parameter
+ * table <name>_params, its settings struct <name>_settings and its shader
+ * shaders/<name>.glsl all follow from the name, written once; the rest are
+ * named fields: TECHNIQUE(pcf, .summary = "...", .needs = SM_DEPTH, ...). */
+#define TECHNIQUE(name_, ...)                                                                     \
+    const struct technique technique_##name_ = {.name = #name_, .params = name_##_params,         \
+                                                .settings_size = sizeof(struct name_##_settings), \
+                                                .shader = #name_ ".glsl", __VA_ARGS__}
 
 /* t's request for these settings (calls t->request, or uses t->needs). */
 void technique_request(const struct technique *t, const void *settings,
@@ -172,6 +197,10 @@ extern const struct technique *const technique_list[];
 
 /* The technique called name, or NULL. */
 const struct technique *technique_find(const char *name);
+
+/* t's index in technique_list: what settings are kept by, a technique's
+ * colour in every chart. */
+int technique_index(const struct technique *t);
 
 struct strbuf;  /* base/util.h */
 

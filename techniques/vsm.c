@@ -45,12 +45,10 @@ static void vsm_request(const void *settings, const struct light_frustum *f,
     r->moments.blur_radius_texels = ((const struct vsm_settings *)settings)->blur_radius_texels;
 }
 
-const struct technique technique_vsm = {
-    .name = "vsm",
+TECHNIQUE(vsm,
     .summary = "Chebyshev bound from prefiltered moments: light bleeding where occluders overlap",
     .needs = SM_MOMENTS,
-    .params = vsm_params,
-    .settings_size = sizeof(struct vsm_settings),
-    .shader = "vsm.glsl",
     .request = vsm_request,
-};
+    .regression = TECHNIQUE_CELLS(
+        {"parallel_planes", "blur_radius_texels=8"}, {"parallel_planes", "min_variance=0.001"},
+        {"overlapping_occluders", "bleed_reduction=0.3"}));

@@ -104,12 +104,12 @@ static void vssm_request(const void *settings, const struct light_frustum *f, in
                            map_size_texels);
 }
 
-const struct technique technique_vssm = {
-    .name = "vssm",
+TECHNIQUE(vssm,
     .summary = "PCSS on SAT moments, the kernel subdivided where the Chebyshev test says lit wrongly",
     .needs = SM_MOMENTS_SAT,
-    .params = vssm_params,
-    .settings_size = sizeof(struct vssm_settings),
-    .shader = "vssm.glsl",
     .request = vssm_request,
-};
+    .regression = TECHNIQUE_CELLS(
+        {"floating_box_sphere", "sat_format=fp32_centered"}, {"parallel_planes", "light_size_scale=0.5"},
+        {"grazing_receiver", "min_variance=0.001"}, {"contact_hardening", "min_blocker_fraction=0.05"},
+        {"overlapping_occluders", "bleed_reduction=0.3"}, {"overlapping_occluders", "subdivisions=4"},
+        {"overlapping_occluders", "adaptive=true,subdivisions=4"}, {"curved_receivers", "receiver_plane=false"}));

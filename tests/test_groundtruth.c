@@ -17,7 +17,7 @@
 #include "parallel_planes.h"
 #include "base/image.h"
 #include "base/util.h"
-#include "cli/catalog.h"
+#include "scene/catalog.h"
 #include "scene/light_frustum.h"
 #include "truth/groundtruth.h"
 

@@ -1,12 +1,12 @@
 #!/bin/sh
-# Protects the layout (README, Layout): the folders follow the data flow, and
+# Protects the layout (docs/design.md, Layout): the folders follow the data flow, and
 # a file includes only its own folder and the folders before it in this
 # order. An include of a later folder is a dependency pointing against the
 # flow (e.g. the report reaching into the command line for a constant).
 # Usage: test_layers.sh <source root>
 set -u
 cd "$1" || exit 2
-order="base scene truth gl techniques render score output cli"
+order="base scene truth gl techniques render score pipeline output view cli"
 rank() {
     i=0
     for f in $order; do

@@ -5,9 +5,10 @@
  * "missing", which the test proves it would see), and the inline charts
  * with their Pareto fronts and bars. Also the Pareto front itself. */
 #include "check.h"
-#include "cli/catalog.h"
+#include "scene/catalog.h"
 #include "run_cmd.h"
 #include "output/chart.h"
+#include "score/frontier.h"
 
 #include <cjson/cJSON.h>
 #include <stdlib.h>
@@ -67,7 +68,7 @@ static void pareto_front(void)
      * the slowest but the best, 4 ties 1 in time with a worse error. */
     const double x[] = {5, 1, 9, 6, 1}, y[] = {0.5, 0.3, 0.1, 0.35, 0.4};
     int front[5];
-    int m = chart_pareto(x, y, 5, front);
+    int m = frontier_pareto(x, y, 5, front);
     CHECK(m == 2 && front[0] == 1 && front[1] == 2, "front: %d items, first %d", m, front[0]);
 }
 

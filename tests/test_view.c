@@ -9,7 +9,7 @@
 #include "check.h"
 #include "run_cmd.h"
 #include "base/image.h"
-#include "cli/view.h"
+#include "view/viewer.h"
 
 #include <cjson/cJSON.h>
 #include <png.h>
@@ -90,7 +90,7 @@ static int ground_truth(const char *scene, int samples, struct exr_channel *ch, 
 
 /* The E view (5) is the closed form of the irradiance the ground truth
  * samples (its E, 1024 samples): on flat receivers (the shading normal is
- * the geometric one) within one sRGB step at every pixel, VIEW_WHITE x the mean
+ * the geometric one) within one sRGB step at every pixel, VIEWER_WHITE x the mean
  * over the geometry being white in both (seen: at most 1 step, a mean of
  * 0.04, on both lights; a normal tilted by 0.2 gives 6). The picture is E
  * up to its scale, which the logged mean pins: within 0.5 % of the ground
@@ -109,7 +109,7 @@ static void irradiance_check(const char *scene)
         for (int i = 0; i < W * H; i++)
             if (geometry[i])
                 sum += ch[0].data[i], n++;
-        const float exposure = (float)((double)n / (VIEW_WHITE * sum));
+        const float exposure = (float)((double)n / (VIEWER_WHITE * sum));
         int worst = 0;
         for (int i = 0; i < W * H; i++)
             if (geometry[i]) {
@@ -178,7 +178,7 @@ static void refusals(void)
         refused(cmd, scripts[i].want);
         free(cmd), free(path);
     }
-    /* a script larger than any of VIEW_MAX_SCRIPT events (not read) */
+    /* a script larger than any of SCRIPT_MAX_EVENTS events (not read) */
     char *big = util_printf("%s/big.txt", dir), *big_cmd = util_printf("truncate -s 2G %s && %s view --scene parallel_planes "
                                                                       "--script %s", big, sb, big);
     struct strbuf big_err = {0};

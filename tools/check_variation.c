@@ -1,13 +1,13 @@
 /* How far two recordings of the same baselines differ: for each cell of A
  * (<scene>/<cell>.json and .png) also in B, every metric's difference and
- * the share of pixels that moved by more than CHECK_PIXEL_THRESHOLD; prints
+ * the share of pixels that moved by more than BASELINE_PIXEL_THRESHOLD; prints
  * the largest of each over all cells, and where. tools/check-variation
  * records the baselines under llvmpipe's variations and runs this, to set
- * the tolerances of harness/cli/check.c.
+ * the tolerances of score/baseline.h.
  * Usage: check_variation DIR_A DIR_B */
 #include "base/image.h"
 #include "base/util.h"
-#include "cli/check.h"
+#include "score/baseline.h"
 
 #include <cjson/cJSON.h>
 #include <dirent.h>
@@ -91,7 +91,7 @@ int main(int argc, char **argv)
                     image_read_png16(ib, width, height, &vb) == 0) {
                     size_t moved = 0;
                     for (int i = 0; i < width * height; i++)
-                        moved += fabs(((double)va[i] - (double)vb[i]) / 65535.0) > CHECK_PIXEL_THRESHOLD;
+                        moved += fabs(((double)va[i] - (double)vb[i]) / 65535.0) > BASELINE_PIXEL_THRESHOLD;
                     const double share = (double)moved / ((double)width * height);
                     if (share > moved_worst) {
                         moved_worst = share;
@@ -115,7 +115,7 @@ int main(int argc, char **argv)
     printf("%d cells compared\n", cells);
     for (int i = 0; i < count; i++)
         printf("  %-16s largest difference %.3g (%s)\n", w[i].name, w[i].value, w[i].where);
-    printf("  pixels moved by more than %g: at most %.3f %% of a cell (%s)\n", CHECK_PIXEL_THRESHOLD,
+    printf("  pixels moved by more than %g: at most %.3f %% of a cell (%s)\n", BASELINE_PIXEL_THRESHOLD,
            100.0 * moved_worst, moved_where);
     return cells ? 0 : 1;
 }

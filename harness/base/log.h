@@ -21,6 +21,15 @@ void log_errors_as_warnings(bool on);
  * it). The string must outlive its use; NULL ends it. */
 void log_set_context(const char *context);
 
+/* Progress on long work (DESIGN.md §6, the CLI standards), one printer for
+ * every command: on a terminal, one line rewritten in place, ended by
+ * log_progress_done or by the next message; elsewhere (a log file, CI) the
+ * line is logged as a message at most every LOG_PROGRESS_EVERY_MS. Shown
+ * at the default level and above (not with -q). */
+#define LOG_PROGRESS_EVERY_MS 30000.0
+void log_progress(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+void log_progress_done(void);
+
 #define log_error(...) log_msg(LOG_ERROR, __VA_ARGS__)
 #define log_warn(...)  log_msg(LOG_WARN, __VA_ARGS__)
 #define log_info(...)  log_msg(LOG_INFO, __VA_ARGS__)

@@ -510,3 +510,9 @@ const char *util_find_dir(const char *override, const char *env, const char *sub
         free(candidates[i]);
     return result;
 }
+
+void util_json_merge(cJSON *into, const cJSON *from)
+{
+    for (const cJSON *e = from ? from->child : NULL; e; e = e->next)
+        cJSON_AddItemToObject(into, e->string, cJSON_Duplicate(e, true));
+}

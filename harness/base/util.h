@@ -10,6 +10,10 @@
 
 #define ARRAY_SIZE(a) (sizeof(a) / sizeof((a)[0]))
 
+/* A macro's value as text, for help and messages: plain literals only. */
+#define UTIL_STR_(x) #x
+#define UTIL_STR(x) UTIL_STR_(x)
+
 /* Reads a whole file; *data is NUL-terminated (not counted in *size).
  * Returns 0 or -errno (-EISDIR for a folder, -ENODEV for anything else that
  * is not a regular file: a FIFO, a device; neither blocks); logs nothing
@@ -70,6 +74,8 @@ bool util_bidi_control(unsigned cp);
  * both and reads the first), or NULL. */
 struct cJSON;
 const char *util_json_duplicate_key(const struct cJSON *v);
+/* Adds a copy of every key of object `from` (may be NULL) to `into`. */
+void util_json_merge(struct cJSON *into, const struct cJSON *from);
 
 /* Whether path is a folder (following links). */
 bool util_is_dir(const char *path);

@@ -1,11 +1,11 @@
-#include "bench.h"
-#include "catalog.h"
+#include "cli.h"
 #include "base/log.h"
 #include "base/util.h"
 #include "gl/gl_context.h"
 #include "gl/shader.h"
 #include "render/receiver.h"
 #include "render/stage_timer.h"
+#include "scene/catalog.h"
 #include "scene/light_frustum.h"
 #include "techniques/params.h"
 
@@ -50,7 +50,7 @@ static int covered_pixels(const struct receiver *rc)
     return covered;
 }
 
-int bench_main(const struct run_options *o)
+int bench_main(const struct options *o)
 {
     char *path = NULL;
     if (o->scene_count) {
@@ -78,13 +78,9 @@ int bench_main(const struct run_options *o)
     struct shadowmap sm = {0};
     struct receiver rcv = {0};
     struct light_frustum f;
-    if (light_frustum_fit(&s, &f) != 0 || shader_init(o->shader_dir) != 0)
+    if (light_frustum_fit(&s, &f) != 0 || cli_gl_open(o, o->gl) != 0)
         goto out_free_scene;
     status = EXIT_CHECK_FAILED;
-    if (gl_context_create(o->gl) != 0) {  /* no such context here: bad usage (exit 2), as a bad --shaders */
-        status = EXIT_USAGE;
-        goto out_free_scene;
-    }
     if (shadowmap_create(&sm, &s, &(struct shadowmap_desc){.size_texels = o->shadow_map_size}) != 0 ||
         receiver_create(&rcv, &s, o->width, o->height) != 0)
         goto out_free_gl;
@@ -95,12 +91,12 @@ int bench_main(const struct run_options *o)
     /* The cells: every technique, then a fetch probe at the tap loops
      * (PARAM_TAPS) of each technique that has any; all timed interleaved. */
     const int n = o->technique_count;
-    struct stage_timer_cell cells[2 * RUN_MAX_TECHNIQUES] = {{0}};
-    struct probe_settings probes[RUN_MAX_TECHNIQUES];
-    int probe_of[RUN_MAX_TECHNIQUES], cell_count = n;  /* probe_of[i]: cell index or -1 */
+    struct stage_timer_cell cells[2 * CLI_MAX_TECHNIQUES] = {{0}};
+    struct probe_settings probes[CLI_MAX_TECHNIQUES];
+    int probe_of[CLI_MAX_TECHNIQUES], cell_count = n;  /* probe_of[i]: cell index or -1 */
     for (int i = 0; i < n; i++) {
         const struct technique *t = o->techniques[i];
-        cells[i] = (struct stage_timer_cell){t, run_settings(o, t), 0};
+        cells[i] = (struct stage_timer_cell){t, cli_settings(o, t), 0};
         int loops[2] = {0, 0}, taps = params_taps(t, cells[i].settings, loops, 2);
         if (taps > 2)
             log_warn("%s: %d tap loops; the fetch probe counts the first two", t->name, taps);
@@ -110,7 +106,7 @@ int bench_main(const struct run_options *o)
             cells[cell_count++] = (struct stage_timer_cell){&fetch_probe, &probes[i], 0};
         }
     }
-    struct stage_times times[2 * RUN_MAX_TECHNIQUES];
+    struct stage_times times[2 * CLI_MAX_TECHNIQUES];
     for (int i = 0; i < cell_count; i++)
         if (!(cells[i].program = receiver_program(cells[i].technique, cells[i].settings, s.light.shape)))
             goto out_free_programs;

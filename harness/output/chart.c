@@ -1,4 +1,5 @@
 #include "chart.h"
+#include "score/frontier.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -84,33 +85,6 @@ static void y_axis(struct strbuf *o, int x0, int y0, int w, int h, double y_max,
                   y0 + h, x0 + w);
 }
 
-static int cmp_by_x(const void *a, const void *b, void *ctx)
-{
-    const double *const *xy = ctx;
-    int i = *(const int *)a, j = *(const int *)b;
-    if (xy[0][i] != xy[0][j])
-        return xy[0][i] < xy[0][j] ? -1 : 1;
-    return (xy[1][i] > xy[1][j]) - (xy[1][i] < xy[1][j]);
-}
-
-int chart_pareto(const double *x, const double *y, int n, int *front)
-{
-    int *order = xmalloc(sizeof(int) * (size_t)(n ? n : 1));
-    for (int i = 0; i < n; i++)
-        order[i] = i;
-    const double *xy[2] = {x, y};
-    qsort_r(order, (size_t)n, sizeof *order, cmp_by_x, xy);
-    int count = 0;
-    double best = INFINITY;
-    for (int k = 0; k < n; k++)
-        if (y[order[k]] < best) {
-            best = y[order[k]];
-            front[count++] = order[k];
-        }
-    free(order);
-    return count;
-}
-
 enum { PANEL_W = 470, PANEL_H = 380, PAD_L = 70, PAD_R = 24, PAD_T = 30, PAD_B = 50, TOP = 50 };
 
 static void tradeoff_panel(struct strbuf *o, int left, const struct chart_item *all_items, int all_n,
@@ -153,7 +127,7 @@ static void tradeoff_panel(struct strbuf *o, int left, const struct chart_item *
 #define PX(i) SX(x[i])
 #define PY(i) (y0 + h - y[i] / y_max * h)
     int *front = xmalloc(sizeof(int) * (size_t)(n ? n : 1));
-    int m = chart_pareto(x, y, n, front);
+    int m = frontier_pareto(x, y, n, front);
     strbuf_printf(o, "<path class=\"pareto\" d=\"");
     for (int k = 0; k < m; k++)
         strbuf_printf(o, k ? " H%.1f V%.1f" : "M%.1f %.1f", PX(front[k]), PY(front[k]));

@@ -84,8 +84,4 @@ void chart_lines_svg(struct strbuf *out, const char *title, const char *subtitle
                      double reference_x, const char *marked_text, const struct chart_panel *panels,
                      int panel_count);
 
-/* Indices of the Pareto-optimal items for minimising both x and y, in
- * increasing x; returns their count. Ties in x keep the lower y. */
-int chart_pareto(const double *x, const double *y, int n, int *front);
-
 #endif

@@ -1,5 +1,6 @@
 #include "report.h"
 #include "chart.h"
+#include "score/frontier.h"
 #include "picture.h"
 #include "base/util.h"
 
@@ -85,14 +86,6 @@ static int write_matrix(const struct report *r)
 }
 
 /* ---- charts ------------------------------------------------------------- */
-
-static int technique_index(const struct technique *t)
-{
-    int i = 0;
-    while (technique_list[i] && technique_list[i] != t)
-        i++;
-    return i;
-}
 
 static struct chart_item item_of(const struct cell *c)
 {
@@ -342,7 +335,7 @@ static void pareto_flags(const struct report *r, bool *front)
                 index[n] = i, x[n] = r->cells[i].m.ms_total, y[n] = r->cells[i].m.rmse;
                 n++;
             }
-        int m = chart_pareto(x, y, n, on);
+        int m = frontier_pareto(x, y, n, on);
         for (int k = 0; k < m; k++)
             front[index[on[k]]] = true;
     }

@@ -4,23 +4,12 @@
 #define SB_REPORT_H
 
 #include "chart.h"
+#include "pipeline/cell.h"
 #include "score/metrics.h"
 #include "techniques/technique.h"
 
 #include <cjson/cJSON.h>
 #include <stdbool.h>
-
-/* One (scene, technique, parameter set) evaluation. */
-struct cell {
-    const char *scene;                   /* scene name */
-    const struct technique *technique;
-    const char *label;                   /* the configuration: technique name, or with its
-                                            swept values (run_config.label); its folder */
-    cJSON *params;                       /* values used */
-    char *params_text;                   /* "name=value name=value" */
-    const char *gl_renderer;             /* the device the timings were taken on */
-    struct metrics m;
-};
 
 struct report_scene {
     const char *name, *description, *shows;

@@ -97,3 +97,30 @@ float pose_pixel_world(const struct scene *s, int height)
     const float d = -v3_dot(v3_sub(centre(s), s->camera.pos), s->camera.z);
     return 2 * fabsf(d) * tanf(0.5f * s->camera.yfov_rad) / (float)height;
 }
+
+/* Rodrigues: a turned by angle about the unit axis k. */
+static struct vec3 turn(struct vec3 a, struct vec3 k, float angle)
+{
+    const float c = cosf(angle), s = sinf(angle);
+    return v3_add(v3_add(v3_scale(a, c), v3_scale(v3_cross(k, a), s)), v3_scale(k, v3_dot(k, a) * (1 - c)));
+}
+
+struct scene scene_orbited(const struct scene *base, const struct scene_orbit *p, float extent)
+{
+    struct scene s = *base;
+    struct scene_light *L = &s.light;
+    L->pos = v3_add(L->pos, v3_add(v3_scale(L->x, p->light_dx), v3_scale(L->y, p->light_dy)));
+    if (p->yaw == 0 && p->pitch == 0 && p->dolly == 0)
+        return s;  /* the scene's own camera, bit for bit */
+    struct scene_camera *c = &s.camera;
+    const struct vec3 mid = centre(&s);
+    const float along = fmaxf(v3_dot(v3_sub(c->pos, mid), c->z), 1e-3f * extent);
+    /* yaw about the world's up (glTF's +y), or the camera's own up when it looks along it */
+    const struct vec3 target = v3_sub(c->pos, v3_scale(c->z, along));
+    const struct vec3 up = fabsf(c->z.y) < 0.99f ? v3(0, 1, 0) : c->y;
+    struct vec3 arm = v3_sub(c->pos, target);
+    arm = turn(arm, up, p->yaw), c->x = turn(c->x, up, p->yaw), c->y = turn(c->y, up, p->yaw), c->z = turn(c->z, up, p->yaw);
+    arm = turn(arm, c->x, p->pitch), c->y = turn(c->y, c->x, p->pitch), c->z = turn(c->z, c->x, p->pitch);
+    c->pos = v3_add(target, v3_scale(arm, expf(p->dolly)));
+    return s;
+}

@@ -17,6 +17,19 @@ struct scene_pose {
     float caster_shift;    /* that node moved along the light's x axis, world units */
 };
 
+/* The viewer's pose (`shadowbench view`), relative to the scene's. Zero is
+ * the scene's own pose, bit for bit. */
+struct scene_orbit {
+    float light_dx, light_dy;  /* the light along its own x and y, world units */
+    float yaw, pitch, dolly;   /* the camera's orbit (radians) and log distance */
+};
+
+/* base with its light moved in its plane and its camera orbiting the point
+ * of its axis nearest the scene's centre (yaw about the world's up, then
+ * pitch) and dollied towards or away from it; extent: the scene's size.
+ * Shares base's arrays. */
+struct scene scene_orbited(const struct scene *base, const struct scene_orbit *o, float extent);
+
 /* base in pose p: the light and camera moved, the geometry shared (or its
  * positions copied and a node moved: p->caster), and a hash of its own
  * (the ground-truth cache key). */

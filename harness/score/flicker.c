@@ -98,3 +98,32 @@ void flicker_accumulate(float *history, const float *prev_history, const float *
         history[i] = from[i] >= 0 ? prev_history[from[i]] + alpha * (v[i] - prev_history[from[i]]) : v[i];
     /* (in that form a still pixel stays exactly still: h + a (h - h) = h) */
 }
+
+void flicker_reproject(const struct scene_camera *now, const struct scene_camera *prev, const float *dist_now,
+                       const float *dist_prev, int w, int h, int *from)
+{
+    const float ty = tanf(0.5f * now->yfov_rad), tx = ty * (float)w / (float)h;
+    const float py_ = tanf(0.5f * prev->yfov_rad), px_ = py_ * (float)w / (float)h;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            const int i = y * w + x;
+            from[i] = -1;
+            if (dist_now[i] < 0)
+                continue;
+            const float sx = (2 * (x + 0.5f) / (float)w - 1) * tx, sy = (1 - 2 * (y + 0.5f) / (float)h) * ty;
+            const struct vec3 dir = v3_normalize(
+                v3_add(v3_scale(now->z, -1), v3_add(v3_scale(now->x, sx), v3_scale(now->y, sy))));
+            const struct vec3 q = v3_sub(v3_add(now->pos, v3_scale(dir, dist_now[i])), prev->pos);
+            const float qz = -v3_dot(q, prev->z);
+            if (!(qz > 0))
+                continue;
+            const float fx = (v3_dot(q, prev->x) / qz / px_ + 1) * 0.5f * (float)w;
+            const float fy = (1 - v3_dot(q, prev->y) / qz / py_) * 0.5f * (float)h;
+            if (!(fx >= 0 && fx < (float)w && fy >= 0 && fy < (float)h))
+                continue;
+            const int j = (int)fy * w + (int)fx;
+            const float expected = v3_length(q);
+            if (dist_prev[j] >= 0 && fabsf(dist_prev[j] - expected) <= 1e-2f * expected)
+                from[i] = j;
+        }
+}

@@ -13,6 +13,8 @@
 #ifndef SB_FLICKER_H
 #define SB_FLICKER_H
 
+#include "scene/scene.h"
+
 #include <stdbool.h>
 #include <stddef.h>
 
@@ -58,5 +60,13 @@ void flicker_free(struct flicker *f);
  * history there: history = v). */
 void flicker_accumulate(float *history, const float *prev_history, const float *v, const int *from,
                         float alpha, size_t count);
+
+/* from[i]: the pixel of the last frame (camera prev) that pixel i of this
+ * frame (camera now) sees, or -1: the accumulation's reprojection, from the
+ * GL camera distances of w x h images (-1 where no geometry). A pixel whose
+ * point the last frame saw at another distance (it was hidden, or is new)
+ * has none. */
+void flicker_reproject(const struct scene_camera *now, const struct scene_camera *prev, const float *dist_now,
+                       const float *dist_prev, int w, int h, int *from);
 
 #endif

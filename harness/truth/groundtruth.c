@@ -396,13 +396,12 @@ static RTCScene build_scene(RTCDevice dev, const struct scene *s)
     return rtc;
 }
 
-static void progress(double start_ms, long long done, long long total, long long samples, bool final)
+static void progress(double start_ms, long long done, long long total, long long samples)
 {
     double s = (util_now_ms() - start_ms) * 1e-3;
     double eta = done > 0 ? s * (double)(total - done) / (double)done : 0;
-    fprintf(stderr, "\rground truth: %3.0f%%  %6.1f M samples/s  ETA %4.0f s%s",
-            100.0 * (double)done / (double)total, s > 0 ? (double)samples / s * 1e-6 : 0.0, eta,
-            final ? "\n" : "");
+    log_progress("ground truth: %3.0f%%  %6.1f M samples/s  ETA %4.0f s", 100.0 * (double)done / (double)total,
+                 s > 0 ? (double)samples / s * 1e-6 : 0.0, eta);
 }
 
 int gt_render(const struct scene *s, const struct light_frustum *f, const struct gt_desc *d,
@@ -441,7 +440,7 @@ int gt_render(const struct scene *s, const struct light_frustum *f, const struct
 
     const int tiles_x = (w + TILE - 1) / TILE, tiles_y = (h + TILE - 1) / TILE;
     const long long tiles = (long long)tiles_x * tiles_y;
-    const bool show = !tr.desc.quiet && isatty(STDERR_FILENO) && log_get_level() >= LOG_INFO;
+    const bool show = !tr.desc.quiet;
     atomic_llong done = 0, rays = 0, samples = 0;
     double start = util_now_ms(), last_report = start;
     bool reported = false;
@@ -458,14 +457,16 @@ int gt_render(const struct scene *s, const struct light_frustum *f, const struct
         if (show && omp_get_thread_num() == 0) {
             double now = util_now_ms();
             if (now - start > 1000.0 && now - last_report > 250.0) {
-                progress(start, now_done, tiles, atomic_load(&samples), false);
+                progress(start, now_done, tiles, atomic_load(&samples));
                 last_report = now;
                 reported = true;
             }
         }
     }
-    if (reported)
-        progress(start, tiles, tiles, atomic_load(&samples), true);
+    if (reported) {
+        progress(start, tiles, tiles, atomic_load(&samples));
+        log_progress_done();
+    }
 
     out->seconds = (util_now_ms() - start) * 1e-3;
     out->shadow_rays = atomic_load(&rays);

@@ -1,5 +1,5 @@
-#include "sweep.h"
-#include "tuned.h"
+#include "configs.h"
+#include "score/tuned.h"
 #include "base/log.h"
 #include "base/util.h"
 #include "techniques/params.h"
@@ -24,7 +24,7 @@ static void sweep_clear(struct sweep *s)
     free(s->values);
 }
 
-static bool selected(const struct run_options *o, const struct technique *t)
+static bool selected(const struct config_desc *o, const struct technique *t)
 {
     for (int i = 0; i < o->technique_count; i++)
         if (o->techniques[i] == t)
@@ -32,7 +32,7 @@ static bool selected(const struct run_options *o, const struct technique *t)
     return false;
 }
 
-static int parse_sweep(const struct run_options *o, const char *arg, const struct sweep *done,
+static int parse_sweep(const struct config_desc *o, const char *arg, const struct sweep *done,
                        int done_count, struct sweep *s)
 {
     const char *dot = strchr(arg, '.'), *eq = strchr(arg, '=');
@@ -87,22 +87,23 @@ static int parse_sweep(const struct run_options *o, const char *arg, const struc
 
 /* Appends the configurations of technique t (index ti in technique_list):
  * the product of its sweeps over its base settings. */
-static int add_configs(struct run_options *o, int ti, const struct sweep *sweeps, int sweep_count)
+static int add_configs(struct config_set *out, const struct config_desc *o, int ti, const struct sweep *sweeps,
+                       int sweep_count)
 {
     const struct technique *t = technique_list[ti];
-    const struct sweep *mine[RUN_MAX_SWEEPS];
+    const struct sweep *mine[CONFIG_MAX_SWEEPS];
     int n = 0, total = 1;
-    for (int i = 0; i < sweep_count && total <= RUN_MAX_CONFIGS; i++)
+    for (int i = 0; i < sweep_count && total <= CONFIG_MAX; i++)
         if (sweeps[i].t == t) {
             mine[n++] = &sweeps[i];
             total *= sweeps[i].count;  /* count <= one value per character of argv */
         }
-    if (total > RUN_MAX_CONFIGS - o->config_count) {
-        log_error("--sweep: more than %d technique configurations in one run", RUN_MAX_CONFIGS);
+    if (total > CONFIG_MAX - out->count) {
+        log_error("--sweep: more than %d technique configurations in one run", CONFIG_MAX);
         return -1;
     }
     for (int k = 0; k < total; k++) {
-        struct run_config *c = &o->configs[o->config_count++];
+        struct run_config *c = &out->configs[out->count++];
         c->technique = t;
         c->settings = memcpy(xmalloc(t->settings_size), o->settings[ti], t->settings_size);
         struct strbuf label = {0};
@@ -120,28 +121,28 @@ static int add_configs(struct run_options *o, int ti, const struct sweep *sweeps
 }
 
 /* Appends t's tuned cell, <t>@tuned, from o->tuned_dir. A technique with no
- * tuned file is listed in o->untuned with --settings both, an error with
+ * tuned file is listed in out->untuned with --settings both, an error with
  * tuned. */
-static int add_tuned(struct run_options *o, const struct technique *t)
+static int add_tuned(struct config_set *out, const struct config_desc *o, const struct technique *t)
 {
     struct tuned *tu = xcalloc(1, sizeof *tu);
     const int rc = tuned_load(o->tuned_dir, t, tu);
     if (rc != 0) {
         free(tu);
-        if (rc > 0 && o->settings_mode == RUN_SETTINGS_TUNED)
+        if (rc == TUNED_NONE && o->mode == CONFIG_TUNED)
             log_error("%s/%s.json: no tuned settings for %s (shadowbench tune --write-tuned makes them)",
                       o->tuned_dir, t->name, t->name);
-        else if (rc > 0)  /* said once, when the run starts */
-            strbuf_list_printf(&o->untuned, ", ", "%s", t->name);
-        return rc < 0 || o->settings_mode == RUN_SETTINGS_TUNED ? -1 : 0;
+        else if (rc == TUNED_NONE)  /* said once, when the run starts */
+            strbuf_list_printf(&out->untuned, ", ", "%s", t->name);
+        return rc < 0 || o->mode == CONFIG_TUNED ? -1 : 0;
     }
-    if (o->config_count == RUN_MAX_CONFIGS) {
+    if (out->count == CONFIG_MAX) {
         tuned_free(tu);
         free(tu);
-        log_error("--sweep: more than %d technique configurations in one run", RUN_MAX_CONFIGS);
+        log_error("--sweep: more than %d technique configurations in one run", CONFIG_MAX);
         return -1;
     }
-    struct run_config *c = &o->configs[o->config_count++];
+    struct run_config *c = &out->configs[out->count++];
     c->technique = t;
     c->settings = memcpy(xmalloc(t->settings_size), tu->settings, t->settings_size);
     c->label = util_printf("%s" TUNED_SUFFIX, t->name);
@@ -149,45 +150,50 @@ static int add_tuned(struct run_options *o, const struct technique *t)
     return 0;
 }
 
-int sweep_configs(struct run_options *o)
+int configs_build(struct config_set *out, const struct config_desc *o)
 {
-    if (o->settings_mode == RUN_SETTINGS_TUNED && (o->sweep_count || o->set_count)) {
+    memset(out, 0, sizeof *out);
+    if (o->mode == CONFIG_TUNED && (o->sweep_count || o->set_count)) {
         log_error("--settings tuned: --set and --sweep change default cells, and this run has none");
         return -1;
     }
-    struct sweep sweeps[RUN_MAX_SWEEPS];
+    struct sweep sweeps[CONFIG_MAX_SWEEPS];
     int count = 0, rc = 0;
     for (int i = 0; i < o->sweep_count && !rc; i++)
         if ((rc = parse_sweep(o, o->sweeps[i], sweeps, count, &sweeps[count])) == 0)
             count++;
         else
             sweep_clear(&sweeps[count]);
-    o->configs = xcalloc(RUN_MAX_CONFIGS, sizeof *o->configs);
+    out->configs = xcalloc(CONFIG_MAX, sizeof *out->configs);
     for (int i = 0; i < o->technique_count && !rc; i++) {
         int ti = 0;
         while (technique_list[ti] != o->techniques[i])
             ti++;
-        if (o->settings_mode != RUN_SETTINGS_TUNED)
-            rc = add_configs(o, ti, sweeps, count);
-        if (!rc && o->settings_mode != RUN_SETTINGS_DEFAULT)
-            rc = add_tuned(o, o->techniques[i]);
+        if (o->mode != CONFIG_TUNED)
+            rc = add_configs(out, o, ti, sweeps, count);
+        if (!rc && o->mode != CONFIG_DEFAULT)
+            rc = add_tuned(out, o, o->techniques[i]);
     }
     for (int i = 0; i < count; i++)
         sweep_clear(&sweeps[i]);
     return rc;
 }
 
-void sweep_free(struct run_options *o)
+void configs_free(struct config_set *s)
 {
-    for (int i = 0; i < o->config_count; i++) {
-        free(o->configs[i].settings);
-        free(o->configs[i].label);
-        if (o->configs[i].tuned)
-            tuned_free(o->configs[i].tuned);
-        free(o->configs[i].tuned);
+    for (int i = 0; i < s->count; i++) {
+        free(s->configs[i].settings);
+        free(s->configs[i].label);
+        if (s->configs[i].tuned)
+            tuned_free(s->configs[i].tuned);
+        free(s->configs[i].tuned);
     }
-    free(o->configs);
-    strbuf_free(&o->untuned);
-    o->configs = NULL;
-    o->config_count = 0;
+    free(s->configs);
+    strbuf_free(&s->untuned);
+    memset(s, 0, sizeof *s);
+}
+
+const void *config_settings(const struct run_config *c, const char *scene_name)
+{
+    return c->tuned ? tuned_settings(c->tuned, scene_name) : c->settings;
 }

@@ -35,11 +35,18 @@ struct tuned {
     void **fold_settings;      /* chosen without that scene */
 };
 
-/* Reads dir/<t>.json. Returns 0; 1 when there is none (nothing logged); or
- * -1 after one line naming the file: not JSON, another technique, a setting
- * that names an unknown parameter, lacks one, or is out of range (a stale
- * file: tune again). */
-int tuned_load(const char *dir, const struct technique *t, struct tuned *out);
+/* What tuned_load found. */
+enum tuned_load_result {
+    TUNED_ERROR = -1,  /* one line logged, naming the file */
+    TUNED_LOADED = 0,
+    TUNED_NONE = 1,    /* no file: nothing logged */
+};
+
+/* Reads dir/<t>.json: TUNED_LOADED; TUNED_NONE when there is none; or
+ * TUNED_ERROR: not JSON, another technique, a setting that names an
+ * unknown parameter, lacks one, or is out of range (a stale file: tune
+ * again). */
+enum tuned_load_result tuned_load(const char *dir, const struct technique *t, struct tuned *out);
 
 /* The settings of t's tuned cell on the scene called name. */
 const void *tuned_settings(const struct tuned *tu, const char *scene_name);

@@ -65,7 +65,7 @@ static int whole(const cJSON *d, const char *key)
                : 0;
 }
 
-int tuned_load(const char *dir, const struct technique *t, struct tuned *out)
+enum tuned_load_result tuned_load(const char *dir, const struct technique *t, struct tuned *out)
 {
     memset(out, 0, sizeof *out);
     out->t = t;
@@ -75,7 +75,7 @@ int tuned_load(const char *dir, const struct technique *t, struct tuned *out)
     int rc = util_read_file(out->path, &text, &size);
     if (rc == -ENOENT) {
         tuned_free(out);
-        return 1;
+        return TUNED_NONE;
     }
     log_set_context(out->path);
     if (rc) {  /* a folder, a FIFO, a device, a loop of links: said, not taken for "none" */
@@ -169,11 +169,11 @@ int tuned_load(const char *dir, const struct technique *t, struct tuned *out)
         goto fail;
     }
     log_set_context(NULL);
-    return 0;
+    return TUNED_LOADED;
 fail:
     log_set_context(NULL);
     tuned_free(out);
-    return -1;
+    return TUNED_ERROR;
 }
 
 const void *tuned_settings(const struct tuned *tu, const char *scene_name)

@@ -1,0 +1,154 @@
+/* The command line (DESIGN.md §10; docs/cli.md). One table of commands
+ * (commands.c: name, summary, entry, defaults, help) and one of options
+ * (options.c: name, argument, the commands that take it, help), from which
+ * parsing, the "not an option of this command" check, --help and
+ * docs/cli.md are generated. A command (one file each) calls the library,
+ * loops over its cells and sets the exit status. */
+#ifndef SB_CLI_H
+#define SB_CLI_H
+
+#include "base/util.h"
+#include "gl/gl_context.h"
+#include "pipeline/configs.h"
+#include "render/stage_timer.h"
+#include "scene/scene.h"
+#include "techniques/technique.h"
+
+#include <cjson/cJSON.h>
+#include <stdbool.h>
+
+/* Exit statuses (DESIGN.md §10). */
+enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_USAGE = 2 };
+
+/* X(ID, name): every command, in the order --help lists them. */
+#define COMMANDS(X)                                                                                 \
+    X(RUN, "run") X(GT, "gt") X(BENCH, "bench") X(CHECK, "check") X(TUNE, "tune")                    \
+    X(STABILITY, "stability") X(VIEW, "view") X(LIST, "list") X(HELP, "help")
+
+enum command {
+#define X(id, name) CMD_##id,
+    COMMANDS(X)
+#undef X
+    COMMAND_COUNT
+};
+
+#define CLI_MAX_SCENES 64
+#define CLI_MAX_TECHNIQUES 32
+#define CLI_MAX_MOTIONS 16
+#define CLI_MAX_VARIES 16
+#define CLI_MIN_SIZE 16     /* --width, --height */
+#define CLI_MAX_SIZE 8192
+#define CLI_MAX_WARMUP 100
+
+/* Everything a command line says, every option at its command's default
+ * first (cli_options_defaults). */
+struct options {
+    enum command cmd;
+    const char *scenes[CLI_MAX_SCENES];  /* names or paths; none = the command's default scenes */
+    int scene_count;
+    const struct technique *techniques[CLI_MAX_TECHNIQUES];  /* at least one once parsed */
+    int technique_count;
+    void *settings[CLI_MAX_TECHNIQUES];  /* per technique_list index, every one set */
+    int set_count;                       /* --set options given */
+    const char *sweeps[CONFIG_MAX_SWEEPS];  /* --sweep T.P=v1,v2,... as given */
+    int sweep_count;
+    int width, height;                   /* image size in pixels */
+    int gt_samples;                      /* light samples per pixel of the ground truth */
+    int shadow_map_size;                 /* texels */
+    int frames;                          /* timed frames; stability: of each motion; view: drawn, 0 = until closed */
+    int warmup;                          /* untimed frames first (0 allowed) */
+    const char *out_dir;
+    const char *cache_dir;               /* NULL: no ground-truth cache */
+    const char *shader_dir;              /* NULL: found automatically */
+    enum gl_backend gl;                  /* --gl: the context's backend */
+    enum stage_timing timing;            /* --timing: how stages are timed */
+    const char *baselines_dir;           /* check: the baselines read (and written by update) */
+    bool update;                         /* check: record the selected baselines anew */
+    bool strict;                         /* check: an improvement fails too */
+    const char *tuned_dir;               /* run, check: tuned settings read; tune: written */
+    bool tuned_given;                    /* --tuned was given */
+    enum config_mode settings_mode;      /* run: default, tuned or both cells */
+    int objective;                       /* tune: the metric minimised (METRIC_*) */
+    bool write_tuned;                    /* tune: write tuned_dir/<technique>.json */
+    const char *motions[CLI_MAX_MOTIONS];  /* stability: --motion specs as given */
+    int motion_count;
+    const char *varies[CLI_MAX_VARIES];    /* stability: --vary specs as given */
+    int vary_count;
+    double accumulate;                   /* stability: the accumulation's weight of a new frame */
+    const char *screenshot;              /* view: the PNG the last frame is written to */
+    const char *script;                  /* view: key events replayed */
+    bool markdown;                       /* help: docs/cli.md */
+    int argc;                            /* the command line, for the provenance record */
+    char **argv;
+};
+
+/* A command's row (commands.c). */
+struct command_def {
+    const char *name;
+    const char *summary;                  /* one line for shadowbench --help */
+    int (*main)(const struct options *o);
+    const char *synopsis;                 /* after "usage: shadowbench " */
+    const char *about;                    /* before the options */
+    const char *after;                    /* after them (may be NULL) */
+    void (*more)(struct strbuf *out);     /* help generated from other tables (may be NULL) */
+    bool one_scene, needs_scene;          /* takes at most one --scene; needs one */
+    /* The command's defaults (0, NULL: the option's own, or none). */
+    int size, frames, warmup, gt_samples;
+    const char *out;
+    /* What an option means to this command, where it differs from the
+     * option's own help ({"scene", "(required)"}), ending with {NULL}. */
+    const struct option_note {
+        const char *option, *help;
+    } *notes;
+};
+extern const struct command_def commands[COMMAND_COUNT];
+
+/* Every option at command cmd's default (0 warm-up frames and no cache are
+ * choices, not "unset"). */
+void cli_options_defaults(struct options *o, enum command cmd);
+
+/* Parses argv[1..argc-1] (argv[0]: the command's name) into o. */
+enum cli_parse_result {
+    CLI_PARSE_ERROR = -1,  /* logged: exit 2 */
+    CLI_PARSE_OK = 0,
+    CLI_PARSE_HELP = 1,    /* --help printed: exit 0 */
+};
+enum cli_parse_result cli_parse(int argc, char **argv, enum command cmd, struct options *o);
+
+void cli_options_free(struct options *o);
+
+/* Command cmd's --help (help.c). */
+void cli_help(enum command cmd, struct strbuf *out);
+/* shadowbench --help: the commands. */
+void cli_help_main(struct strbuf *out);
+/* docs/cli.md: every command's --help. */
+void cli_help_markdown(struct strbuf *out);
+
+/* The settings of technique t in o. */
+void *cli_settings(const struct options *o, const struct technique *t);
+
+/* The commands' shared steps (common.c), each logging its refusal: */
+/* the scenes of o (its default scenes when none is named), at most
+ * CLI_MAX_SCENES: 0 or -1 (scene_free the *count loaded either way); */
+int cli_load_scenes(const struct options *o, const char *const *defaults, int default_count, struct scene *scenes,
+                    int *count);
+/* the shaders and the GL context of o's --shaders and --gl: 0 or -1 (bad
+ * usage: a --shaders that is not one, a context that cannot be made here). */
+int cli_gl_open(const struct options *o, enum gl_backend backend);
+
+/* run.json's record of o (run.c): the provenance (timed: whether the
+ * command times stages), the sizes and frames, and the seconds it took. */
+cJSON *cli_run_record(const struct options *o, bool timed, double seconds);
+
+/* The entries. */
+int run_main(const struct options *o);
+int gt_main(const struct options *o);
+int bench_main(const struct options *o);
+int check_main(const struct options *o);
+int tune_main(const struct options *o);
+int stability_main(const struct options *o);
+int view_main(const struct options *o);
+int list_main(const struct options *o);
+int help_main(const struct options *o);
+
+#endif

@@ -1,0 +1,494 @@
+/* The option table (FFmpeg's OptionDef, git's parse-options): one row per
+ * option, the only place an option is named. getopt's table, the check
+ * that a command takes an option, the parsing and --help (help.c) come
+ * from it. */
+#include "options.h"
+#include "base/log.h"
+#include "base/util.h"
+#include "pipeline/stability.h"
+#include "scene/motion.h"
+#include "score/baseline.h"
+#include "score/metrics.h"
+#include "score/tuned.h"
+#include "techniques/params.h"
+#include "techniques/shadowmap.h"
+#include "truth/groundtruth.h"
+#include "view/script.h"
+
+#include <errno.h>
+#include <getopt.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define ON(c) (1u << CMD_##c)
+#define RENDERING (ON(RUN) | ON(BENCH) | ON(CHECK) | ON(TUNE) | ON(STABILITY) | ON(VIEW))
+#define TRACING (ON(RUN) | ON(GT) | ON(TUNE) | ON(STABILITY))  /* a ground truth into an output folder */
+#define FIELD(member) offsetof(struct options, member)
+
+static int parse_int(const char *opt, const char *text, int lo, int hi, int *out)
+{
+    char *end;
+    errno = 0;
+    long v = strtol(text, &end, 10);
+    if (!*text || *end || errno || !(text[0] == '-' || (text[0] >= '0' && text[0] <= '9'))) {
+        log_error("--%s: '%s' is not a whole number", opt, text);
+        return -1;
+    }
+    if (v < lo || v > hi) {
+        log_error("--%s: %ld is out of range [%d, %d]", opt, v, lo, hi);
+        return -1;
+    }
+    *out = (int)v;
+    return 0;
+}
+
+static int parse_choice(const char *opt, const char *text, const char *const *names, int *out)
+{
+    for (int i = 0; names[i]; i++)
+        if (strcmp(names[i], text) == 0) {
+            *out = i;
+            return 0;
+        }
+    struct strbuf known = {0};
+    strbuf_join(&known, names, ", ");
+    log_error("--%s: '%s' is not one of: %s", opt, text, known.data);
+    strbuf_free(&known);
+    return -1;
+}
+
+/* ---- the options that need more than a field ----------------------------- */
+
+static int set_scene(struct options *o, const char *arg)
+{
+    if (o->scene_count == CLI_MAX_SCENES || (commands[o->cmd].one_scene && o->scene_count == 1)) {
+        log_error("--scene: %s", o->scene_count == CLI_MAX_SCENES ? "too many scenes"
+                                                                  : "gt, bench and view take one scene");
+        return -1;
+    }
+    o->scenes[o->scene_count++] = arg;
+    return 0;
+}
+
+static int set_techniques(struct options *o, const char *list)
+{
+    char *copy = xstrdup(list), *rest = copy;
+    int rc = 0;
+    for (char *name = strsep(&rest, ","); name && !rc; name = strsep(&rest, ",")) {
+        if (!*name) {  /* "", ",", "a,,b": never "every technique" by accident */
+            log_error("--technique: '%s' has an empty name", list);
+            rc = -1;
+            break;
+        }
+        const struct technique *t = technique_find(name);
+        if (!t) {
+            struct strbuf known = {0};
+            technique_names(&known, ", ");
+            log_error("--technique: unknown technique '%s' (known: %s)", name, known.data);
+            strbuf_free(&known);
+            rc = -1;
+        } else if (o->technique_count < CLI_MAX_TECHNIQUES) {
+            bool dup = false;
+            for (int i = 0; i < o->technique_count; i++)
+                dup |= o->techniques[i] == t;
+            if (!dup)
+                o->techniques[o->technique_count++] = t;
+        }
+    }
+    free(copy);
+    return rc;
+}
+
+static int set_parameter(struct options *o, const char *arg)
+{
+    o->set_count++;
+    const char *dot = strchr(arg, '.'), *eq = strchr(arg, '=');
+    if (!dot || !eq || eq < dot) {
+        log_error("--set: '%s' is not technique.parameter=value", arg);
+        return -1;
+    }
+    char tech[64], name[64];
+    snprintf(tech, sizeof tech, "%.*s", (int)(dot - arg), arg);
+    snprintf(name, sizeof name, "%.*s", (int)(eq - dot - 1), dot + 1);
+    const struct technique *t = technique_find(tech);
+    if (!t) {
+        log_error("--set: unknown technique '%s'", tech);
+        return -1;
+    }
+    const int index = technique_index(t);
+    if (!o->settings[index])
+        o->settings[index] = params_defaults(t);
+    return params_set(t, o->settings[index], name, eq + 1);
+}
+
+static int set_sweep(struct options *o, const char *arg)
+{
+    if (o->sweep_count == CONFIG_MAX_SWEEPS) {
+        log_error("--sweep: at most %d sweeps", CONFIG_MAX_SWEEPS);
+        return -1;
+    }
+    o->sweeps[o->sweep_count++] = arg;
+    return 0;
+}
+
+static int set_gt_samples(struct options *o, const char *text)
+{
+    if (parse_int("gt-samples", text, 1, GT_MAX_SAMPLES, &o->gt_samples))
+        return -1;
+    int n = (int)lround(sqrt((double)o->gt_samples));
+    if (n * n != o->gt_samples) {
+        int lo = (int)floor(sqrt((double)o->gt_samples));
+        log_error("--gt-samples: %d is not a square number (n*n stratified light samples, e.g. "
+                  "%d or %d)", o->gt_samples, lo * lo, (lo + 1) * (lo + 1));
+        return -1;
+    }
+    return 0;
+}
+
+static int set_frames(struct options *o, const char *text)
+{
+    const int hi = o->cmd == CMD_STABILITY ? STABILITY_MAX_FRAMES
+                   : o->cmd == CMD_VIEW    ? SCRIPT_MAX_FRAME
+                                           : STAGE_TIMER_MAX_FRAMES;
+    return parse_int("frames", text, o->cmd == CMD_STABILITY ? STABILITY_MIN_FRAMES : 1, hi, &o->frames);
+}
+
+static int add_spec(const char *opt, const char **list, int *n, int max, const char *arg)
+{
+    if (*n == max) {
+        log_error("--%s: at most %d", opt, max);
+        return -1;
+    }
+    list[(*n)++] = arg;
+    return 0;
+}
+
+static int set_motion(struct options *o, const char *arg)
+{
+    return add_spec("motion", o->motions, &o->motion_count, CLI_MAX_MOTIONS, arg);
+}
+
+static int set_vary(struct options *o, const char *arg)
+{
+    return add_spec("vary", o->varies, &o->vary_count, CLI_MAX_VARIES, arg);
+}
+
+static int set_accumulate(struct options *o, const char *arg)
+{
+    char *end;
+    errno = 0;
+    o->accumulate = strtod(arg, &end);
+    if (!*arg || *end || errno || !(o->accumulate > 0 && o->accumulate <= 1)) {
+        log_error("--accumulate: '%s' is not a number in (0, 1]", arg);
+        return -1;
+    }
+    return 0;
+}
+
+static int set_no_cache(struct options *o, const char *arg)
+{
+    (void)arg;
+    o->cache_dir = NULL;
+    return 0;
+}
+
+static int set_gl(struct options *o, const char *arg)
+{
+    if (gl_backend_parse(arg, &o->gl) == 0)
+        return 0;
+    log_error("--gl %s: not a GL backend (osmesa, egl)", arg);
+    return -1;
+}
+
+static int set_timing(struct options *o, const char *arg)
+{
+    if (stage_timing_parse(arg, &o->timing) == 0)
+        return 0;
+    log_error("--timing %s: not a timing method (auto, wall, query)", arg);
+    return -1;
+}
+
+static int set_tuned(struct options *o, const char *arg)
+{
+    o->tuned_given = true;
+    return options_folder("tuned", arg, &o->tuned_dir);
+}
+
+static int set_settings_mode(struct options *o, const char *arg)
+{
+    static const char *const modes[] = {"both", "default", "tuned", NULL};  /* enum config_mode's order */
+    int mode;
+    const int rc = parse_choice("settings", arg, modes, &mode);
+    o->settings_mode = rc ? o->settings_mode : (enum config_mode)mode;
+    return rc;
+}
+
+static const char *const objective_names[] = {"penumbra_rmse", "rmse", "shaded_rmse", NULL};
+
+static int set_objective(struct options *o, const char *arg)
+{
+    static const int metrics[] = {METRIC_penumbra_rmse, METRIC_rmse, METRIC_shaded_rmse};
+    int k;
+    const int rc = parse_choice("objective", arg, objective_names, &k);
+    o->objective = rc ? o->objective : metrics[k];
+    return rc;
+}
+
+static int set_quiet(struct options *o, const char *arg)
+{
+    (void)o, (void)arg;
+    log_set_level(LOG_ERROR);
+    return 0;
+}
+
+static int set_verbose(struct options *o, const char *arg)
+{
+    (void)o, (void)arg;
+    log_set_level(LOG_DEBUG);
+    return 0;
+}
+
+/* ---- the table ----------------------------------------------------------- */
+
+/* In the order --help lists them. {D} in a help text is the command's
+ * default (OPTION_INT, OPTION_FOLDER and OPTION_TEXT rows). */
+const struct option_row option_rows[] = {
+    {"scene", 0, "S", RENDERING | ON(GT), OPTION_NONE, 0, 0, 0, set_scene,
+     "a glTF file, or the name of a shipped scene (repeatable; default: every shipped scene, see "
+     "'shadowbench list')"},
+    {"technique", 0, "T[,T...]", RENDERING, OPTION_NONE, 0, 0, 0, set_techniques,
+     "techniques to run (repeatable; default: all, see 'shadowbench list')"},
+    {"set", 0, "T.P=V", ON(RUN) | ON(BENCH) | ON(STABILITY) | ON(VIEW), OPTION_NONE, 0, 0, 0, set_parameter,
+     "set parameter P of technique T (repeatable), e.g. --set hard.slope_bias=2; ranges in 'shadowbench list'"},
+    {"sweep", 0, "T.P=V1,V2,...", ON(RUN), OPTION_NONE, 0, 0, 0, set_sweep,
+     "one cell per value of parameter P of technique T, on every scene, instead of T's single cell (repeatable; "
+     "sweeps of one technique give every combination; a swept value overrides --set), e.g. --sweep "
+     "pcss.blocker_samples=16,32,64. Each cell is named T@P=V,... (its folder under each scene)"},
+    {"settings", 0, "default|tuned|both", ON(RUN), OPTION_NONE, 0, 0, 0, set_settings_mode,
+     "which cells of each technique (default both): T at its defaults (with --set, --sweep), and T@tuned, the "
+     "settings --tuned DIR/T.json holds for each scene, chosen by 'shadowbench tune' on the other scenes (a "
+     "scene it did not see gets the setting chosen on all)"},
+    {"tuned", 0, "DIR", ON(RUN) | ON(CHECK) | ON(TUNE), OPTION_FOLDER, FIELD(tuned_dir), 0, 0, set_tuned,
+     "where the tuned settings are (default {D})"},
+    {"width", 0, "W", (RENDERING & ~ON(CHECK)) | ON(GT), OPTION_INT, FIELD(width), CLI_MIN_SIZE, CLI_MAX_SIZE, NULL,
+     "image width in pixels, " UTIL_STR(CLI_MIN_SIZE) ".." UTIL_STR(CLI_MAX_SIZE) " (default {D})"},
+    {"height", 0, "H", (RENDERING & ~ON(CHECK)) | ON(GT), OPTION_INT, FIELD(height), CLI_MIN_SIZE, CLI_MAX_SIZE,
+     NULL, "image height in pixels, " UTIL_STR(CLI_MIN_SIZE) ".." UTIL_STR(CLI_MAX_SIZE) " (default {D})"},
+    {"gt-samples", 0, "N", TRACING | ON(VIEW), OPTION_INT, FIELD(gt_samples), 0, 0, set_gt_samples,
+     "light samples per pixel of the ground truth, a square n*n, 1.." UTIL_STR(GT_MAX_SAMPLES) " (default {D})"},
+    {"shadow-map-size", 0, "N", RENDERING & ~ON(CHECK), OPTION_INT, FIELD(shadow_map_size), SHADOWMAP_MIN_SIZE,
+     SHADOWMAP_MAX_SIZE, NULL,
+     "shadow map resolution in texels, " UTIL_STR(SHADOWMAP_MIN_SIZE) ".." UTIL_STR(SHADOWMAP_MAX_SIZE)
+     " (default {D})"},
+    {"frames", 0, "K", RENDERING & ~ON(CHECK), OPTION_INT, FIELD(frames), 0, 0, set_frames,
+     "timed frames per cell, the median and quartiles reported, 1.." UTIL_STR(STAGE_TIMER_MAX_FRAMES)
+     " (default {D})"},
+    {"warmup", 0, "K", ON(RUN) | ON(BENCH) | ON(TUNE), OPTION_INT, FIELD(warmup), 0, CLI_MAX_WARMUP, NULL,
+     "untimed frames per cell before them, 0.." UTIL_STR(CLI_MAX_WARMUP) " (default {D})"},
+    {"out", 0, "DIR", TRACING | ON(CHECK), OPTION_FOLDER, FIELD(out_dir), 0, 0, NULL, "output folder (default {D})"},
+    {"cache", 0, "DIR", TRACING | ON(CHECK), OPTION_FOLDER, FIELD(cache_dir), 0, 0, NULL,
+     "ground-truth cache (default {D})"},
+    {"no-cache", 0, NULL, TRACING | ON(CHECK), OPTION_NONE, 0, 0, 0, set_no_cache,
+     "always ray trace the ground truth, store nothing"},
+    {"shaders", 0, "DIR", RENDERING, OPTION_TEXT, FIELD(shader_dir), 0, 0, NULL,
+     "GLSL folder (default: found next to the executable or in the source tree; or $SHADOWBENCH_SHADERS)"},
+    {"gl", 0, "osmesa|egl", RENDERING & ~ON(VIEW), OPTION_NONE, 0, 0, 0, set_gl,
+     "the GL context: osmesa (default: llvmpipe, the CPU) or egl (headless: a GPU through EGL's device platform "
+     "where one is present, else Mesa's surfaceless llvmpipe); run.json names the renderer, vendor, platform and "
+     "timing method"},
+    {"timing", 0, "auto|wall|query", ON(RUN) | ON(BENCH) | ON(TUNE), OPTION_NONE, 0, 0, 0, set_timing,
+     "how stages are timed: wall clock around glFinish or GL_TIME_ELAPSED queries; auto (default): wall on a CPU "
+     "rasteriser (llvmpipe, where queries do not measure the work), queries on a GPU"},
+    {"baselines", 0, "DIR", ON(CHECK), OPTION_FOLDER, FIELD(baselines_dir), 0, 0, NULL,
+     "the baselines (default {D})"},
+    {"update", 0, NULL, ON(CHECK), OPTION_FLAG, FIELD(update), 0, 0, NULL,
+     "record the selected cells anew (atomically), printing what moved; tolerances from the metrics' spread over "
+     UTIL_STR(BASELINE_SEEDS) " ground-truth seeds. Commit them with the change that moved them, after looking at "
+     "the page"},
+    {"strict", 0, NULL, ON(CHECK), OPTION_FLAG, FIELD(strict), 0, 0, NULL, "an improvement fails too"},
+    {"objective", 0, "M", ON(TUNE), OPTION_NONE, 0, 0, 0, set_objective,
+     "the error minimised, averaged over the scenes: penumbra_rmse (default), rmse or shaded_rmse"},
+    {"write-tuned", 0, NULL, ON(TUNE), OPTION_FLAG, FIELD(write_tuned), 0, 0, NULL,
+     "also write the tuned settings for run (see --tuned)"},
+    {"motion", 0, "M[=STEP]", ON(STABILITY), OPTION_NONE, 0, 0, 0, set_motion,
+     "a motion of --frames frames (repeatable), one of the motions below"},
+    {"vary", 0, "NAME=V1,V2,...", ON(STABILITY), OPTION_NONE, 0, 0, 0, set_vary,
+     "one thing at each listed value (repeatable), NAME one of the variables below"},
+    {"accumulate", 0, "A", ON(STABILITY), OPTION_NONE, 0, 0, 0, set_accumulate,
+     "the new frame's weight in the moving average, (0, 1] (default " UTIL_STR(STABILITY_DEFAULT_ACCUMULATE) ")"},
+    {"screenshot", 0, "FILE", ON(VIEW), OPTION_TEXT, FIELD(screenshot), 0, 0, NULL,
+     "write the window's last frame to FILE (PNG) and exit (after 1 frame unless --frames); that frame first "
+     "waits for the pose's last ground-truth level"},
+    {"script", 0, "FILE", ON(VIEW), OPTION_TEXT, FIELD(script), 0, 0, NULL,
+     "key events to replay: lines 'FRAME KEY' (the key pressed before frame FRAME, counted from 0; KEY: A-Z, 0-9, "
+     "TAB, SPACE, LEFT, RIGHT, UP, DOWN, MINUS, EQUAL, LEFT_BRACKET, RIGHT_BRACKET, ESCAPE, each optionally "
+     "shift+KEY); # comments"},
+    {"markdown", 0, NULL, ON(HELP), OPTION_FLAG, FIELD(markdown), 0, 0, NULL,
+     "every command's help as one Markdown page (docs/cli.md)"},
+    {"quiet", 'q', NULL, ~0u, OPTION_NONE, 0, 0, 0, set_quiet, "only errors on stderr"},
+    {"verbose", 'v', NULL, ~0u, OPTION_NONE, 0, 0, 0, set_verbose, "GL debug messages too"},
+    {"help", 'h', NULL, ~0u, OPTION_HELP, 0, 0, 0, NULL, "this help"},
+    {NULL},
+};
+
+int options_folder(const char *opt, const char *text, const char **out)
+{
+    if (!*text) {
+        log_error("--%s: an empty folder name", opt);
+        return -1;
+    }
+    if (util_file_exists(text) && !util_is_dir(text)) {
+        log_error("--%s %s: not a folder", opt, text);
+        return -1;
+    }
+    *out = text;
+    return 0;
+}
+
+void cli_options_defaults(struct options *o, enum command cmd)
+{
+    const struct command_def *c = &commands[cmd];
+    o->cmd = cmd;
+    o->width = o->height = c->size ? c->size : CLI_DEFAULT_SIZE;
+    o->gt_samples = c->gt_samples ? c->gt_samples : GT_DEFAULT_SAMPLES;
+    o->shadow_map_size = SHADOWMAP_DEFAULT_SIZE;
+    o->frames = c->frames;
+    o->warmup = c->warmup;
+    o->out_dir = c->out;
+    o->cache_dir = CLI_DEFAULT_CACHE;
+    o->baselines_dir = CLI_DEFAULT_BASELINES;
+    o->tuned_dir = TUNED_DEFAULT_DIR;
+    o->objective = METRIC_penumbra_rmse;
+    o->accumulate = STABILITY_DEFAULT_ACCUMULATE;
+}
+
+static bool selected(const struct options *o, const struct technique *t)
+{
+    for (int k = 0; k < o->technique_count; k++)
+        if (o->techniques[k] == t)
+            return true;
+    return false;
+}
+
+/* The rules across options, once every option is read. */
+static int check_options(struct options *o)
+{
+    const struct command_def *c = &commands[o->cmd];
+    if (o->update && o->strict) {
+        log_error("--strict: has no effect with --update (which records every cell)");
+        return -1;
+    }
+    if (c->needs_scene && o->scene_count == 0) {
+        log_error("%s: --scene is required (see --help)", c->name);
+        return -1;
+    }
+    if (o->cmd == CMD_VIEW && o->screenshot && o->frames == 0)
+        o->frames = 1;
+    if (o->tuned_given && o->cmd == CMD_TUNE && !o->write_tuned) {
+        log_error("--tuned: tune writes there only with --write-tuned");
+        return -1;
+    }
+    if (o->tuned_given && o->cmd != CMD_TUNE && !util_is_dir(o->tuned_dir)) {  /* a typo would drop every tuned cell */
+        log_error("--tuned %s: no such folder", o->tuned_dir);
+        return -1;
+    }
+    for (int i = 0; technique_list[i] && o->technique_count; i++)
+        if (o->settings[i] && !selected(o, technique_list[i])) {  /* set, so meant: as a sweep of it would be */
+            log_error("--set: %s is not among the techniques selected with --technique", technique_list[i]->name);
+            return -1;
+        }
+    /* Every technique selected when none is, every setting at its default
+     * unless --set, and (without sweeps: run checks each configuration once
+     * its swept values are in) the rules across parameters. */
+    if (!o->technique_count)
+        for (const struct technique *const *t = technique_list; *t; t++)
+            o->techniques[o->technique_count++] = *t;
+    for (int i = 0; technique_list[i]; i++)
+        if (!o->settings[i])
+            o->settings[i] = params_defaults(technique_list[i]);
+    for (int i = 0; i < o->technique_count && o->cmd != CMD_RUN; i++)
+        if (params_check(o->techniques[i], cli_settings(o, o->techniques[i])) != 0)
+            return -1;
+    return 0;
+}
+
+static int apply(const struct option_row *r, struct options *o, const char *arg)
+{
+    char *base = (char *)o + r->offset;
+    if (r->call)
+        return r->call(o, arg);
+    switch (r->kind) {
+    case OPTION_NONE: return -1;
+    case OPTION_FLAG: *(bool *)base = true; return 0;
+    case OPTION_INT: return parse_int(r->name, arg, r->lo, r->hi, (int *)base);
+    case OPTION_FOLDER: return options_folder(r->name, arg, (const char **)base);
+    case OPTION_TEXT: *(const char **)base = arg; return 0;
+    case OPTION_HELP: return 0;
+    }
+    return -1;
+}
+
+enum cli_parse_result cli_parse(int argc, char **argv, enum command cmd, struct options *o)
+{
+    cli_options_defaults(o, cmd);
+    static struct option long_options[sizeof option_rows / sizeof *option_rows];
+    char shorts[16] = ":";
+    int n = 0;
+    for (const struct option_row *r = option_rows; r->name; r++, n++) {
+        long_options[n] = (struct option){r->name, r->arg ? required_argument : no_argument, NULL, 256 + n};
+        if (r->short_name)
+            snprintf(shorts + strlen(shorts), sizeof shorts - strlen(shorts), "%c", r->short_name);
+    }
+    long_options[n] = (struct option){NULL, 0, NULL, 0};
+    int c, index = 0;
+    optind = 1;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, shorts, long_options, &index)) != -1) {
+        if (c == '?') {
+            log_error("%s: unknown option (see --help)", argv[optind - 1]);
+            return CLI_PARSE_ERROR;
+        }
+        if (c == ':') {
+            log_error("%s: needs a value (see --help)", argv[optind - 1]);
+            return CLI_PARSE_ERROR;
+        }
+        const struct option_row *r = option_rows;
+        if (c >= 256)
+            r += c - 256;
+        else
+            while (r->short_name != c)
+                r++;
+        if (!(r->commands & (1u << cmd))) {
+            log_error("--%s: unknown option for %s (see --help)", r->name, commands[cmd].name);
+            return CLI_PARSE_ERROR;
+        }
+        if (r->kind == OPTION_HELP) {
+            struct strbuf help = {0};
+            cli_help(cmd, &help);
+            fputs(help.data, stdout);
+            strbuf_free(&help);
+            return CLI_PARSE_HELP;
+        }
+        if (apply(r, o, optarg) != 0)
+            return CLI_PARSE_ERROR;
+    }
+    if (optind < argc) {
+        log_error("%s: unexpected argument (see --help)", argv[optind]);
+        return CLI_PARSE_ERROR;
+    }
+    return check_options(o) ? CLI_PARSE_ERROR : CLI_PARSE_OK;
+}
+
+void *cli_settings(const struct options *o, const struct technique *t)
+{
+    return o->settings[technique_index(t)];
+}
+
+void cli_options_free(struct options *o)
+{
+    for (int i = 0; i < CLI_MAX_TECHNIQUES; i++)
+        free(o->settings[i]);
+    memset(o->settings, 0, sizeof o->settings);
+}

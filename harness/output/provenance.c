@@ -1,0 +1,83 @@
+#include "provenance.h"
+#include "base/util.h"
+#include "gl/gl_context.h"
+
+#include <OpenEXR/openexr.h>
+#include <embree3/rtcore.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+char *provenance_command_line(int argc, char **argv)
+{
+    struct strbuf cmd = {0};
+    for (int i = 0; i < argc; i++)
+        strbuf_list_printf(&cmd, " ", "%s", argv[i]);
+    char *text = util_utf8_copy(cmd.data ? cmd.data : "");
+    strbuf_free(&cmd);
+    return text;
+}
+
+char *provenance_utc_date(void)
+{
+    char date[64];
+    time_t now = time(NULL);
+    strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", gmtime(&now));
+    return xstrdup(date);
+}
+
+char *provenance_git_describe(void)
+{
+    char buf[128] = "unknown";
+    char *cmd = util_printf("git -C '%s' describe --always --dirty 2>/dev/null", SB_SOURCE_DIR);
+    FILE *p = popen(cmd, "r");
+    free(cmd);
+    if (p) {
+        if (!fgets(buf, sizeof buf, p))
+            strcpy(buf, "unknown");
+        pclose(p);
+    }
+    buf[strcspn(buf, "\n")] = '\0';
+    return xstrdup(buf);
+}
+
+static char *cpu_model(void)
+{
+    char line[512];
+    FILE *f = fopen("/proc/cpuinfo", "r");
+    char *model = NULL;
+    while (f && !model && fgets(line, sizeof line, f))
+        if (strncmp(line, "model name", 10) == 0 && strchr(line, ':')) {
+            char *v = strchr(line, ':') + 2;
+            v[strcspn(v, "\n")] = '\0';
+            model = xstrdup(v);
+        }
+    if (f)
+        fclose(f);
+    return model ? model : xstrdup("unknown");
+}
+
+cJSON *provenance_json(int argc, char **argv, bool timed, enum stage_timing timing)
+{
+    cJSON *r = cJSON_CreateObject();
+    char *cmd = provenance_command_line(argc, argv), *git = provenance_git_describe(), *cpu = cpu_model(),
+         *date = provenance_utc_date();
+    cJSON_AddStringToObject(r, "command_line", cmd);
+    cJSON_AddStringToObject(r, "shadowbench_version", SB_VERSION);
+    cJSON_AddStringToObject(r, "git_describe", git);
+    cJSON_AddStringToObject(r, "gl_renderer", gl_context_renderer());
+    cJSON_AddStringToObject(r, "gl_vendor", gl_context_vendor());
+    cJSON_AddStringToObject(r, "gl_version", gl_context_version());
+    cJSON_AddStringToObject(r, "gl_platform", gl_context_platform());
+    cJSON_AddStringToObject(r, "timing_method", timed ? stage_timing_text(timing) : "none (this command times nothing)");
+    cJSON_AddStringToObject(r, "embree_version", RTC_VERSION_STRING);
+    cJSON_AddStringToObject(r, "openexr_version", OPENEXR_VERSION_STRING);
+    cJSON_AddStringToObject(r, "cpu", cpu);
+    cJSON_AddNumberToObject(r, "cpu_threads", (double)sysconf(_SC_NPROCESSORS_ONLN));
+    cJSON_AddStringToObject(r, "date", date);
+    free(cmd), free(git), free(cpu), free(date);
+    return r;
+}

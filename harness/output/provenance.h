@@ -1,0 +1,27 @@
+/* Where a result came from (DESIGN.md §8): one record, written with the
+ * same keys into run.json, tuned files and baselines (util_json_merge): the
+ * command line, the versions, the device, the CPU, the date and `git
+ * describe` of the source tree. */
+#ifndef SB_PROVENANCE_H
+#define SB_PROVENANCE_H
+
+#include "render/stage_timer.h"
+
+#include <cjson/cJSON.h>
+#include <stdbool.h>
+
+/* The record of this process: its command line argv[0..argc-1], the GL
+ * context now current, and how it times stages (timed false: it times
+ * nothing). */
+cJSON *provenance_json(int argc, char **argv, bool timed, enum stage_timing timing);
+
+/* The command line as UTF-8 text (any other byte as U+FFFD); malloc'ed. */
+char *provenance_command_line(int argc, char **argv);
+
+/* `git describe --always --dirty` of the source tree, or "unknown"; malloc'ed. */
+char *provenance_git_describe(void);
+
+/* Now, in UTC, as the outputs write it: "2026-11-23T22:28:48Z"; malloc'ed. */
+char *provenance_utc_date(void);
+
+#endif

@@ -1,0 +1,95 @@
+#include "cell.h"
+#include "base/util.h"
+#include "gl/gl_context.h"
+#include "techniques/params.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+void cell_describe(struct cell *c, const char *scene, const struct technique *t, const void *settings,
+                   const char *label)
+{
+    *c = (struct cell){.scene = scene, .technique = t, .label = label, .gl_renderer = gl_context_renderer()};
+    c->params = params_json(t, settings);
+    struct strbuf text = {0};
+    params_summary(t, settings, &text);
+    c->params_text = text.data ? text.data : xstrdup("");
+}
+
+void cell_set_times(struct cell *c, const struct stage_times *t)
+{
+    c->m.ms_shadowmap = t->shadowmap_ms, c->m.ms_filter_prep = t->filter_prep_ms;
+    c->m.ms_receiver = t->receiver_ms, c->m.ms_total = t->total_ms;
+    c->m.ms_total_q1 = t->total_q1_ms, c->m.ms_total_q3 = t->total_q3_ms;
+}
+
+void cell_free(struct cell *c)
+{
+    cJSON_Delete(c->params);
+    free(c->params_text);
+    c->params = NULL, c->params_text = NULL;
+}
+
+int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct scene_setup_desc *d)
+{
+    memset(ss, 0, sizeof *ss);
+    ss->scene = s;
+    ss->width = d->width, ss->height = d->height;
+    ss->programs = d->programs;
+    scene_mesh_upload(s, &ss->mesh);
+    if (shadowmap_create(&ss->sm, s,
+                         &(struct shadowmap_desc){.size_texels = d->shadow_map_size, .near_scale = d->near_scale}) ||
+        receiver_create(&ss->receiver, s, d->width, d->height) ||
+        gt_obtain(s, &ss->sm.frustum,
+                  &(struct gt_desc){.width = d->width, .height = d->height, .samples = d->gt_samples,
+                                    .seed = d->gt_seed},
+                  d->cache_dir, &ss->gt) != 0)
+        return -1;
+    const size_t count = (size_t)d->width * (size_t)d->height;
+    ss->v = xmalloc(sizeof(float) * count);
+    ss->distance = xmalloc(sizeof(float) * count);
+    ss->scored = xcalloc(count, sizeof(float));  /* written whole even before any cell is scored */
+    ss->timer = (struct stage_timer){.sm = &ss->sm, .mesh = &ss->mesh, .receiver = &ss->receiver};
+    return 0;
+}
+
+GLuint scene_setup_program(struct scene_setup *ss, const struct technique *t, const void *settings)
+{
+    return programs_get(ss->programs, t, settings, ss->scene->light.shape);
+}
+
+int scene_setup_cell(struct scene_setup *ss, const struct technique *t, const void *settings, struct metrics *m)
+{
+    const GLuint program = scene_setup_program(ss, t, settings);
+    if (!program || stage_timer_render(&ss->timer, &(struct stage_timer_cell){t, settings, program}) != 0)
+        return -1;
+    scene_setup_score(ss, m);
+    return 0;
+}
+
+void scene_setup_score(struct scene_setup *ss, struct metrics *m)
+{
+    receiver_read(&ss->receiver, ss->v, ss->distance);
+    m->mismatch_pixels = metrics_score_mask(ss->gt.mask, ss->gt.distance, ss->distance,
+                                            ss->width * ss->height, ss->scored);
+    metrics_compute(ss->v, &ss->gt, ss->scored, ss->distance, m);
+}
+
+int scene_setup_time(struct scene_setup *ss, const struct scene_setup_timing *how, const struct stage_timer_cell *cells,
+                     int n, struct stage_times *out)
+{
+    struct stage_timer timer = ss->timer;
+    timer.warmup = how->warmup, timer.frames = how->frames, timer.timing = how->timing;
+    timer.on_round = how->on_round, timer.user = how->user;
+    return stage_timer_run(&timer, cells, n, out);
+}
+
+void scene_setup_free(struct scene_setup *ss)
+{
+    gt_image_free(&ss->gt);
+    receiver_destroy(&ss->receiver);
+    shadowmap_destroy(&ss->sm);
+    scene_mesh_destroy(&ss->mesh);
+    free(ss->v), free(ss->distance), free(ss->scored);
+    memset(ss, 0, sizeof *ss);
+}

@@ -1,0 +1,100 @@
+/* The cell pipeline (DESIGN.md §2): the library every command calls. A
+ * scene is opened once for its cells (its mesh, its shadow map, its
+ * receiver, its ground truth); a cell (one technique at one parameter set)
+ * is rendered on it, its stages untimed, and scored against the truth;
+ * the cells of a scene are then timed together, interleaved. Writing a
+ * cell's files is output/cell_output.h's.
+ *
+ * Receiver programs come from a program cache the caller keeps across
+ * scenes (programs.h): a setting met again is not compiled again. */
+#ifndef SB_CELL_H
+#define SB_CELL_H
+
+#include "programs.h"
+#include "gl/scene_mesh.h"
+#include "render/receiver.h"
+#include "render/stage_timer.h"
+#include "score/metrics.h"
+#include "techniques/shadowmap.h"
+#include "techniques/technique.h"
+#include "truth/groundtruth.h"
+
+#include <cjson/cJSON.h>
+
+/* One (scene, technique, parameter set) evaluation: a row of the matrix. */
+struct cell {
+    const char *scene;                   /* scene name */
+    const struct technique *technique;
+    const char *label;                   /* the configuration: the technique's name, or with its
+                                            swept values ("pcss@blocker_samples=16"), or
+                                            "pcss@tuned"; its folder */
+    cJSON *params;                       /* values used (owned) */
+    char *params_text;                   /* "name=value name=value" (owned) */
+    const char *gl_renderer;             /* the device the timings were taken on */
+    struct metrics m;
+};
+
+/* c as technique t at settings on scene `scene`, named label (strings
+ * not copied); its metrics zero. */
+void cell_describe(struct cell *c, const char *scene, const struct technique *t, const void *settings,
+                   const char *label);
+
+/* The times of a frame of c into its metrics. */
+void cell_set_times(struct cell *c, const struct stage_times *t);
+
+/* Frees what cell_describe made. */
+void cell_free(struct cell *c);
+
+/* What the cells of one scene share. Zero means default (gt_seed, near_scale). */
+struct scene_setup_desc {
+    int width, height, shadow_map_size, gt_samples;
+    uint32_t gt_seed;                /* 0: the ground truth's default */
+    const char *cache_dir;           /* NULL: no ground-truth cache */
+    float near_scale;                /* the shadow map's (shadowmap_desc); 0: 1 */
+    struct program_cache *programs;  /* the caller's, required */
+};
+
+struct scene_setup {
+    const struct scene *scene;
+    int width, height;
+    struct program_cache *programs;
+    struct gt_image gt;
+    struct scene_mesh mesh;
+    struct shadowmap sm;
+    struct receiver receiver;
+    struct stage_timer timer;      /* untimed: frames and warm-up unset */
+    float *v, *distance, *scored;  /* the last cell's V_tech, GL distance, scored mask */
+};
+
+/* Opens scene s for cells: mesh, shadow map, receiver, ground truth
+ * (obtained through the cache). Returns 0 or -1 (logged); scene_setup_free
+ * either way. */
+int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct scene_setup_desc *d);
+
+/* The receiver program of technique t at settings on this scene; 0 after a
+ * logged compile error. */
+GLuint scene_setup_program(struct scene_setup *ss, const struct technique *t, const void *settings);
+
+/* Renders a cell once, untimed, reads it back (ss->v, ss->distance) and
+ * scores it into m (the accuracy metrics; its timing fields are left as
+ * they are). Returns 0 or -1 (logged). */
+int scene_setup_cell(struct scene_setup *ss, const struct technique *t, const void *settings, struct metrics *m);
+
+/* Scores what the receiver holds now (the last frame rendered) into m. */
+void scene_setup_score(struct scene_setup *ss, struct metrics *m);
+
+/* Times the n cells interleaved (stage_timer.h): warmup untimed rounds,
+ * then frames rounds; out[i] is cell i's. on_round (may be NULL) is called
+ * after each round. Returns 0 or -1 (logged). */
+struct scene_setup_timing {
+    int warmup, frames;
+    enum stage_timing timing;
+    void (*on_round)(void *user, int round, int rounds);
+    void *user;
+};
+int scene_setup_time(struct scene_setup *ss, const struct scene_setup_timing *how, const struct stage_timer_cell *cells,
+                     int n, struct stage_times *out);
+
+void scene_setup_free(struct scene_setup *ss);
+
+#endif
