@@ -169,7 +169,9 @@ static void check_outputs(const char *out)
     }
     char *csv = util_printf("%s/matrix.csv", out), *text = NULL;
     size_t size;
-    if (util_read_file(csv, &text, &size) == 0) {
+    const bool have_csv = util_read_file(csv, &text, &size) == 0;
+    CHECK(have_csv, "%s cannot be read", csv);  /* unreadable is a failure, never a pass */
+    if (have_csv) {
         int lines = 0;
         for (size_t i = 0; i < size; i++)
             lines += text[i] == '\n';
@@ -180,7 +182,9 @@ static void check_outputs(const char *out)
     free(text), free(csv);
     char *html = util_printf("%s/report.html", out);
     text = NULL;
-    if (util_read_file(html, &text, &size) == 0)
+    const bool have_html = util_read_file(html, &text, &size) == 0;
+    CHECK(have_html, "%s cannot be read", html);  /* unreadable is a failure, never a pass */
+    if (have_html)
         CHECK(strstr(text, "<table id=\"matrix\">") && strstr(text, "floating_box_sphere/hard/heatmap.png"),
               "report.html has the matrix and the cell's pictures");
     free(text), free(html);
@@ -215,7 +219,9 @@ static void check_unscored(void)
     }
     char *csv = util_printf("%s/matrix.csv", out), *text = NULL;
     size_t size;
-    if (util_read_file(csv, &text, &size) == 0)
+    const bool have_csv = util_read_file(csv, &text, &size) == 0;
+    CHECK(have_csv, "%s cannot be read", csv);  /* unreadable is a failure, never a pass */
+    if (have_csv)
         CHECK(strstr(text, "\",,,,,") && strstr(text, ",false\n"),
               "matrix.csv: empty fields for null, scored false: %s", text);
     free(text), free(csv), free(cell_dir), free(cmd), free(scene), free(out);
@@ -248,7 +254,9 @@ int main(int argc, char **argv)
     char *a = util_printf("%s/floating_box_sphere/groundtruth.exr", out1);
     char *b = util_printf("%s/floating_box_sphere/groundtruth.exr", out2);
     struct exr_channel va[] = {{"V", NULL}}, vb[] = {{"V", NULL}};
-    if (image_read_exr(a, W, H, va, 1, NULL) == 0 && image_read_exr(b, W, H, vb, 1, NULL) == 0)
+    const bool read = image_read_exr(a, W, H, va, 1, NULL) == 0 && image_read_exr(b, W, H, vb, 1, NULL) == 0;
+    CHECK(read, "%s and %s have V", a, b);  /* an unreadable file is a failure, never a pass */
+    if (read)
         CHECK(memcmp(va[0].data, vb[0].data, sizeof(float) * W * H) == 0, "cached V is the same V");
     free(va[0].data), free(vb[0].data), free(a), free(b);
 

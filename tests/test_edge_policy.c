@@ -370,7 +370,9 @@ static void techniques_see_same_edge(const char *sb)
     char *gt_path = util_printf("%s/out/edge/groundtruth.exr", dir);
     struct exr_channel gt[] = {{"V", NULL}, {"mask", NULL}};
     bool *near = xcalloc(W * H, sizeof *near), *deep = xcalloc(W * H, sizeof *deep);
-    if (image_read_exr(gt_path, W, H, gt, 2, NULL) == 0) {
+    const bool have_gt = image_read_exr(gt_path, W, H, gt, 2, NULL) == 0;
+    CHECK(have_gt, "%s cannot be read", gt_path);  /* unreadable is a failure, never a pass */
+    if (have_gt) {
         int deep_count = mark_edge(gt[0].data, gt[1].data, near, deep);
         CHECK(deep_count >= 200, "the scene must put deep umbra at the map's edge: %d pixels",
               deep_count);

@@ -5,14 +5,15 @@
 # (default 30). A crash, a leak, a sanitizer report or a timeout fails the
 # test and leaves the input under <build>/fuzz/; inputs it once found are
 # kept in tests/fuzz/regressions/ and replayed as seeds. Without clang (tools/setup
-# installs it) there is nothing to run: the test says so and passes.
+# installs it) there is nothing to run: the test says so and exits 77, which
+# CTest reports as a skip (SKIP_RETURN_CODE), never as a pass.
 # Usage: test_fuzz.sh <source root> <build dir>
 set -u
 root=$1 build=$2/fuzz
 seconds=${SB_FUZZ_SECONDS:-30}
 if ! command -v clang >/dev/null || ! command -v clang++ >/dev/null; then
     echo "skipped: no clang (tools/setup installs it)"
-    exit 0
+    exit 77
 fi
 CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DSB_FUZZ=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null &&
     cmake --build "$build" --target fuzz_scene_loader -j "$(nproc)" >/dev/null || { echo "FAILED: build"; exit 1; }

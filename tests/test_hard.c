@@ -46,7 +46,9 @@ int main(int argc, char **argv)
     char *gt_path = util_printf("%s/out/point_light/groundtruth.exr", dir);
     char *v_path = util_printf("%s/out/point_light/hard/visibility.exr", dir);
     struct exr_channel gt[] = {{"V", NULL}, {"mask", NULL}}, v[] = {{"V", NULL}};
-    if (image_read_exr(gt_path, W, H, gt, 2, NULL) == 0 && image_read_exr(v_path, W, H, v, 1, NULL) == 0) {
+    const bool have = image_read_exr(gt_path, W, H, gt, 2, NULL) == 0 && image_read_exr(v_path, W, H, v, 1, NULL) == 0;
+    CHECK(have, "%s or %s cannot be read", gt_path, v_path);  /* unreadable is a failure, never a pass */
+    if (have) {
         int lit = 0, umbra = 0, wrong = 0, wrong_far = 0;
         for (int y = 0; y < H; y++)
             for (int x = 0; x < W; x++) {

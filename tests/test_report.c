@@ -180,7 +180,9 @@ int main(int argc, char **argv)
      * pcss): the sort did reorder them. */
     char *raw = NULL;
     size_t size;
-    if (util_read_file(report, &raw, &size) == 0) {
+    const bool have_report = util_read_file(report, &raw, &size) == 0;
+    CHECK(have_report, "%s cannot be read", report);  /* unreadable is a failure, never a pass */
+    if (have_report) {
         double u[64];
         CHECK(rmse_column(raw, u, 64) == rows && u[0] > u[1], "run order is not rmse order");
     }

@@ -44,6 +44,7 @@ static cJSON *run_cells(const char *name, const char *args, int want_status)
     char *path = util_printf("%s/matrix.json", out), *text = NULL;
     size_t size;
     cJSON *m = util_read_file(path, &text, &size) == 0 ? cJSON_Parse(text) : NULL;
+    CHECK(m, "%s: %s cannot be read", name, path);  /* no matrix is a failure, never a pass */
     free(text), free(path), free(cmd), free(out);
     strbuf_free(&err);
     return m;

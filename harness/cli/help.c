@@ -108,7 +108,7 @@ void cli_help_markdown(struct strbuf *out)
     strbuf_printf(out, "# Command line\n\n"
                        "Every command's `--help`, as `shadowbench help --markdown` prints it from the\n"
                        "command and option tables (`harness/cli/commands.c`, `harness/cli/options.c`);\n"
-                       "`test_cli` fails when this page and the program disagree.\n\n"
+                       "`test_cli_docs` fails when this page and the program disagree.\n\n"
                        "| command | what it does |\n| --- | --- |\n");
     for (int k = 0; k < COMMAND_COUNT; k++)
         strbuf_printf(out, "| [`%s`](#shadowbench-%s) | %s |\n", commands[k].name, commands[k].name,

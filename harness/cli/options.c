@@ -28,37 +28,6 @@
 #define TRACING (ON(RUN) | ON(GT) | ON(TUNE) | ON(STABILITY))  /* a ground truth into an output folder */
 #define FIELD(member) offsetof(struct options, member)
 
-static int parse_int(const char *opt, const char *text, int lo, int hi, int *out)
-{
-    char *end;
-    errno = 0;
-    long v = strtol(text, &end, 10);
-    if (!*text || *end || errno || !(text[0] == '-' || (text[0] >= '0' && text[0] <= '9'))) {
-        log_error("--%s: '%s' is not a whole number", opt, text);
-        return -1;
-    }
-    if (v < lo || v > hi) {
-        log_error("--%s: %ld is out of range [%d, %d]", opt, v, lo, hi);
-        return -1;
-    }
-    *out = (int)v;
-    return 0;
-}
-
-static int parse_choice(const char *opt, const char *text, const char *const *names, int *out)
-{
-    for (int i = 0; names[i]; i++)
-        if (strcmp(names[i], text) == 0) {
-            *out = i;
-            return 0;
-        }
-    struct strbuf known = {0};
-    strbuf_join(&known, names, ", ");
-    log_error("--%s: '%s' is not one of: %s", opt, text, known.data);
-    strbuf_free(&known);
-    return -1;
-}
-
 /* ---- the options that need more than a field ----------------------------- */
 
 static int set_scene(struct options *o, const char *arg)
@@ -135,7 +104,7 @@ static int set_sweep(struct options *o, const char *arg)
 
 static int set_gt_samples(struct options *o, const char *text)
 {
-    if (parse_int("gt-samples", text, 1, GT_MAX_SAMPLES, &o->gt_samples))
+    if (options_int("gt-samples", text, 1, GT_MAX_SAMPLES, &o->gt_samples))
         return -1;
     int n = (int)lround(sqrt((double)o->gt_samples));
     if (n * n != o->gt_samples) {
@@ -152,7 +121,7 @@ static int set_frames(struct options *o, const char *text)
     const int hi = o->cmd == CMD_STABILITY ? STABILITY_MAX_FRAMES
                    : o->cmd == CMD_VIEW    ? SCRIPT_MAX_FRAME
                                            : STAGE_TIMER_MAX_FRAMES;
-    return parse_int("frames", text, o->cmd == CMD_STABILITY ? STABILITY_MIN_FRAMES : 1, hi, &o->frames);
+    return options_int("frames", text, o->cmd == CMD_STABILITY ? STABILITY_MIN_FRAMES : 1, hi, &o->frames);
 }
 
 static int add_spec(const char *opt, const char **list, int *n, int max, const char *arg)
@@ -220,7 +189,7 @@ static int set_settings_mode(struct options *o, const char *arg)
 {
     static const char *const modes[] = {"both", "default", "tuned", NULL};  /* enum config_mode's order */
     int mode;
-    const int rc = parse_choice("settings", arg, modes, &mode);
+    const int rc = options_choice("settings", arg, modes, &mode);
     o->settings_mode = rc ? o->settings_mode : (enum config_mode)mode;
     return rc;
 }
@@ -231,7 +200,7 @@ static int set_objective(struct options *o, const char *arg)
 {
     static const int metrics[] = {METRIC_penumbra_rmse, METRIC_rmse, METRIC_shaded_rmse};
     int k;
-    const int rc = parse_choice("objective", arg, objective_names, &k);
+    const int rc = options_choice("objective", arg, objective_names, &k);
     o->objective = rc ? o->objective : metrics[k];
     return rc;
 }
@@ -332,163 +301,3 @@ const struct option_row option_rows[] = {
     {"help", 'h', NULL, ~0u, OPTION_HELP, 0, 0, 0, NULL, "this help"},
     {NULL},
 };
-
-int options_folder(const char *opt, const char *text, const char **out)
-{
-    if (!*text) {
-        log_error("--%s: an empty folder name", opt);
-        return -1;
-    }
-    if (util_file_exists(text) && !util_is_dir(text)) {
-        log_error("--%s %s: not a folder", opt, text);
-        return -1;
-    }
-    *out = text;
-    return 0;
-}
-
-void cli_options_defaults(struct options *o, enum command cmd)
-{
-    const struct command_def *c = &commands[cmd];
-    o->cmd = cmd;
-    o->width = o->height = c->size ? c->size : CLI_DEFAULT_SIZE;
-    o->gt_samples = c->gt_samples ? c->gt_samples : GT_DEFAULT_SAMPLES;
-    o->shadow_map_size = SHADOWMAP_DEFAULT_SIZE;
-    o->frames = c->frames;
-    o->warmup = c->warmup;
-    o->out_dir = c->out;
-    o->cache_dir = CLI_DEFAULT_CACHE;
-    o->baselines_dir = CLI_DEFAULT_BASELINES;
-    o->tuned_dir = TUNED_DEFAULT_DIR;
-    o->objective = METRIC_penumbra_rmse;
-    o->accumulate = STABILITY_DEFAULT_ACCUMULATE;
-}
-
-static bool selected(const struct options *o, const struct technique *t)
-{
-    for (int k = 0; k < o->technique_count; k++)
-        if (o->techniques[k] == t)
-            return true;
-    return false;
-}
-
-/* The rules across options, once every option is read. */
-static int check_options(struct options *o)
-{
-    const struct command_def *c = &commands[o->cmd];
-    if (o->update && o->strict) {
-        log_error("--strict: has no effect with --update (which records every cell)");
-        return -1;
-    }
-    if (c->needs_scene && o->scene_count == 0) {
-        log_error("%s: --scene is required (see --help)", c->name);
-        return -1;
-    }
-    if (o->cmd == CMD_VIEW && o->screenshot && o->frames == 0)
-        o->frames = 1;
-    if (o->tuned_given && o->cmd == CMD_TUNE && !o->write_tuned) {
-        log_error("--tuned: tune writes there only with --write-tuned");
-        return -1;
-    }
-    if (o->tuned_given && o->cmd != CMD_TUNE && !util_is_dir(o->tuned_dir)) {  /* a typo would drop every tuned cell */
-        log_error("--tuned %s: no such folder", o->tuned_dir);
-        return -1;
-    }
-    for (int i = 0; technique_list[i] && o->technique_count; i++)
-        if (o->settings[i] && !selected(o, technique_list[i])) {  /* set, so meant: as a sweep of it would be */
-            log_error("--set: %s is not among the techniques selected with --technique", technique_list[i]->name);
-            return -1;
-        }
-    /* Every technique selected when none is, every setting at its default
-     * unless --set, and (without sweeps: run checks each configuration once
-     * its swept values are in) the rules across parameters. */
-    if (!o->technique_count)
-        for (const struct technique *const *t = technique_list; *t; t++)
-            o->techniques[o->technique_count++] = *t;
-    for (int i = 0; technique_list[i]; i++)
-        if (!o->settings[i])
-            o->settings[i] = params_defaults(technique_list[i]);
-    for (int i = 0; i < o->technique_count && o->cmd != CMD_RUN; i++)
-        if (params_check(o->techniques[i], cli_settings(o, o->techniques[i])) != 0)
-            return -1;
-    return 0;
-}
-
-static int apply(const struct option_row *r, struct options *o, const char *arg)
-{
-    char *base = (char *)o + r->offset;
-    if (r->call)
-        return r->call(o, arg);
-    switch (r->kind) {
-    case OPTION_NONE: return -1;
-    case OPTION_FLAG: *(bool *)base = true; return 0;
-    case OPTION_INT: return parse_int(r->name, arg, r->lo, r->hi, (int *)base);
-    case OPTION_FOLDER: return options_folder(r->name, arg, (const char **)base);
-    case OPTION_TEXT: *(const char **)base = arg; return 0;
-    case OPTION_HELP: return 0;
-    }
-    return -1;
-}
-
-enum cli_parse_result cli_parse(int argc, char **argv, enum command cmd, struct options *o)
-{
-    cli_options_defaults(o, cmd);
-    static struct option long_options[sizeof option_rows / sizeof *option_rows];
-    char shorts[16] = ":";
-    int n = 0;
-    for (const struct option_row *r = option_rows; r->name; r++, n++) {
-        long_options[n] = (struct option){r->name, r->arg ? required_argument : no_argument, NULL, 256 + n};
-        if (r->short_name)
-            snprintf(shorts + strlen(shorts), sizeof shorts - strlen(shorts), "%c", r->short_name);
-    }
-    long_options[n] = (struct option){NULL, 0, NULL, 0};
-    int c, index = 0;
-    optind = 1;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, shorts, long_options, &index)) != -1) {
-        if (c == '?') {
-            log_error("%s: unknown option (see --help)", argv[optind - 1]);
-            return CLI_PARSE_ERROR;
-        }
-        if (c == ':') {
-            log_error("%s: needs a value (see --help)", argv[optind - 1]);
-            return CLI_PARSE_ERROR;
-        }
-        const struct option_row *r = option_rows;
-        if (c >= 256)
-            r += c - 256;
-        else
-            while (r->short_name != c)
-                r++;
-        if (!(r->commands & (1u << cmd))) {
-            log_error("--%s: unknown option for %s (see --help)", r->name, commands[cmd].name);
-            return CLI_PARSE_ERROR;
-        }
-        if (r->kind == OPTION_HELP) {
-            struct strbuf help = {0};
-            cli_help(cmd, &help);
-            fputs(help.data, stdout);
-            strbuf_free(&help);
-            return CLI_PARSE_HELP;
-        }
-        if (apply(r, o, optarg) != 0)
-            return CLI_PARSE_ERROR;
-    }
-    if (optind < argc) {
-        log_error("%s: unexpected argument (see --help)", argv[optind]);
-        return CLI_PARSE_ERROR;
-    }
-    return check_options(o) ? CLI_PARSE_ERROR : CLI_PARSE_OK;
-}
-
-void *cli_settings(const struct options *o, const struct technique *t)
-{
-    return o->settings[technique_index(t)];
-}
-
-void cli_options_free(struct options *o)
-{
-    for (int i = 0; i < CLI_MAX_TECHNIQUES; i++)
-        free(o->settings[i]);
-    memset(o->settings, 0, sizeof o->settings);
-}

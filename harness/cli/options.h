@@ -35,6 +35,11 @@ struct option_row {
 /* Ends with {NULL}. */
 extern const struct option_row option_rows[];
 
+/* --opt's whole number text in [lo, hi] into *out, or its choice among
+ * names (NULL-terminated) as an index. Return 0 or -1 (logged). */
+int options_int(const char *opt, const char *text, int lo, int hi, int *out);
+int options_choice(const char *opt, const char *text, const char *const *names, int *out);
+
 /* A folder option: not empty, and not something other than a folder (it
  * may not exist yet). Returns 0 or -1 (logged). */
 int options_folder(const char *opt, const char *text, const char **out);
