@@ -11,7 +11,7 @@ float shadow_visibility(ShadowInput s)
     float z = sm_moment_depth(s.depth - MSM_SOFT_DEPTH_BIAS), z_blocker;
     // The user's moment bias plus what int32's fixed point needs.
     float alpha = MSM_SOFT_MOMENT_BIAS +
-                  (sm.sat_format == SM_SAT_INT32 ? msm_quantisation_bias(1.0 / sm.sat_scale) : 0.0);
+                  (SAT_TABLE.format == SM_SAT_INT32 ? msm_quantisation_bias(1.0 / SAT_TABLE.scale) : 0.0);
     vec4 b;
 
     // 1. Blocker share and mean depth over the search box.

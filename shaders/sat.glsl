@@ -20,8 +20,8 @@ SAT_UVEC sat_at(int x, int y)
 // with x0 > x1 (both box edges in one texel) reads correctly as negative.
 SAT_VEC sat_box_sum(SAT_UVEC s00, SAT_UVEC s10, SAT_UVEC s01, SAT_UVEC s11)
 {
-    if (sm.sat_format == SM_SAT_INT32)
-        return SAT_VEC(SAT_IVEC(s11 - s01 - s10 + s00)) / sm.sat_scale;
+    if (SAT_TABLE.format == SM_SAT_INT32)
+        return SAT_VEC(SAT_IVEC(s11 - s01 - s10 + s00)) / SAT_TABLE.scale;
     return (uintBitsToFloat(s11) - uintBitsToFloat(s01)) - (uintBitsToFloat(s10) - uintBitsToFloat(s00));
 }
 
@@ -48,7 +48,7 @@ float[6] sat_pair_weights(float f_lo, float f_hi, float past_lo, float past_hi)
 // past the low edge, in_lo = in_hi = 0, and past_lo = -lo plus a negative
 // past_hi = hi weigh the edge texel by the box's width (the edge-policy
 // test probes such boxes, on both tables). The box
-// keeps its full area; for int32 its side is capped at sm.sat_max_box_texels
+// keeps its full area; for int32 its side is capped at SAT_TABLE.max_box_texels
 // (no overflow). Its edges fall at fractional texel positions: the SAT is
 // read bilinearly, which is the exact integral of the texels'
 // piecewise-constant moments over the in-map part. Past an edge each column
@@ -60,7 +60,7 @@ float[6] sat_pair_weights(float f_lo, float f_hi, float past_lo, float past_hi)
 bool sat_box_mean(vec2 centre_uv, vec2 half_uv, out SAT_VEC mean)
 {
     float n = sm.map_size_texels;
-    vec2 half_texels = min(half_uv * n, vec2(0.5 * sm.sat_max_box_texels));
+    vec2 half_texels = min(half_uv * n, vec2(0.5 * SAT_TABLE.max_box_texels));
     vec2 lo = centre_uv * n - half_texels, hi = centre_uv * n + half_texels;
     float area = (hi.x - lo.x) * (hi.y - lo.y);
     mean = SAT_VEC(0.0);
@@ -102,7 +102,7 @@ bool sat_mean_variance(vec2 centre_uv, vec2 half_uv, out vec2 mean_var)
 {
     vec2 m;
     bool some = sat_box_mean(centre_uv, half_uv, m);
-    mean_var = vec2(m.x + (sm.sat_format == SM_SAT_FP32_CENTERED ? 0.5 : 0.0), m.y - m.x * m.x);
+    mean_var = vec2(m.x + (SAT_TABLE.format == SM_SAT_FP32_CENTERED ? 0.5 : 0.0), m.y - m.x * m.x);
     return some;
 }
 #endif

@@ -13,13 +13,13 @@
 // SAT_CHANNELS 4: the msm_sat product, (w, w², w³, w⁴) of w = 2d - 1, the
 // msm product's moments (Peters et al. 2016 filter them by a SAT).
 //
-// Formats (sm.sat_format):
+// Formats (SAT_TABLE.format):
 //   SM_SAT_FP32           float sums, stored as bits
 //   SM_SAT_FP32_CENTERED  2 channels: float sums of (d - 0.5, (d - 0.5)²),
 //                         smaller sums, fewer bits lost (the variance is
 //                         shift-invariant). 4 channels: not offered, w is
 //                         centred on [-1, 1] already
-//   SM_SAT_INT32          fixed point, floor(m * sm.sat_scale + 0.5), summed
+//   SM_SAT_INT32          fixed point, floor(m * SAT_TABLE.scale + 0.5), summed
 //                         in uint32 with wrap-around (two's complement for
 //                         w's odd powers): a 4-tap box difference is exact
 //                         modulo 2^32, hence exact while the box sum fits
@@ -37,7 +37,7 @@ vec4 sat_moments(float d)
 #else
 vec2 sat_moments(float d)
 {
-    float c = sm.sat_format == SM_SAT_FP32_CENTERED ? d - 0.5 : d;
+    float c = SAT_TABLE.format == SM_SAT_FP32_CENTERED ? d - 0.5 : d;
     return vec2(c, c * c);
 }
 #endif
@@ -53,11 +53,11 @@ void main()
         return;
     int base = (line + 1) * stride;
     sat[base] = SAT_UVEC(0);
-    if (sm.sat_format == SM_SAT_INT32) {
+    if (SAT_TABLE.format == SM_SAT_INT32) {
         SAT_UVEC acc = SAT_UVEC(0);
         for (int x = 0; x < n; x++) {
             float d = sm_linear_depth(texelFetch(depth_map, ivec2(x, line), 0).r);
-            precise SAT_VEC q = sat_moments(d) * sm.sat_scale + 0.5;  // as tests/test_sat.c does
+            precise SAT_VEC q = sat_moments(d) * SAT_TABLE.scale + 0.5;  // as tests/test_sat.c does
             acc += SAT_UVEC(SAT_IVEC(floor(q)));
             sat[base + x + 1] = acc;
         }
@@ -72,7 +72,7 @@ void main()
     int x = line + 1;  // column 0 stays zero
     if (x > n)
         return;
-    if (sm.sat_format == SM_SAT_INT32) {
+    if (SAT_TABLE.format == SM_SAT_INT32) {
         SAT_UVEC acc = SAT_UVEC(0);
         for (int y = 1; y <= n; y++) {
             acc += sat[y * stride + x];

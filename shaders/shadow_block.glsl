@@ -1,7 +1,16 @@
 // The shadow-map layer's uniform block. Mirrored by struct shadowmap_block
-// in techniques/shadowmap.h: keep in sync (std140). SM_BINDING_* and the
-// enums' values (SM_LIGHT_*, SM_SAT_*) are #defines the layer prepends from
-// C (shadowmap_shader_defines).
+// in techniques/shadowmap.h: keep in sync (std140). SM_BINDING_*, the
+// SAT slots and the enums' values (SM_LIGHT_*, SM_SAT_*) are #defines the
+// layer prepends from C (shadowmap_shader_defines).
+
+// A summed-area table's fields, one slot per SAT product (SM_SAT_SLOT_<ID>):
+// struct shadowmap_sat_block.
+struct SmSatTable {
+    int format;            // SM_SAT_* of the table
+    float scale;           // SM_SAT_INT32: fixed-point units per 1.0 of depth
+    float max_box_texels;  // SM_SAT_INT32: boxes are capped at this side (no overflow)
+};
+
 layout(std140, binding = SM_BINDING_BLOCK) uniform ShadowMapBlock {
     mat4 light_view_proj;     // world -> light clip, reversed Z in [0, 1]
     mat4 light_view;          // world -> light space (light looks along -Z)
@@ -13,7 +22,5 @@ layout(std140, binding = SM_BINDING_BLOCK) uniform ShadowMapBlock {
     float near_world;         // planar depth range of the geometry (world units)
     float far_world;
     float map_size_texels;
-    int sat_format;           // SM_SAT_* of the current summed-area table
-    float sat_scale;          // SM_SAT_INT32: fixed-point units per 1.0 of depth
-    float sat_max_box_texels; // SM_SAT_INT32: boxes are capped at this side (no overflow)
+    SmSatTable sat[SM_SAT_TABLES];
 } sm;

@@ -12,15 +12,15 @@
 
 #include "depth.glsl"
 
-// The products, at the bindings the layer gives them (SM_BINDING_*). Past
-// the map's edge each continues as its edge texels (the edge policy,
-// techniques/shadowmap.h): texture reads get it from the wrap mode, a
-// texelFetch must clamp its coordinate to the map.
-layout(binding = SM_BINDING_DEPTH) uniform sampler2D sm_depth;                  // D32F, nearest, clamp-to-edge
-layout(binding = SM_BINDING_DEPTH_COMPARE) uniform sampler2DShadow sm_depth_compare; // same texture: linear, GEQUAL
-layout(binding = SM_BINDING_MOMENTS) uniform sampler2D sm_moments;              // RG32F (d, d²), filtered, mipmapped
-layout(binding = SM_BINDING_EVSM) uniform sampler2D sm_evsm;                    // RGBA32F warped moments, filtered, mipmapped
-layout(binding = SM_BINDING_MSM) uniform sampler2D sm_msm;                      // RGBA32F (w, w², w³, w⁴), filtered, mipmapped
+// The texture products' samplers, declared by the layer from its product
+// table at the bindings it gives them (SM_PRODUCT_SAMPLERS): sm_depth (D32F,
+// nearest) and sm_depth_compare (the same texture, linear, GEQUAL), sm_moments
+// (RG32F (d, d²)), sm_evsm (RGBA32F warped moments) and sm_msm (RGBA32F (w,
+// w², w³, w⁴)), the last three filtered and mipmapped (techniques/technique.h,
+// SM_PRODUCTS). Past the map's edge each continues as its edge texels (the
+// edge policy, techniques/shadowmap.h): texture reads get it from the wrap
+// mode, a texelFetch must clamp its coordinate to the map.
+SM_PRODUCT_SAMPLERS
 
 struct ShadowInput {
     vec3 pos_world;          // receiver point

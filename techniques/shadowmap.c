@@ -11,15 +11,17 @@
 enum { BLOCK_BINDING = 0, PASS_SOURCE_BINDING = 0 };
 
 /* One product: how it is stored, where shaders find it, how it is made.
- * Its name is SM_PRODUCTS'. */
+ * Its name is SM_PRODUCTS'; its binding follows from its place in the
+ * table (binding_of). */
 struct product_kind {
     GLenum format;         /* a texture product's internal format; 0: a storage buffer */
     bool mipmapped;        /* texture: a full mip chain, sampled trilinearly */
-    int binding;           /* texture unit or storage-buffer binding (GLSL: SM_BINDING_<ID>) */
-    int compare_binding;   /* texture: also bound at this unit through the comparison sampler
-                              (GLSL: SM_BINDING_<ID>_COMPARE); 0: not */
-    int moments_kind;      /* made by moments_blur.frag: its MOMENTS_KIND (0 moments, 1 evsm, 2 msm) */
+    const char *sampler;   /* texture: its GLSL sampler2D (SM_PRODUCT_SAMPLERS declares it) */
+    const char *compare_sampler;  /* texture: also a sampler2DShadow through the comparison sampler
+                                     (SM_BINDING_<ID>_COMPARE), or NULL */
+    bool blurred;          /* made by moments_blur.frag: MOMENTS_KIND is its SM_PRODUCT_<ID> */
     int sat_channels;      /* a summed-area table by sat_build.comp: its SAT_CHANNELS (2 or 4) */
+    int sat_slot;          /* a summed-area table: its fields in the block, sm.sat[slot] */
     /* What the passes need beyond a texture product's texture (framebuffers,
      * programs; a buffer product's buffer): called once. Returns 0 or -1
      * (logged); what it made before failing is deleted with the rest. */
@@ -28,9 +30,26 @@ struct product_kind {
                    const struct shadowmap_request *r);
     /* Optional: 0, or -1 (logged) when r's options are beyond the product. */
     int (*check)(const struct shadowmap_request *r);
+    /* Optional: whether requests a and b give the same product (their
+     * options agree); without it every request does (no options). */
+    bool (*same)(const struct shadowmap_request *a, const struct shadowmap_request *b);
 };
 
 static const struct product_kind kinds[SM_PRODUCT_COUNT];
+
+/* Product p's binding: texture products take texture units in table order
+ * (a comparison sampler the unit after its texture's), storage-buffer
+ * products storage bindings in table order. */
+static int binding_of(int p)
+{
+    int unit = 0, buffer = 0;
+    for (int i = 0; i < p; i++)
+        if (kinds[i].format)
+            unit += kinds[i].compare_sampler ? 2 : 1;
+        else
+            buffer++;
+    return kinds[p].format ? unit : buffer;
+}
 
 static const char *const product_ids[] = {
 #define X(id, name) #id,
@@ -174,10 +193,9 @@ static void depth_render(struct shadowmap *sm, struct shadowmap_product *p,
 
 /* The passes of a product made from the depth map by moments_blur.frag:
  * its rows pass converts (BLUR_FROM_DEPTH), its columns pass filters; its
- * row's moments_kind says which moments. */
+ * MOMENTS_KIND is the product's own SM_PRODUCT_<ID>. */
 static int blurred_create(struct shadowmap *sm, struct shadowmap_product *p, int product)
 {
-    const int kind = kinds[product].moments_kind;
     char *temp = util_printf("shadow map: %s blur temporary", product_names[product]);
     p->temp_texture = map_texture(kinds[product].format, 1, sm->desc.size_texels);
     gl_label(GL_TEXTURE, p->temp_texture, temp);
@@ -186,7 +204,8 @@ static int blurred_create(struct shadowmap *sm, struct shadowmap_product *p, int
     p->framebuffers[1] = framebuffer(p->temp_texture, GL_COLOR_ATTACHMENT0, "blur, rows");
     for (int pass = 0; pass < 2; pass++) {
         char *label = util_printf("%s blur, %s", product_names[product], pass ? "columns" : "rows");
-        char *defines = util_printf("#define BLUR_FROM_DEPTH %d\n#define MOMENTS_KIND %d\n", !pass, kind);
+        char *defines = util_printf("#define BLUR_FROM_DEPTH %d\n#define MOMENTS_KIND SM_PRODUCT_%s\n", !pass,
+                                    product_ids[product]);
         p->programs[pass] = pass_program(label, defines, "fullscreen.vert", "moments_blur.frag");
         free(label), free(defines);
     }
@@ -240,15 +259,27 @@ static int msm_check(const struct shadowmap_request *r)
 
 static int msm_sat_check(const struct shadowmap_request *r)
 {
-    if (r->products & SM_MOMENTS_SAT) {
-        log_error("shadow map: a request of both summed-area tables (they share the block's format and scale)");
-        return -1;
-    }
     if (r->msm_sat.format == SAT_FP32_CENTERED) {
         log_error("msm_sat product: format fp32_centered does not apply (w = 2d - 1 is centred already)");
         return -1;
     }
     return 0;
+}
+
+static bool moments_same(const struct shadowmap_request *a, const struct shadowmap_request *b)
+{
+    return a->moments.blur_radius_texels == b->moments.blur_radius_texels;
+}
+
+static bool evsm_same(const struct shadowmap_request *a, const struct shadowmap_request *b)
+{
+    return a->evsm.positive == b->evsm.positive && a->evsm.negative == b->evsm.negative &&
+           a->evsm.blur_radius_texels == b->evsm.blur_radius_texels;
+}
+
+static bool msm_same(const struct shadowmap_request *a, const struct shadowmap_request *b)
+{
+    return a->msm.blur_radius_texels == b->msm.blur_radius_texels;
 }
 
 static void blur_pass(struct shadowmap *sm, GLuint fbo, GLuint program, GLuint source,
@@ -355,27 +386,43 @@ static void sat_int32_scale(const struct sat_request *r, int n, float *scale, fl
     *max_box_texels = (float)side;
 }
 
+static bool sat_same(const struct shadowmap_request *a, const struct shadowmap_request *b, int i)
+{
+    const struct sat_request *x = sat_request_of(a, i), *y = sat_request_of(b, i);
+    return x->format == y->format && (x->format != SAT_INT32 || x->max_box_texels == y->max_box_texels);
+}
+
+static bool moments_sat_same(const struct shadowmap_request *a, const struct shadowmap_request *b)
+{
+    return sat_same(a, b, SM_PRODUCT_MOMENTS_SAT);
+}
+
+static bool msm_sat_same(const struct shadowmap_request *a, const struct shadowmap_request *b)
+{
+    return sat_same(a, b, SM_PRODUCT_MSM_SAT);
+}
+
 static void sat_render(struct shadowmap *sm, struct shadowmap_product *p,
                        const struct scene_mesh *mesh, const struct shadowmap_request *r)
 {
     (void)mesh;
     const int i = (int)(p - sm->products), n = sm->desc.size_texels;
     const struct sat_request *sr = sat_request_of(r, i);
-    struct shadowmap_block *b = &sm->block;
-    b->sat_format = (int)sr->format;
+    struct shadowmap_sat_block *b = &sm->block.sat[kinds[i].sat_slot];
+    b->format = (int)sr->format;
     if (sr->format == SAT_INT32) {
-        sat_int32_scale(sr, n, &b->sat_scale, &b->sat_max_box_texels);
+        sat_int32_scale(sr, n, &b->scale, &b->max_box_texels);
     } else {
-        b->sat_scale = 1.0f;
-        b->sat_max_box_texels = (float)n;
+        b->scale = 1.0f;
+        b->max_box_texels = (float)n;
     }
     glBindBuffer(GL_UNIFORM_BUFFER, sm->ubo);
-    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof *b, b);
+    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof sm->block, &sm->block);
 
     glBindBufferBase(GL_UNIFORM_BUFFER, BLOCK_BINDING, sm->ubo);
-    glBindTextureUnit(kinds[SM_PRODUCT_DEPTH].binding, sm->products[SM_PRODUCT_DEPTH].texture);
-    glBindSampler(kinds[SM_PRODUCT_DEPTH].binding, 0);
-    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, kinds[i].binding, p->buffer);
+    glBindTextureUnit(binding_of(SM_PRODUCT_DEPTH), sm->products[SM_PRODUCT_DEPTH].texture);
+    glBindSampler(binding_of(SM_PRODUCT_DEPTH), 0);
+    glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding_of(i), p->buffer);
     glUseProgram(p->programs[0]);
     glDispatchCompute((GLuint)(n + 63) / 64, 1, 1);
     glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -390,36 +437,28 @@ static void sat_render(struct shadowmap *sm, struct shadowmap_product *p,
  * (shadowmap.h) is every product's. */
 static const struct product_kind kinds[SM_PRODUCT_COUNT] = {
     [SM_PRODUCT_DEPTH] = {
-        .format = GL_DEPTH_COMPONENT32F,
-        .binding = 0, .compare_binding = 1,
+        .format = GL_DEPTH_COMPONENT32F, .sampler = "sm_depth", .compare_sampler = "sm_depth_compare",
         .create = depth_create, .render = depth_render,
     },
     [SM_PRODUCT_MOMENTS] = {
-        .format = GL_RG32F, .mipmapped = true,
-        .binding = 2,
-        .create = moments_create, .render = moments_render,
-        .check = moments_check,
+        .format = GL_RG32F, .mipmapped = true, .sampler = "sm_moments", .blurred = true,
+        .create = moments_create, .render = moments_render, .check = moments_check, .same = moments_same,
     },
     [SM_PRODUCT_MOMENTS_SAT] = {
-        .binding = 0, .sat_channels = 2,
-        .create = sat_create, .render = sat_render,
+        .sat_channels = 2, .sat_slot = 0,
+        .create = sat_create, .render = sat_render, .same = moments_sat_same,
     },
     [SM_PRODUCT_EVSM] = {
-        .format = GL_RGBA32F, .mipmapped = true,
-        .binding = 3, .moments_kind = 1,
-        .create = evsm_create, .render = evsm_render,
-        .check = evsm_check,
+        .format = GL_RGBA32F, .mipmapped = true, .sampler = "sm_evsm", .blurred = true,
+        .create = evsm_create, .render = evsm_render, .check = evsm_check, .same = evsm_same,
     },
     [SM_PRODUCT_MSM] = {
-        .format = GL_RGBA32F, .mipmapped = true,
-        .binding = 4, .moments_kind = 2,
-        .create = msm_create, .render = msm_render,
-        .check = msm_check,
+        .format = GL_RGBA32F, .mipmapped = true, .sampler = "sm_msm", .blurred = true,
+        .create = msm_create, .render = msm_render, .check = msm_check, .same = msm_same,
     },
     [SM_PRODUCT_MSM_SAT] = {
-        .binding = 1, .sat_channels = 4,
-        .create = sat_create, .render = sat_render,
-        .check = msm_sat_check,
+        .sat_channels = 4, .sat_slot = 1,
+        .create = sat_create, .render = sat_render, .check = msm_sat_check, .same = msm_sat_same,
     },
 };
 
@@ -431,11 +470,22 @@ void shadowmap_shader_defines(struct strbuf *out)
                   BLOCK_BINDING, PASS_SOURCE_BINDING);
     strbuf_printf(out, "#define SM_ATTRIB_POSITION %d\n#define SM_ATTRIB_NORMAL %d\n",
                   SCENE_MESH_POSITION, SCENE_MESH_NORMAL);
+    strbuf_printf(out, "#define SM_SAT_TABLES %d\n#define SM_PRODUCT_SAMPLERS", SM_SAT_TABLES);
+    for (int p = 0; p < SM_PRODUCT_COUNT; p++) {  /* the samplers, one line */
+        if (kinds[p].sampler)
+            strbuf_printf(out, " layout(binding = %d) uniform sampler2D %s;", binding_of(p), kinds[p].sampler);
+        if (kinds[p].compare_sampler)
+            strbuf_printf(out, " layout(binding = %d) uniform sampler2DShadow %s;", binding_of(p) + 1,
+                          kinds[p].compare_sampler);
+    }
+    strbuf_printf(out, "\n");
     for (int p = 0; p < SM_PRODUCT_COUNT; p++) {
-        strbuf_printf(out, "#define SM_BINDING_%s %d\n", product_ids[p], kinds[p].binding);
-        if (kinds[p].compare_binding)
-            strbuf_printf(out, "#define SM_BINDING_%s_COMPARE %d\n", product_ids[p],
-                          kinds[p].compare_binding);
+        strbuf_printf(out, "#define SM_PRODUCT_%s %d\n#define SM_BINDING_%s %d\n", product_ids[p], p, product_ids[p],
+                      binding_of(p));
+        if (kinds[p].compare_sampler)
+            strbuf_printf(out, "#define SM_BINDING_%s_COMPARE %d\n", product_ids[p], binding_of(p) + 1);
+        if (kinds[p].sat_channels)
+            strbuf_printf(out, "#define SM_SAT_SLOT_%s %d\n", product_ids[p], kinds[p].sat_slot);
     }
 #define X(id, name) strbuf_printf(out, "#define SM_LIGHT_" #id " %d\n", LIGHT_##id);
     LIGHT_SHAPES(X)
@@ -471,8 +521,15 @@ static int fit(struct shadowmap *sm, const struct scene *s, const struct light_f
     return 0;
 }
 
+void shadowmap_invalidate(struct shadowmap *sm)
+{
+    for (int i = 0; i < SM_PRODUCT_COUNT; i++)
+        sm->products[i].current = false;
+}
+
 int shadowmap_refit(struct shadowmap *sm, const struct scene *s, const struct light_frustum *window)
 {
+    shadowmap_invalidate(sm);
     if (fit(sm, s, window) != 0)
         return -1;
     glBindBuffer(GL_UNIFORM_BUFFER, sm->ubo);
@@ -483,11 +540,19 @@ int shadowmap_refit(struct shadowmap *sm, const struct scene *s, const struct li
 int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct shadowmap_desc *desc)
 {
     memset(sm, 0, sizeof *sm);
-    for (int i = 0; i < SM_PRODUCT_COUNT; i++)
+    unsigned slots = 0;
+    for (int i = 0; i < SM_PRODUCT_COUNT; i++) {
         if (!kinds[i].create || !kinds[i].render) {  /* an X() in SM_PRODUCTS without its row */
             log_error("shadow map: product '%s' has no row in the layer's table", product_names[i]);
             return -1;
         }
+        if (kinds[i].sat_channels && (kinds[i].sat_slot >= SM_SAT_TABLES || (slots & (1u << kinds[i].sat_slot)))) {
+            log_error("shadow map: product '%s' needs a SAT slot of its own below SM_SAT_TABLES (%d)",
+                      product_names[i], SM_SAT_TABLES);
+            return -1;
+        }
+        slots |= kinds[i].sat_channels ? 1u << kinds[i].sat_slot : 0;
+    }
     sm->desc = *desc;
     if (!sm->desc.size_texels)
         sm->desc.size_texels = SHADOWMAP_DEFAULT_SIZE;
@@ -539,7 +604,25 @@ int shadowmap_prepare(struct shadowmap *sm, const struct shadowmap_request *r)
 void shadowmap_render_product(struct shadowmap *sm, const struct scene_mesh *mesh, int p,
                               const struct shadowmap_request *r)
 {
-    kinds[p].render(sm, &sm->products[p], mesh, r);
+    struct shadowmap_product *product = &sm->products[p];
+    kinds[p].render(sm, product, mesh, r);
+    product->current = true;
+    product->made = r ? *r : (struct shadowmap_request){0};
+}
+
+bool shadowmap_ensure_product(struct shadowmap *sm, const struct scene_mesh *mesh, int p,
+                              const struct shadowmap_request *r)
+{
+    const struct shadowmap_product *product = &sm->products[p];
+    if (product->current && (!kinds[p].same || kinds[p].same(&product->made, r)))
+        return false;
+    shadowmap_render_product(sm, mesh, p, r);
+    return true;
+}
+
+struct shadowmap_sat_block *shadowmap_sat_fields(struct shadowmap *sm, int p)
+{
+    return &sm->block.sat[kinds[p].sat_slot];
 }
 
 void shadowmap_bind(const struct shadowmap *sm)
@@ -549,14 +632,14 @@ void shadowmap_bind(const struct shadowmap *sm)
         const struct product_kind *k = &kinds[i];
         const struct shadowmap_product *p = &sm->products[i];
         if (!k->format) {
-            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, k->binding, p->buffer);
+            glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding_of(i), p->buffer);
             continue;
         }
-        glBindTextureUnit(k->binding, p->texture);
-        glBindSampler(k->binding, 0);
-        if (k->compare_binding) {
-            glBindTextureUnit(k->compare_binding, p->texture);
-            glBindSampler(k->compare_binding, sm->compare_sampler);
+        glBindTextureUnit(binding_of(i), p->texture);
+        glBindSampler(binding_of(i), 0);
+        if (k->compare_sampler) {
+            glBindTextureUnit(binding_of(i) + 1, p->texture);
+            glBindSampler(binding_of(i) + 1, sm->compare_sampler);
         }
     }
 }

@@ -1,8 +1,9 @@
 /* The shared shadow-map layer (DESIGN.md §5): the products techniques sample,
  * keyed by product, not by technique (STYLE.md item 5). A product is a row
  * of the table in shadowmap.c (its texture format or buffer, its binding,
- * its passes) plus its shaders; the layer renders each requested product
- * once per light pose and shares it with every technique of a run.
+ * its passes, its GLSL sampler) plus its shaders; the layer renders each
+ * requested product once per light pose and set of options for the cells
+ * that score it, and afresh for every timed frame.
  *
  * Edge policy, one for every product and every read (DESIGN.md §5):
  * clamp-to-edge, i.e. past the map's edge the map continues as its edge
@@ -27,6 +28,18 @@
 
 #include <stdbool.h>
 
+/* The summed-area tables' fields of the block, one slot per SAT product
+ * (its row's sat_slot: SM_SAT_SLOT_<ID> in GLSL), so that two tables
+ * coexist in one request. std140 mirror of `struct SmSatTable` in
+ * shaders/shadow_block.glsl. */
+#define SM_SAT_TABLES 2
+struct shadowmap_sat_block {
+    int format;            /* enum sat_format */
+    float scale;           /* SAT_INT32: fixed-point units per 1.0 of depth */
+    float max_box_texels;  /* SAT_INT32: widest box whose sums fit in 32 bits */
+    float pad_;            /* std140: a struct in an array takes 16 bytes */
+};
+
 /* std140 mirror of `uniform ShadowMapBlock` in shaders/shadow_block.glsl.
  * Keep in sync with it. */
 struct shadowmap_block {
@@ -39,15 +52,15 @@ struct shadowmap_block {
     float near_window_world[2];   /* r - l, t - b */
     float near_world, far_world;  /* planar depth range */
     float map_size_texels;
-    int sat_format;               /* enum sat_format of the current SAT */
-    float sat_scale;              /* SAT_INT32: fixed-point units per 1.0 of depth */
-    float sat_max_box_texels;     /* SAT_INT32: widest box whose sums fit in 32 bits */
+    float pad_[3];                /* std140: the array below starts on 16 bytes */
+    struct shadowmap_sat_block sat[SM_SAT_TABLES];
 };
-/* std140: scalars pack at 4 bytes, the block ends on a 16-byte boundary. */
-_Static_assert(sizeof(struct shadowmap_block) == 208, "std140 layout of ShadowMapBlock");
+/* std140: scalars pack at 4 bytes, a struct array starts on a 16-byte boundary. */
+_Static_assert(sizeof(struct shadowmap_block) == 240, "std140 layout of ShadowMapBlock");
 _Static_assert(offsetof(struct shadowmap_block, light_size_uv) == 160, "std140 layout");
 _Static_assert(offsetof(struct shadowmap_block, near_world) == 184, "std140 layout");
-_Static_assert(offsetof(struct shadowmap_block, sat_format) == 196, "std140 layout");
+_Static_assert(offsetof(struct shadowmap_block, sat) == 208, "std140 layout");
+_Static_assert(sizeof(struct shadowmap_sat_block) == 16, "std140 layout of SmSatTable");
 
 #define SHADOWMAP_DEFAULT_SIZE 1024
 #define SHADOWMAP_MIN_SIZE 16
@@ -69,6 +82,8 @@ struct shadowmap_product {
     GLuint framebuffers[2];
     GLuint programs[2];
     bool created;                   /* the objects above exist (shadowmap_prepare) */
+    bool current;                   /* holds this pose's product for the options of `made` */
+    struct shadowmap_request made;  /* the request it was last rendered for */
 };
 
 struct shadowmap {
@@ -92,7 +107,10 @@ int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct s
 int shadowmap_refit(struct shadowmap *sm, const struct scene *s, const struct light_frustum *window);
 
 /* Appends the #defines that the layer's shaders and the receiver pass share
- * with C: the bindings (SM_BINDING_<PRODUCT>, _BLOCK, _PASS_SOURCE), the
+ * with C, all from the product table and the enums: the products'
+ * indices (SM_PRODUCT_<ID>), bindings (SM_BINDING_<ID>, _BLOCK,
+ * _PASS_SOURCE), samplers (SM_PRODUCT_SAMPLERS, the declarations of every
+ * texture product's) and SAT slots (SM_SAT_SLOT_<ID>, SM_SAT_TABLES), the
  * vertex attributes (SM_ATTRIB_*), the light shapes (SM_LIGHT_<SHAPE>), the
  * SAT formats (SM_SAT_<FORMAT>), SM_MAX_BLUR_RADIUS and the tap loops
  * SM_UNROLL_<n> for n in TAP_COUNTS and 0. */
@@ -103,10 +121,28 @@ void shadowmap_shader_defines(struct strbuf *out);
  * Returns 0 or -1 (logged). */
 int shadowmap_prepare(struct shadowmap *sm, const struct shadowmap_request *r);
 
-/* Renders product p (SM_PRODUCT_*) with r's options, unconditionally (the
- * harness times this call); the products past depth read the current depth. */
+/* Renders product p (SM_PRODUCT_*) with r's options (NULL: the defaults,
+ * for a product that has none), unconditionally (the
+ * harness times this call: a timed frame renders its products afresh);
+ * the products past depth read the current depth. */
 void shadowmap_render_product(struct shadowmap *sm, const struct scene_mesh *mesh, int p,
                               const struct shadowmap_request *r);
+
+/* Renders product p for r unless it holds it already: rendered in this
+ * pose for a request that its row says gives the same product (an untimed
+ * frame, for scoring: the cells of a pose share their products). Returns
+ * whether it rendered. */
+bool shadowmap_ensure_product(struct shadowmap *sm, const struct scene_mesh *mesh, int p,
+                              const struct shadowmap_request *r);
+
+/* The pose changed (the geometry moved): no product is current.
+ * shadowmap_refit calls it; so must a caller that moves the mesh without
+ * refitting. */
+void shadowmap_invalidate(struct shadowmap *sm);
+
+/* The block's fields of summed-area table product p (SM_PRODUCT_MOMENTS_SAT,
+ * SM_PRODUCT_MSM_SAT): its slot. */
+struct shadowmap_sat_block *shadowmap_sat_fields(struct shadowmap *sm, int p);
 
 /* Binds the uniform block and every product to the bindings the shaders
  * name (SM_BINDING_*). */

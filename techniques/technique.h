@@ -11,10 +11,13 @@
 #include <stddef.h>
 
 /* Shadow-map products (DESIGN.md §1, §5): X(ID, name). Each is a row of the
- * shared layer's table (techniques/shadowmap.c) plus its shaders; the layer
- * renders each requested product once per light pose. Every product is
- * derived from the depth pass, which is always rendered: the depth pass is
- * timed as ms_shadowmap, every other product as ms_filter_prep. */
+ * shared layer's table (techniques/shadowmap.c: its storage, its sampler,
+ * its passes; bindings and GLSL declarations follow from the row) plus its
+ * shaders. For scoring, the layer renders each requested product once per
+ * light pose and set of options, shared by the cells that agree; a timed
+ * frame renders its cell's products afresh. Every product is derived from
+ * the depth pass, which is always rendered: the depth pass is timed as
+ * ms_shadowmap, every other product as ms_filter_prep. */
 #define SM_PRODUCTS(X)                                                                  \
     X(DEPTH, "depth")             /* hardware depth, D32F, reversed Z */                \
     X(MOMENTS, "moments")         /* linear depth d and d², RG32F, filtered, mipmapped */ \
@@ -78,7 +81,7 @@ struct shadowmap_request {
         enum sat_format format;
         float max_box_texels;    /* SAT_INT32: widest box side the technique reads; sets the
                                     fixed-point scale so that no box sum overflows */
-    } moments_sat, msm_sat;      /* one of the two a request: they share the block's SAT fields */
+    } moments_sat, msm_sat;      /* each its own slot of the block: both may be in one request */
     struct {
         float positive, negative;  /* the warps' exponents c+, c-, (0, SM_EVSM_MAX_EXPONENT] */
         int blur_radius_texels;    /* as the moments' */

@@ -154,9 +154,8 @@ static void probe(GLuint program, GLuint boxes, int c, const uint32_t *sat, enum
 {
     struct shadowmap sm = {0};
     sm.block.map_size_texels = N;
-    sm.block.sat_format = (int)f;
-    sm.block.sat_scale = f == SAT_INT32 ? INT32_SCALE : 1.0f;
-    sm.block.sat_max_box_texels = (float)N;  /* no box is capped */
+    for (int k = 0; k < SM_SAT_TABLES; k++)  /* whichever the probe reads; no box is capped */
+        sm.block.sat[k] = (struct shadowmap_sat_block){(int)f, f == SAT_INT32 ? INT32_SCALE : 1.0f, (float)N, 0};
     glGenBuffers(1, &sm.ubo);
     glBindBuffer(GL_UNIFORM_BUFFER, sm.ubo);
     glBufferData(GL_UNIFORM_BUFFER, sizeof sm.block, &sm.block, GL_STATIC_DRAW);

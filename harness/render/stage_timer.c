@@ -58,24 +58,21 @@ static double stage_end(struct stage_clock *k)
     return (double)ns * 1e-6;
 }
 
-/* One frame of a cell with request r, its stages' ms added to ms (may be
- * NULL: untimed) by clock k. */
-static void frame(const struct stage_timer *t, const struct stage_timer_cell *c,
-                  const struct shadowmap_request *r, struct stage_clock *k, double ms[STAGE_COUNT])
+/* One timed frame of a cell with request r, its stages' ms added to ms by
+ * clock k: every product rendered afresh (a frame's cost is all of its
+ * work), then the receiver pass. */
+static void timed_frame(const struct stage_timer *t, const struct stage_timer_cell *c,
+                        const struct shadowmap_request *r, struct stage_clock *k, double ms[STAGE_COUNT])
 {
     for (int p = 0; p < SM_PRODUCT_COUNT; p++)
         if (r->products & (1u << p)) {
             stage_begin(k);
             shadowmap_render_product(t->sm, t->mesh, p, r);
-            const double dt = stage_end(k);
-            if (ms)
-                ms[p == SM_PRODUCT_DEPTH ? STAGE_SHADOWMAP : STAGE_FILTER_PREP] += dt;
+            ms[p == SM_PRODUCT_DEPTH ? STAGE_SHADOWMAP : STAGE_FILTER_PREP] += stage_end(k);
         }
     stage_begin(k);
     receiver_render(t->receiver, c->program, t->mesh, t->sm);
-    const double dt = stage_end(k);
-    if (ms)
-        ms[STAGE_RECEIVER] += dt;
+    ms[STAGE_RECEIVER] += stage_end(k);
 }
 
 static int request(const struct stage_timer *t, const struct stage_timer_cell *c,
@@ -105,7 +102,7 @@ int stage_timer_run(const struct stage_timer *t, const struct stage_timer_cell *
         const int f = k - t->warmup;  /* < 0: a warm-up round */
         for (int i = 0; i < n; i++) {
             double ms[STAGE_COUNT] = {0};
-            frame(t, &cells[i], &requests[i], &clock, ms);
+            timed_frame(t, &cells[i], &requests[i], &clock, ms);
             for (int s = 0; s < STAGE_COUNT && f >= 0; s++)
                 samples[(i * STAGE_COUNT + s) * frames + f] = ms[s];
         }
@@ -138,7 +135,9 @@ int stage_timer_render(const struct stage_timer *t, const struct stage_timer_cel
     struct shadowmap_request r;
     if (request(t, c, &r) != 0)
         return -1;
-    struct stage_clock wall = {0};
-    frame(t, c, &r, &wall, NULL);
+    for (int p = 0; p < SM_PRODUCT_COUNT; p++)  /* the pose's products, shared by the cells that agree */
+        if (r.products & (1u << p))
+            shadowmap_ensure_product(t->sm, t->mesh, p, &r);
+    receiver_render(t->receiver, c->program, t->mesh, t->sm);
     return 0;
 }

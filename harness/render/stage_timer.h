@@ -1,8 +1,8 @@
 /* Time of the GL stages of a frame (DESIGN.md §7). The cells of a scene are
  * timed interleaved: warm-up rounds, then K rounds, each round one frame of
  * every cell in turn, so a slow spell of the machine is shared by the cells
- * rather than landing on one. A cell's frame is the whole of its work: its
- * shadow-map products rendered afresh, then its receiver pass. Each stage is
+ * rather than landing on one. A timed frame is the whole of a cell's work:
+ * its shadow-map products rendered afresh, then its receiver pass. Each stage is
  * timed by wall clock around glFinish on a CPU rasteriser (llvmpipe, where
  * GL timer queries do not measure the work), by a GL_TIME_ELAPSED query on
  * a GPU (the wall clock there would add the driver's submission and the
@@ -59,7 +59,10 @@ int stage_timer_run(const struct stage_timer *timer, const struct stage_timer_ce
                     struct stage_times *out);
 
 /* One untimed frame of a cell, which leaves its V_tech in the receiver's
- * targets. Returns 0 or -1 (logged). */
+ * targets: its products rendered only where the shadow map does not hold
+ * them for this pose and these options already (shadowmap_ensure_product:
+ * the cells of a pose that agree share them), then its receiver pass.
+ * Returns 0 or -1 (logged). */
 int stage_timer_render(const struct stage_timer *timer, const struct stage_timer_cell *cell);
 
 #endif
