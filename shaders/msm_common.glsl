@@ -44,13 +44,14 @@ vec4 msm_hausdorff_bias(vec4 b, float alpha)
 // sqrt(8) step / 2. Biasing adds alpha (H(target) - B), and H(target)'s
 // least eigenvalue is (1.375 - sqrt(0.953125)) / 2 = 0.19936; so alpha
 // 0.19936 >= (1 - alpha) sqrt(2) step suffices, alpha >= 7.094 step to
-// first order. Sufficient, not least: E rarely aligns with H(target)'s
+// first order: SM_MSM_QUANTISATION_FACTOR (techniques/technique.h) is
+// just above that. Sufficient, not least: E rarely aligns with H(target)'s
 // weakest direction. Without it the quadratic's roots can land anywhere:
 // with alpha 3e-5 on a 4096² map (k = 13) 78 % of the lit pixels went
 // dark.
 float msm_quantisation_bias(float step)
 {
-    return 7.1 * step;
+    return SM_MSM_QUANTISATION_FACTOR * step;
 }
 
 // The quadratic's roots z2 <= z3; NaN or infinite where B is singular.

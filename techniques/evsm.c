@@ -61,9 +61,7 @@ static const struct technique_param evsm_params[] = {
     {"negative_exponent", "c- of the warp -e^{-c- (2d - 1)} (evsm4); at most 42",
      offsetof(struct evsm_settings, negative_exponent), PARAM_FLOAT, 5.0, 0.5, SM_EVSM_MAX_EXPONENT, NULL,
      TUNE(1, 2.5, 5, 10, 20, 40)},
-    {"blur_radius_texels", "Gaussian prefilter of the warped moments, radius in texels (sigma = r/2)",
-     offsetof(struct evsm_settings, blur_radius_texels), PARAM_INT, 2, 0, SM_MAX_BLUR_RADIUS_TEXELS, NULL,
-     TUNE(0, 1, 2, 3, 4, 6, 8, 12, 16, 24, 32)},
+    PARAM_ROW_BLUR_RADIUS(struct evsm_settings, "warped moments"),
     {"min_variance", "floor on the variance of depth, linear depth units squared, carried into each warp "
      "through its slope (an umbra is lit by about 4 c^2 times it)", offsetof(struct evsm_settings, min_variance),
      PARAM_FLOAT, 1e-8, 0.0, 1e-4, NULL, TUNE(1e-10, 1e-9, 1e-8, 1e-7, 1e-6)},

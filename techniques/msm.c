@@ -65,9 +65,7 @@ static const struct technique_param msm_params[] = {
      TUNE(3e-7, 3e-6, 3e-5, 3e-4, 3e-3)},
     {"depth_bias", "subtracted from the receiver's linear depth before the test",
      offsetof(struct msm_settings, depth_bias), PARAM_FLOAT, 0.0, 0.0, 0.05, NULL, TUNE(0, 1e-4, 1e-3, 1e-2)},
-    {"blur_radius_texels", "Gaussian prefilter of the moments, radius in texels (sigma = r/2)",
-     offsetof(struct msm_settings, blur_radius_texels), PARAM_INT, 2, 0, SM_MAX_BLUR_RADIUS_TEXELS, NULL,
-     TUNE(0, 1, 2, 3, 4, 6, 8, 12, 16, 24, 32)},
+    PARAM_ROW_BLUR_RADIUS(struct msm_settings, "moments"),
     {NULL},
 };
 

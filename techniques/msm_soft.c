@@ -31,7 +31,7 @@
  *   light_size_scale      multiplies the scene's light size.
  *   moment_bias           alpha, as msm: guards fp32 arithmetic, bleeds as
  *                         it grows. int32 adds msm_quantisation_bias(2^-k)
- *                         = 7.1 2^-k (msm_common.glsl), a bias that
+ *                         = SM_MSM_QUANTISATION_FACTOR 2^-k (msm_common.glsl), a bias that
  *                         guarantees rounded moments' Hankel matrix
  *                         positive definite: 2.2e-4 at k = 15. Without it, at k =
  *                         13 (a 4096² map) 78 % of the lit pixels went
@@ -50,6 +50,7 @@
  * bounds both by alpha / P², P the receiver's distances to the depths in
  * front of it). */
 #include "param_rows.h"
+#include "base/util.h"
 
 struct msm_soft_settings {
     int sat_format;              /* index into msm_soft_sat_formats */
@@ -68,13 +69,11 @@ static const struct technique_param msm_soft_params[] = {
      offsetof(struct msm_soft_settings, sat_format), PARAM_ENUM, 1, 0, 0, msm_soft_sat_formats, NULL},
     PARAM_ROW_LIGHT_SIZE_SCALE(struct msm_soft_settings),
     {"moment_bias", "alpha, the moments drawn towards a spread distribution's: guards rounding, "
-     "bleeds as it grows; int32 adds 7.1 x its fixed-point step",
+     "bleeds as it grows; int32 adds " UTIL_STR(SM_MSM_QUANTISATION_FACTOR) " x its fixed-point step",
      offsetof(struct msm_soft_settings, moment_bias), PARAM_FLOAT, 3e-5, 1e-7, 0.01, NULL, TUNE(3e-6, 3e-5, 3e-4)},
     {"depth_bias", "subtracted from the receiver's linear depth before both queries",
      offsetof(struct msm_soft_settings, depth_bias), PARAM_FLOAT, 0.0, 0.0, 0.05, NULL, TUNE(0, 1e-3, 1e-2)},
-    {"min_blocker_fraction", "blocked share of the search box below which it is lit",
-     offsetof(struct msm_soft_settings, min_blocker_fraction), PARAM_FLOAT, 0.001, 0.0, 0.5, NULL,
-     TUNE(0.0, 0.001, 0.01, 0.05)},
+    PARAM_ROW_MIN_BLOCKER_FRACTION(struct msm_soft_settings, "blocked share"),
     {NULL},
 };
 

@@ -36,6 +36,18 @@
      "is rescaled (0 = off)", offsetof(settings, bleed_reduction), PARAM_FLOAT, 0.0, 0.0, 0.99, NULL, \
      TUNE(0.0, 0.1, 0.2, 0.3, 0.5)}
 
+/* what: what is filtered, e.g. "moments", "warped moments". */
+#define PARAM_ROW_BLUR_RADIUS(settings, what)                                              \
+    {"blur_radius_texels", "Gaussian prefilter of the " what ", radius in texels (sigma = r/2)", \
+     offsetof(settings, blur_radius_texels), PARAM_INT, 2, 0, SM_MAX_BLUR_RADIUS_TEXELS, NULL, \
+     TUNE(0, 1, 2, 3, 4, 6, 8, 12, 16, 24, 32)}
+
+/* share: how the blocked share is had, e.g. "estimated blocked share". */
+#define PARAM_ROW_MIN_BLOCKER_FRACTION(settings, share)                                    \
+    {"min_blocker_fraction", share " of the search box below which it is lit",             \
+     offsetof(settings, min_blocker_fraction), PARAM_FLOAT, 0.001, 0.0, 0.5, NULL,           \
+     TUNE(0.0, 0.001, 0.01, 0.05)}
+
 #define PARAM_ROW_SAT_FORMAT(settings)                                                     \
     {"sat_format", "summed-area table precision: fp32, fp32_centered (sums of d - 0.5), "  \
      "int32 (exact)", offsetof(settings, sat_format), PARAM_ENUM, SAT_INT32, 0, 0, sat_format_names, TUNE_CHOICES}

@@ -41,9 +41,7 @@ static const struct technique_param pcss_savsm_params[] = {
     PARAM_ROW_SAT_FORMAT(struct pcss_savsm_settings),
     PARAM_ROW_LIGHT_SIZE_SCALE(struct pcss_savsm_settings),
     PARAM_ROW_MIN_VARIANCE(struct pcss_savsm_settings),
-    {"min_blocker_fraction", "estimated blocked share of the search box below which it is lit",
-     offsetof(struct pcss_savsm_settings, min_blocker_fraction), PARAM_FLOAT, 0.001, 0.0, 0.5, NULL,
-     TUNE(0.0, 0.001, 0.01, 0.05)},
+    PARAM_ROW_MIN_BLOCKER_FRACTION(struct pcss_savsm_settings, "estimated blocked share"),
     PARAM_ROW_BLEED_REDUCTION(struct pcss_savsm_settings),
     {NULL},
 };

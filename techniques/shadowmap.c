@@ -493,7 +493,8 @@ void shadowmap_shader_defines(struct strbuf *out)
 #define X(id, name) strbuf_printf(out, "#define SM_SAT_" #id " %d\n", SAT_##id);
     SAT_FORMATS(X)
 #undef X
-    strbuf_printf(out, "#define SM_MAX_BLUR_RADIUS %d\n", SM_MAX_BLUR_RADIUS_TEXELS);
+    strbuf_printf(out, "#define SM_MAX_BLUR_RADIUS %d\n#define SM_MSM_QUANTISATION_FACTOR %s\n",
+                  SM_MAX_BLUR_RADIUS_TEXELS, UTIL_STR(SM_MSM_QUANTISATION_FACTOR));
     /* SM_UNROLL_n(F): F(0) ... F(n-1) in blocks of 32, 16, 4 and 1 (the
      * SM_T* macros of shadow_taps.glsl). */
     for (int i = -1; i < TAP_COUNT_KINDS; i++) {  /* -1: SM_UNROLL_0, no taps */

@@ -68,6 +68,12 @@ extern const char *const sat_format_names[];
  * The product refuses a larger one (the parameters' ranges stop there). */
 #define SM_EVSM_MAX_EXPONENT 42.0f
 
+/* The bias per fixed-point step that keeps the Hankel matrix of an int32
+ * msm_sat box's rounded moments positive definite (msm_quantisation_bias
+ * in shaders/msm_common.glsl derives it: sufficient from 7.094 on, taken
+ * just above). GLSL sees SM_MSM_QUANTISATION_FACTOR. */
+#define SM_MSM_QUANTISATION_FACTOR 7.1
+
 /* What one technique asks of the shared layer: products and their options,
  * a block per product that has any. Two cells whose requests agree on a
  * product share it; a different option (another blur radius) re-renders it.

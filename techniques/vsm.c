@@ -30,9 +30,7 @@ struct vsm_settings {
 };
 
 static const struct technique_param vsm_params[] = {
-    {"blur_radius_texels", "Gaussian prefilter of the moments, radius in texels (sigma = r/2)",
-     offsetof(struct vsm_settings, blur_radius_texels), PARAM_INT, 2, 0, SM_MAX_BLUR_RADIUS_TEXELS,
-     NULL, TUNE(0, 1, 2, 3, 4, 6, 8, 12, 16, 24, 32)},
+    PARAM_ROW_BLUR_RADIUS(struct vsm_settings, "moments"),
     PARAM_ROW_MIN_VARIANCE(struct vsm_settings),
     PARAM_ROW_BLEED_REDUCTION(struct vsm_settings),
     {NULL},

@@ -6,7 +6,11 @@
 # shows it with its parameters, run renders it exactly as pcf (the same
 # shader under another name: the same metrics, to the last digit), tune
 # tunes it, and check finds its regression cells (its descriptor's, copied
-# from pcf's) without baselines and says how to record them.
+# from pcf's) without baselines and says how to record them. The copy is a
+# git repository, committed before pcf_copy is added: tune --write-tuned
+# and check --update refuse its uncommitted technique (one line, exit 2)
+# unless --allow-uncommitted, which the files record, and record it
+# without once it is committed.
 # Usage: test_add_technique.sh <source root>
 set -u
 root=$1
@@ -20,6 +24,8 @@ if git -C "$root" rev-parse --git-dir >/dev/null 2>&1; then
 else
     cp -r "$root"/. "$scratch" && rm -rf "$scratch"/build* "$scratch"/results/runs "$scratch"/results/cache
 fi
+git="git -C $scratch -c user.name=test -c user.email=test@localhost"
+$git init -q && $git add -A && $git commit -qm "the tree" || fail "a git repository of the copy"
 t=$scratch/techniques s=$scratch/shaders
 # The two files: every name of pcf's that is its own (its settings struct,
 # table, hooks, descriptor; its shader's #defines) spelled pcf_copy.
@@ -54,4 +60,25 @@ rc=$?
 cells=$(printf '%s\n' "$out" | grep -c '^  no baseline .* pcf_copy.*shadowbench check --update --scene .* --technique pcf_copy')
 # its default cell on each scene and its 7 declared cells (4 on parallel_planes, 3 on grazing_receiver)
 [ "$cells" = 9 ] || fail "check named $cells cells of pcf_copy without a baseline, wanted 9: $out"
-echo "pcf_copy: listed, run (the same metrics as pcf), tuned, and $cells cells without a baseline in check"
+# Recording from a tree whose technique is not committed: refused, one line, exit 2.
+out=$("$sb" tune --technique pcf_copy --scene parallel_planes --scene contact_hardening --write-tuned \
+    --tuned "$scratch/tuned" --out "$scratch/tune2" 2>&1)
+rc=$?
+want="shadowbench: error: tune --write-tuned: the source tree has uncommitted changes to code that renders or scores"
+[ $rc = 2 ] && [ "$(printf '%s\n' "$out" | wc -l)" = 1 ] && case "$out" in "$want"*) true ;; *) false ;; esac ||
+    fail "tune --write-tuned on a changed tree: exit $rc: $out"
+out=$("$sb" check --update --technique pcf_copy --scene parallel_planes --out "$scratch/check" 2>&1)
+[ $? = 2 ] || fail "check --update on a changed tree was not refused: $out"
+# --allow-uncommitted records, and says so in the file.
+"$sb" check -q --update --allow-uncommitted --technique pcf_copy --scene parallel_planes --out "$scratch/check" \
+    >/dev/null || fail "check --update --allow-uncommitted"
+base=$scratch/results/baselines/parallel_planes/pcf_copy.json
+grep -q '"source_tree":[[:space:]]*"uncommitted changes' "$base" && grep -q '"command_line":.*--allow-uncommitted' "$base" ||
+    fail "$base does not record the uncommitted tree and the override"
+# Committed: recorded without an override, and the file says so.
+$git add -A && $git commit -qm "pcf_copy" || fail "committing pcf_copy"
+"$sb" check -q --update --technique pcf_copy --scene parallel_planes --out "$scratch/check" >/dev/null ||
+    fail "check --update on the committed tree"
+grep -q '"source_tree":[[:space:]]*"committed"' "$base" || fail "$base does not record the committed tree"
+echo "pcf_copy: listed, run (the same metrics as pcf), tuned, $cells cells without a baseline in check;" \
+     "recording refused from the uncommitted tree, recorded with the override and once committed"

@@ -26,7 +26,7 @@ expect() {
         echo "ok: check $* -> $rc, '$pattern'"
     fi
 }
-record() { "$sb" check -q --update --scene parallel_planes --technique hard,pcf --baselines "$B" \
+record() { "$sb" check -q --update --allow-uncommitted --scene parallel_planes --technique hard,pcf --baselines "$B" \
                --out "$tmp/out" --cache "$tmp/cache" >/dev/null 2>&1 || { echo "FAILED: --update"; failed=$((failed + 1)); }; }
 # edit SED-EXPRESSION: rewrites the hard cell's JSON in place.
 edit() { sed -i -e "$1" "$cell"; }
@@ -55,7 +55,7 @@ expect 1 "improved .*hard" --technique hard --strict
 # wider than its radius says, checked with the real one.
 cp -r "$(dirname "$0")/../shaders" "$tmp/shaders"
 sed -i 's/PCF_RADIUS_TEXELS \*/1.5 * PCF_RADIUS_TEXELS */' "$tmp/shaders/pcf.glsl"
-"$sb" check -q --update --scene parallel_planes --technique pcf --baselines "$B" --out "$tmp/out" \
+"$sb" check -q --update --allow-uncommitted --scene parallel_planes --technique pcf --baselines "$B" --out "$tmp/out" \
     --cache "$tmp/cache" --shaders "$tmp/shaders" >/dev/null 2>&1
 expect 1 "pixels moved" --technique pcf
 [ -f "$tmp/out/check.html" ] && grep -q "pcf" "$tmp/out/check.html" && [ -f "$tmp/out/parallel_planes/pcf.png" ] ||

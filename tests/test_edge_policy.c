@@ -15,6 +15,7 @@
 #include "glsl_probe.h"
 #include "run_cmd.h"
 #include "base/image.h"
+#include "score/metrics.h"
 #include "techniques/technique.h"
 
 #include <math.h>
@@ -305,7 +306,7 @@ static int mark_edge(const float *v_gt, const float *mask, bool *near, bool *dee
         for (int x = 0; x < W; x++) {
             int i = y * W + x;
             near[i] = mask[i] >= 0.5f && any_within(v_gt, mask, x, y, NEAR_EDGE_PX, false, -INFINITY);
-            deep[i] = near[i] && !any_within(v_gt, mask, x, y, DEEP_PX, true, 0.05f);
+            deep[i] = near[i] && !any_within(v_gt, mask, x, y, DEEP_PX, true, (float)METRICS_LEAK_GT);
             near_count += near[i], deep_count += deep[i];
         }
     printf("near the map's edge: %d scored pixels, %d in deep umbra\n", near_count, deep_count);
@@ -322,7 +323,7 @@ static void no_light_in_umbra(const char *technique, const float *v, const bool 
 {
     int lit = 0;
     for (int i = 0; v && i < W * H; i++)
-        lit += deep[i] && v[i] > 0.25f;
+        lit += deep[i] && v[i] > (float)METRICS_LEAK_TECH;
     CHECK(v && lit == 0, "%s lights %d of %d deep-umbra pixels at the map's edge", technique, lit,
           deep_count);
 }

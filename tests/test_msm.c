@@ -28,7 +28,11 @@ static char dir[] = "/tmp/sb_test_msm_XXXXXX";
 #define PROBE_H 64
 #define CASES (PROBE_W * PROBE_H)
 #define MSM_ALPHA 3e-5f  /* msm and msm_soft's default moment bias (fp32 arithmetic) */
-#define QUANTISATION_BIAS 7.1  /* what msm_quantisation_bias must add per step (msm_common.glsl) */
+/* msm_quantisation_bias's derivation (msm_common.glsl), done here: with the
+ * error matrix's norm at most sqrt(2) step and the target's Hankel matrix's
+ * least eigenvalue (1.375 - sqrt(0.953125)) / 2, alpha >= this x step
+ * suffices, to first order. */
+#define QUANTISATION_DERIVED (sqrt(2.0) / ((1.375 - sqrt(0.953125)) / 2))
 enum { PROBE_BINDING = 7 };    /* clear of the layer's storage bindings */
 
 /* The probe: case i is two vec4s, the moments b and (z, alpha, step,
@@ -145,7 +149,7 @@ static const char *const kind_names[6] = {
  * where a share is in front. */
 static double score(GLuint program, double step, bool floor, const char *what)
 {
-    const double K = 4.0, alpha = MSM_ALPHA + (floor ? QUANTISATION_BIAS * step : 0.0);
+    const double K = 4.0, alpha = MSM_ALPHA + (floor ? SM_MSM_QUANTISATION_FACTOR * step : 0.0);
     const bool hausdorff = step <= ldexp(1.0, -24);
     static struct msm_case cases[CASES];
     static struct truth truths[CASES];
@@ -389,6 +393,12 @@ int main(void)
         CHECK(false, "set-up");
         return check_finish();
     }
+    /* The factor the shaders use is sufficient (at least the derivation's)
+     * and close to it (its bias bleeds: grown further, it would also widen
+     * the tolerances below, which are in units of alpha). */
+    CHECK(SM_MSM_QUANTISATION_FACTOR >= QUANTISATION_DERIVED && SM_MSM_QUANTISATION_FACTOR <= 1.001 * QUANTISATION_DERIVED,
+          "SM_MSM_QUANTISATION_FACTOR %g is not in [%g, 1.001 x that], its derivation", SM_MSM_QUANTISATION_FACTOR,
+          QUANTISATION_DERIVED);
     char *defines = util_printf("#define PROBE_W %d\n#define PROBE_BINDING %d\n", PROBE_W, PROBE_BINDING);
     GLuint program = glsl_probe_program(dir, probe_source, defines);
     free(defines);

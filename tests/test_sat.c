@@ -217,7 +217,8 @@ int main(void)
     struct scene s;
     struct scene_mesh mesh = {0};
     struct shadowmap sm = {0};
-    if (scene_load(path, &s) != 0 || gl_context_create(GL_BACKEND_OSMESA) != 0 || shader_init(NULL) != 0) {
+    if (scene_load(path, &s) != 0 || gl_context_create(GL_BACKEND_OSMESA) != 0 || !gl_context_load_test_functions() ||
+        shader_init(NULL) != 0) {
         CHECK(false, "set-up");
         return check_finish();
     }

@@ -162,7 +162,7 @@ static void command(void)
 {
     char *cmd = util_printf("%s tune --technique hard --scene parallel_planes --scene contact_hardening "
                             "--width 64 --height 64 --gt-samples 16 --frames 1 --no-cache -q --out %s/tune "
-                            "--write-tuned --tuned %s/tuned", sb, dir, dir);
+                            "--write-tuned --allow-uncommitted --tuned %s/tuned", sb, dir, dir);
     struct strbuf err = {0};
     CHECK(run_cmd(cmd, &err, NULL) == 0, "tune: %s", err.data);
     strbuf_free(&err);
@@ -289,6 +289,7 @@ static void command(void)
     char *notes = util_printf("%s/notes.txt", empty);
     util_write_file_atomic(notes, "mine", 4);
     bad = util_printf("%s tune --technique hard --scene parallel_planes --scene contact_hardening --write-tuned "
+                      "--allow-uncommitted "
                       "--tuned %s --out %s/t2", sb, empty, dir);
     want = util_printf("shadowbench: error: --tuned %s: holds notes.txt, which tune does not write: name a folder "
                        "of tuned settings\n", empty);

@@ -65,6 +65,7 @@ struct options {
     const char *baselines_dir;           /* check: the baselines read (and written by update) */
     bool update;                         /* check: record the selected baselines anew */
     bool strict;                         /* check: an improvement fails too */
+    bool allow_uncommitted;              /* check --update, tune --write-tuned: record from a changed tree */
     const char *tuned_dir;               /* run, check: tuned settings read; tune: written */
     bool tuned_given;                    /* --tuned was given */
     enum config_mode settings_mode;      /* run: default, tuned or both cells */
@@ -135,6 +136,11 @@ int cli_load_scenes(const struct options *o, const char *const *defaults, int de
 /* the shaders and the GL context of o's --shaders and --gl: 0 or -1 (bad
  * usage: a --shaders that is not one, a context that cannot be made here). */
 int cli_gl_open(const struct options *o, enum gl_backend backend);
+
+/* Recording committed results (check --update, tune --write-tuned, named
+ * by `what`) needs committed code: 0, or -1 after one line saying what
+ * changed, unless --allow-uncommitted (which the files record). */
+int cli_require_committed(const struct options *o, const char *what);
 
 /* run.json's record of o (run.c): the provenance (timed: whether the
  * command times stages), the sizes and frames, and the seconds it took. */

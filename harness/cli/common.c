@@ -1,7 +1,9 @@
 /* What every command does the same way before its work. */
 #include "cli.h"
 #include "gl/shader.h"
+#include "base/log.h"
 #include "output/out_dir.h"
+#include "output/provenance.h"
 #include "scene/catalog.h"
 
 int cli_load_scenes(const struct options *o, const char *const *defaults, int default_count, struct scene *scenes,
@@ -16,4 +18,20 @@ int cli_gl_open(const struct options *o, enum gl_backend backend)
 {
     /* a bad --shaders is bad usage; so is a context that cannot be made here */
     return shader_init(o->shader_dir) != 0 || gl_context_create(backend) != 0 ? -1 : 0;
+}
+
+int cli_require_committed(const struct options *o, const char *what)
+{
+    char changed[512];
+    const enum source_state state = provenance_source_state(changed, sizeof changed);
+    if (state == SOURCE_CLEAN || o->allow_uncommitted)
+        return 0;
+    if (state == SOURCE_CHANGED)
+        log_error("%s: the source tree has uncommitted changes to code that renders or scores (%s, ...): what "
+                  "it records would name a build nobody can reproduce; commit them, or pass --allow-uncommitted "
+                  "(recorded in the files it writes)", what, changed);
+    else
+        log_error("%s: the source tree (%s) is not a git checkout, so what it records cannot name the code it "
+                  "came from; pass --allow-uncommitted (recorded in the files it writes)", what, SB_SOURCE_DIR);
+    return -1;
 }

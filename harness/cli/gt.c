@@ -39,7 +39,8 @@ int gt_main(const struct options *o)
             log_error("%s: no pixel to score: the camera sees no surface inside the light's frustum that sees "
                       "the light above its horizon", s.path);
         else if (output_groundtruth(dir, &gt, gt.mask) == 0) {
-            printf("%s/groundtruth.exr\nnoise floor (rms error of V at %d samples): %.5f\n", dir, o->gt_samples,
+            printf("%s/%s\nnoise floor (rms error of V at %d samples): %.5f\n", dir, cell_files[CELL_GROUNDTRUTH_EXR],
+                   o->gt_samples,
                    gt_noise_floor(gt.noise, gt.mask, pixels));
             status = EXIT_OK;
         }

@@ -277,6 +277,9 @@ const struct option_row option_rows[] = {
      UTIL_STR(BASELINE_SEEDS) " ground-truth seeds. Commit them with the change that moved them, after looking at "
      "the page"},
     {"strict", 0, NULL, ON(CHECK), OPTION_FLAG, FIELD(strict), 0, 0, NULL, "an improvement fails too"},
+    {"allow-uncommitted", 0, NULL, ON(CHECK) | ON(TUNE), OPTION_FLAG, FIELD(allow_uncommitted), 0, 0, NULL,
+     "record (--update, --write-tuned) from a source tree whose code that renders or scores has uncommitted "
+     "changes, which is refused otherwise; the files say so (their source_tree and command_line)"},
     {"objective", 0, "M", ON(TUNE), OPTION_NONE, 0, 0, 0, set_objective,
      "the error minimised, averaged over the scenes: penumbra_rmse (default), rmse or shaded_rmse"},
     {"write-tuned", 0, NULL, ON(TUNE), OPTION_FLAG, FIELD(write_tuned), 0, 0, NULL,

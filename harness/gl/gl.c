@@ -7,9 +7,10 @@
 
 #define X(type, name) GL_ENTRY_POINT type name;
 GL_FUNCS(X)
+GL_TEST_FUNCS(X)
 #undef X
 
-bool gl_load(gl_proc (*getproc)(const char *name))
+bool gl_load(gl_proc (*getproc)(const char *name), bool with_tests)
 {
     bool ok = true;
 #define X(type, name)                                              \
@@ -19,6 +20,9 @@ bool gl_load(gl_proc (*getproc)(const char *name))
         ok = false;                                                \
     }
     GL_FUNCS(X)
+    if (with_tests) {
+        GL_TEST_FUNCS(X)
+    }
 #undef X
     return ok;
 }

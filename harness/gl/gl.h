@@ -26,7 +26,6 @@
     X(PFNGLTEXSTORAGE2DPROC, glTexStorage2D) \
     X(PFNGLTEXPARAMETERIPROC, glTexParameteri) \
     X(PFNGLBINDTEXTUREUNITPROC, glBindTextureUnit) \
-    X(PFNGLGETTEXIMAGEPROC, glGetTexImage) \
     X(PFNGLGENERATEMIPMAPPROC, glGenerateMipmap) \
     X(PFNGLGENFRAMEBUFFERSPROC, glGenFramebuffers) \
     X(PFNGLDELETEFRAMEBUFFERSPROC, glDeleteFramebuffers) \
@@ -43,7 +42,6 @@
     X(PFNGLBUFFERDATAPROC, glBufferData) \
     X(PFNGLBUFFERSUBDATAPROC, glBufferSubData) \
     X(PFNGLBINDBUFFERBASEPROC, glBindBufferBase) \
-    X(PFNGLGETBUFFERSUBDATAPROC, glGetBufferSubData) \
     X(PFNGLGENVERTEXARRAYSPROC, glGenVertexArrays) \
     X(PFNGLDELETEVERTEXARRAYSPROC, glDeleteVertexArrays) \
     X(PFNGLBINDVERTEXARRAYPROC, glBindVertexArray) \
@@ -87,6 +85,12 @@
     X(PFNGLUNIFORM1FVPROC, glUniform1fv) \
     X(PFNGLUNIFORM2FVPROC, glUniform2fv)
 
+/* The read-backs only the tests call (a product's texture or buffer
+ * contents): loaded by gl_load_test_functions, never by the program. */
+#define GL_TEST_FUNCS(X) \
+    X(PFNGLGETTEXIMAGEPROC, glGetTexImage) \
+    X(PFNGLGETBUFFERSUBDATAPROC, glGetBufferSubData)
+
 /* Each entry point is a pointer with the function's own name, so code calls
  * glFoo(...) as written. glcorearb.h declares no prototypes (that takes
  * GL_GLEXT_PROTOTYPES), so these are the only declarations; hidden
@@ -95,13 +99,14 @@
 #define GL_ENTRY_POINT __attribute__((visibility("hidden")))
 #define X(type, name) extern GL_ENTRY_POINT type name;
 GL_FUNCS(X)
+GL_TEST_FUNCS(X)
 #undef X
 
 typedef void (*gl_proc)(void);
 
-/* Loads every function of GL_FUNCS; logs each missing one and returns false
- * if any is missing. */
-bool gl_load(gl_proc (*getproc)(const char *name));
+/* Loads every function of GL_FUNCS (with_tests: and GL_TEST_FUNCS); logs
+ * each missing one and returns false if any is missing. */
+bool gl_load(gl_proc (*getproc)(const char *name), bool with_tests);
 
 /* Installs the GL debug-output callback (messages go to the log) and labels
  * objects: call once per context. */

@@ -27,7 +27,7 @@ int gl_context_create(enum gl_backend backend)
     if (ops->create(platform, sizeof platform) != 0)
         return -1;
     current = ops;
-    if (!gl_load(ops->getproc)) {
+    if (!gl_load(ops->getproc, false)) {
         gl_context_destroy();
         return -1;
     }
@@ -40,6 +40,11 @@ int gl_context_create(enum gl_backend backend)
     log_debug("OpenGL: %s, %s, %s, through %s", gl_context_renderer(), gl_context_vendor(), gl_context_version(),
               platform);
     return 0;
+}
+
+bool gl_context_load_test_functions(void)
+{
+    return current && gl_load(current->getproc, true);
 }
 
 void gl_context_destroy(void)

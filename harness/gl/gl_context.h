@@ -21,6 +21,10 @@ int gl_backend_parse(const char *name, enum gl_backend *out);
 int gl_context_create(enum gl_backend backend);
 void gl_context_destroy(void);
 
+/* Loads the read-backs only tests call (gl.h: GL_TEST_FUNCS) into the
+ * current context. */
+bool gl_context_load_test_functions(void);
+
 /* GL_RENDERER, GL_VENDOR and GL_VERSION of the current context, and where
  * it runs ("OSMesa", "EGL device 0", "EGL surfaceless"); "none" without. */
 const char *gl_context_renderer(void);

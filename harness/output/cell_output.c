@@ -5,13 +5,19 @@
 
 #include <stdlib.h>
 
-/* <dir>/<name>.png: V in grey, unscored pixels hatched where scored is given. */
-static int write_visibility_png(const char *dir, const char *name, const float *v, const float *distance,
+const char *const cell_files[CELL_FILE_COUNT] = {
+#define X(id, name) name,
+    CELL_FILES(X)
+#undef X
+};
+
+/* <dir>/<file>: V in grey, unscored pixels hatched where scored is given. */
+static int write_visibility_png(const char *dir, enum cell_file file, const float *v, const float *distance,
                                 const float *scored, int w, int h)
 {
     struct picture p;
     picture_visibility(v, distance, scored, w, h, &p);
-    char *path = util_printf("%s/%s.png", dir, name);
+    char *path = util_printf("%s/%s", dir, cell_files[file]);
     int rc = image_write_png(path, p.width, p.height, p.rgb);
     free(path);
     picture_free(&p);
@@ -25,14 +31,15 @@ int output_cell_images(const char *dir, const struct cell_images *im)
     float *error = xmalloc(sizeof(float) * count);
     for (size_t i = 0; i < count; i++)
         error[i] = im->scored[i] > 0.5f ? im->v[i] - im->v_gt[i] : 0.0f;
-    char *vis_exr = util_printf("%s/visibility.exr", dir), *err_exr = util_printf("%s/error.exr", dir);
-    char *heat = util_printf("%s/heatmap.png", dir);
+    char *vis_exr = util_printf("%s/%s", dir, cell_files[CELL_VISIBILITY_EXR]),
+         *err_exr = util_printf("%s/%s", dir, cell_files[CELL_ERROR_EXR]),
+         *heat = util_printf("%s/%s", dir, cell_files[CELL_HEATMAP_PNG]);
     struct picture hm;
     picture_error_heatmap(im->v, im->v_gt, im->scored, w, h, &hm);
     int rc = util_mkdirs(dir) ||
              image_write_exr(vis_exr, w, h, &(struct exr_channel){"V", (float *)im->v}, 1, NULL) ||
              image_write_exr(err_exr, w, h, &(struct exr_channel){"E", error}, 1, NULL) ||
-             write_visibility_png(dir, "visibility", im->v, im->distance, NULL, w, h) ||
+             write_visibility_png(dir, CELL_VISIBILITY_PNG, im->v, im->distance, NULL, w, h) ||
              image_write_png(heat, hm.width, hm.height, hm.rgb);
     picture_free(&hm);
     free(vis_exr), free(err_exr), free(heat), free(error);
@@ -41,7 +48,7 @@ int output_cell_images(const char *dir, const struct cell_images *im)
 
 int output_cell_metrics(const char *dir, const struct cell *c)
 {
-    char *json = util_printf("%s/metrics.json", dir);
+    char *json = util_printf("%s/%s", dir, cell_files[CELL_METRICS_JSON]);
     cJSON *mj = report_cell_json(c);
     int rc = report_write_json(json, mj);
     cJSON_Delete(mj);
@@ -51,11 +58,11 @@ int output_cell_metrics(const char *dir, const struct cell *c)
 
 int output_groundtruth(const char *dir, const struct gt_image *gt, const float *mask)
 {
-    char *path = util_printf("%s/groundtruth.exr", dir);
+    char *path = util_printf("%s/%s", dir, cell_files[CELL_GROUNDTRUTH_EXR]);
     struct exr_channel ch[] = {{"V", gt->v}, {"V_weighted", gt->v_weighted}, {"H", gt->h},
                                {"E", gt->e}, {"mask", (float *)mask}};
     int rc = image_write_exr(path, gt->width, gt->height, ch, 5, NULL) ||
-             write_visibility_png(dir, "groundtruth", gt->v, gt->distance, mask, gt->width, gt->height);
+             write_visibility_png(dir, CELL_GROUNDTRUTH_PNG, gt->v, gt->distance, mask, gt->width, gt->height);
     free(path);
     return rc ? -1 : 0;
 }

@@ -6,6 +6,21 @@
 #include "report.h"
 #include "truth/groundtruth.h"
 
+/* X(ID, name): the files of a cell's folder (<out>/<scene>/<cell>/) and of
+ * a scene's (<out>/<scene>/), each name written once. */
+#define CELL_FILES(X)                                                                          \
+    X(VISIBILITY_EXR, "visibility.exr") X(ERROR_EXR, "error.exr") X(VISIBILITY_PNG, "visibility.png") \
+    X(HEATMAP_PNG, "heatmap.png") X(METRICS_JSON, "metrics.json") X(GROUNDTRUTH_EXR, "groundtruth.exr")   \
+    X(GROUNDTRUTH_PNG, "groundtruth.png")
+
+enum cell_file {
+#define X(id, name) CELL_##id,
+    CELL_FILES(X)
+#undef X
+    CELL_FILE_COUNT
+};
+extern const char *const cell_files[CELL_FILE_COUNT];
+
 /* The images of one cell and what they are compared with; width x height,
  * top row first. */
 struct cell_images {

@@ -5,6 +5,7 @@
 #include <OpenEXR/openexr.h>
 #include <embree3/rtcore.h>
 
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,6 +28,40 @@ char *provenance_utc_date(void)
     time_t now = time(NULL);
     strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", gmtime(&now));
     return xstrdup(date);
+}
+
+/* The paths whose changes change what is rendered or scored. */
+static const char source_paths[] = "harness techniques shaders scenes CMakeLists.txt";
+
+enum source_state provenance_source_state(char *what, size_t size)
+{
+    char *cmd = util_printf("git -C '%s' status --porcelain --untracked-files=all -- %s 2>/dev/null && echo ok",
+                            SB_SOURCE_DIR, source_paths);
+    FILE *p = popen(cmd, "r");
+    free(cmd);
+    char line[1024];
+    bool ok = false, changed = false;
+    snprintf(what, size, "%s", "");
+    while (p && fgets(line, sizeof line, p)) {
+        line[strcspn(line, "\n")] = '\0';
+        if (strcmp(line, "ok") == 0) {
+            ok = true;
+        } else if (strlen(line) > 3) {
+            if (!changed)
+                snprintf(what, size, "%s", line + 3);
+            changed = true;
+        }
+    }
+    if (p)
+        pclose(p);
+    return !ok ? SOURCE_UNKNOWN : changed ? SOURCE_CHANGED : SOURCE_CLEAN;
+}
+
+const char *provenance_source_text(enum source_state s)
+{
+    return s == SOURCE_CLEAN     ? "committed"
+           : s == SOURCE_CHANGED ? "uncommitted changes to code that renders or scores"
+                                 : "not a git checkout";
 }
 
 char *provenance_git_describe(void)
@@ -68,6 +103,8 @@ cJSON *provenance_json(int argc, char **argv, bool timed, enum stage_timing timi
     cJSON_AddStringToObject(r, "command_line", cmd);
     cJSON_AddStringToObject(r, "shadowbench_version", SB_VERSION);
     cJSON_AddStringToObject(r, "git_describe", git);
+    char changed[512];
+    cJSON_AddStringToObject(r, "source_tree", provenance_source_text(provenance_source_state(changed, sizeof changed)));
     cJSON_AddStringToObject(r, "gl_renderer", gl_context_renderer());
     cJSON_AddStringToObject(r, "gl_vendor", gl_context_vendor());
     cJSON_AddStringToObject(r, "gl_version", gl_context_version());

@@ -1,7 +1,7 @@
 /* Where a result came from (DESIGN.md §8): one record, written with the
  * same keys into run.json, tuned files and baselines (util_json_merge): the
- * command line, the versions, the device, the CPU, the date and `git
- * describe` of the source tree. */
+ * command line, the versions, the device, the CPU, the date, `git describe`
+ * of the source tree and whether its code was committed ("source_tree"). */
 #ifndef SB_PROVENANCE_H
 #define SB_PROVENANCE_H
 
@@ -14,6 +14,18 @@
  * context now current, and how it times stages (timed false: it times
  * nothing). */
 cJSON *provenance_json(int argc, char **argv, bool timed, enum stage_timing timing);
+
+/* The state of the source tree's code that renders or scores (its folders
+ * harness/, techniques/, shaders/, scenes/ and CMakeLists.txt): committed,
+ * or with changes git has not committed (edited or new files), or no git
+ * checkout to tell. */
+enum source_state { SOURCE_CLEAN, SOURCE_CHANGED, SOURCE_UNKNOWN };
+
+/* The state, and (SOURCE_CHANGED) the first path changed into what. */
+enum source_state provenance_source_state(char *what, size_t size);
+
+/* The state in words, as the record's "source_tree" says it. */
+const char *provenance_source_text(enum source_state s);
 
 /* The command line as UTF-8 text (any other byte as U+FFFD); malloc'ed. */
 char *provenance_command_line(int argc, char **argv);

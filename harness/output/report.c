@@ -1,4 +1,5 @@
 #include "report.h"
+#include "cell_output.h"
 #include "chart.h"
 #include "score/frontier.h"
 #include "picture.h"
@@ -406,7 +407,7 @@ static void heatmap_legend(struct strbuf *h, int id)
 static void scene_grid(const struct report *r, const struct report_scene *sc, struct strbuf *h)
 {
     strbuf_printf(h, "<div class=\"grid\">\n<figure>");
-    picture(h, sc->name, NULL, "groundtruth.png", "ground truth");
+    picture(h, sc->name, NULL, cell_files[CELL_GROUNDTRUTH_PNG], "ground truth");
     strbuf_printf(h, "<figcaption>ground truth V<sub>gt</sub> (%s; hatched: not scored)</figcaption>",
                   sc->gt_cached ? "from the cache" : "ray traced for this run");
     heatmap_legend(h, (int)(sc - r->scenes));  /* each gradient needs an id of its own */
@@ -416,10 +417,10 @@ static void scene_grid(const struct report *r, const struct report_scene *sc, st
         if (strcmp(c->scene, sc->name) != 0)
             continue;
         strbuf_printf(h, "<figure>");
-        picture(h, sc->name, c->label, "visibility.png", "visibility");
+        picture(h, sc->name, c->label, cell_files[CELL_VISIBILITY_PNG], "visibility");
         /* The heatmap without its own legend strip: the grid shares one. */
         strbuf_printf(h, "<div class=\"crop\" style=\"aspect-ratio:%d/%d\">", r->width, r->height);
-        picture(h, sc->name, c->label, "heatmap.png", "error heatmap");
+        picture(h, sc->name, c->label, cell_files[CELL_HEATMAP_PNG], "error heatmap");
         strbuf_printf(h, "</div><figcaption><b>");
         strbuf_xml(h, c->label);
         if (metrics_scored(&c->m))

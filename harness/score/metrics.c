@@ -109,8 +109,8 @@ void metrics_compute(const float *v_tech, const struct gt_image *gt, const float
         abs_err[n++] = (float)a;
         if (band[i] > 0.5f)
             pen2 += e * e, pen++;
-        leak += v_gt[i] < 0.05f && v_tech[i] > 0.25f;
-        dark += v_gt[i] > 0.95f && v_tech[i] < 0.75f;
+        leak += v_gt[i] < (float)METRICS_LEAK_GT && v_tech[i] > (float)METRICS_LEAK_TECH;
+        dark += v_gt[i] > (float)METRICS_DARK_GT && v_tech[i] < (float)METRICS_DARK_TECH;
         double shaded = ((double)v_tech[i] - (double)gt->v_weighted[i]) * gt->e[i];
         shaded2 += shaded * shaded, sum_e += gt->e[i];
     }

@@ -4,6 +4,7 @@
 #ifndef SB_METRICS_H
 #define SB_METRICS_H
 
+#include "base/util.h"
 #include "truth/groundtruth.h"
 
 #include <stdbool.h>
@@ -20,6 +21,15 @@
 #define METRICS_PENUMBRA_HI 0.98
 #define METRICS_PENUMBRA_DILATE 2
 
+/* leak_fraction's and dark_fraction's thresholds (DESIGN.md §7): light
+ * leaking is V_tech above LEAK_TECH where V_gt is below LEAK_GT (the true
+ * umbra); over-darkening (acne) is V_tech below DARK_TECH where V_gt is
+ * above DARK_GT. Plain literals: the help text spells them (UTIL_STR). */
+#define METRICS_LEAK_GT 0.05
+#define METRICS_LEAK_TECH 0.25
+#define METRICS_DARK_GT 0.95
+#define METRICS_DARK_TECH 0.75
+
 /* Every metric of a cell, once (STYLE.md item 6a): X(key, C type, printf
  * format for the report, shown in the report's matrix table, help). struct
  * metrics, metrics.json, matrix.csv/json and the report's columns come from
@@ -32,8 +42,10 @@
     X(max_abs, double, "%.4f", false, "largest absolute error")                                  \
     X(p99_abs, double, "%.4f", true, "99th-percentile absolute error (nearest rank)")             \
     X(penumbra_rmse, double, "%.4f", true, "rmse over the penumbra band")                        \
-    X(leak_fraction, double, "%.4f", true, "share of scored pixels with V_gt < 0.05, V_tech > 0.25") \
-    X(dark_fraction, double, "%.4f", true, "share of scored pixels with V_gt > 0.95, V_tech < 0.75") \
+    X(leak_fraction, double, "%.4f", true, "share of scored pixels with V_gt < " UTIL_STR(METRICS_LEAK_GT)         \
+      ", V_tech > " UTIL_STR(METRICS_LEAK_TECH))                                                                \
+    X(dark_fraction, double, "%.4f", true, "share of scored pixels with V_gt > " UTIL_STR(METRICS_DARK_GT)         \
+      ", V_tech < " UTIL_STR(METRICS_DARK_TECH))                                                                \
     X(shaded_rmse, double, "%.4f", true, "rms of (V_tech - V_gt_weighted) E / mean E: the error seen in the shaded image") \
     X(nonfinite, long, "%.0f", true, "NaN/Inf values of V_tech where GL drew geometry")          \
     X(scored_pixels, long, "%.0f", false, "pixels scored")                                       \

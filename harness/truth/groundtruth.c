@@ -404,28 +404,28 @@ static void progress(double start_ms, long long done, long long total, long long
                  s > 0 ? (double)samples / s * 1e-6 : 0.0, eta);
 }
 
-int gt_render(const struct scene *s, const struct light_frustum *f, const struct gt_desc *d,
-              struct gt_image *out)
+enum gt_render_result gt_render(const struct scene *s, const struct light_frustum *f, const struct gt_desc *d,
+                                struct gt_image *out)
 {
     struct tracer tr = {.scene = s, .frustum = f, .desc = *d};
     desc_defaults(&tr.desc);
     if (tr.desc.width <= 0 || tr.desc.height <= 0) {
         log_error("ground truth: no image size (%d x %d)", tr.desc.width, tr.desc.height);
-        return -1;
+        return GT_RENDER_FAILED;
     }
     tr.strata = (int)lround(sqrt((double)tr.desc.samples));
     if (tr.strata * tr.strata != tr.desc.samples) {
         log_error("ground truth: %d samples is not a square n*n", tr.desc.samples);
-        return -1;
+        return GT_RENDER_FAILED;
     }
     tr.eps = GT_OFFSET_SCALE * scene_extent(s);
 
     RTCDevice dev = embree_device();
     if (!dev || !(tr.rtc = build_scene(dev, s)))
-        return -1;
+        return GT_RENDER_FAILED;
     if (!(tr.cull = cull_build(dev, s))) {
         rtcReleaseScene(tr.rtc);
-        return -1;
+        return GT_RENDER_FAILED;
     }
 
     const int w = tr.desc.width, h = tr.desc.height;
@@ -474,7 +474,7 @@ int gt_render(const struct scene *s, const struct light_frustum *f, const struct
     out->msamples_per_second = out->seconds > 0 ? (double)out->samples / out->seconds * 1e-6 : 0;
     rtcReleaseScene(tr.rtc);
     cull_free(tr.cull);
-    return tr.desc.cancel && atomic_load(tr.desc.cancel) ? 1 : 0;
+    return tr.desc.cancel && atomic_load(tr.desc.cancel) ? GT_CANCELLED : GT_RENDERED;
 }
 
 void gt_image_free(struct gt_image *g)

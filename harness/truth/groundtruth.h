@@ -33,7 +33,7 @@ struct gt_desc {
                            (the tests compare the two) */
     bool quiet;         /* no progress line, even on a terminal */
     const atomic_bool *cancel;  /* optional: once it reads true the render stops early, its
-                                   image incomplete (gt_render returns 1) */
+                                   image incomplete (gt_render returns GT_CANCELLED) */
 };
 
 /* A scored pixel sees at least this fraction of the light above its
@@ -58,11 +58,15 @@ struct gt_image {
     long long shadow_rays;  /* of them, traced (the rest were decided without a ray, cull.h) */
 };
 
-/* Renders on all cores, with progress on stderr when it is a terminal.
- * Returns 0, 1 when d->cancel stopped it (out is allocated but incomplete:
- * free it), or -1 (logged). */
-int gt_render(const struct scene *s, const struct light_frustum *f, const struct gt_desc *d,
-              struct gt_image *out);
+enum gt_render_result {
+    GT_RENDER_FAILED = -1,  /* logged */
+    GT_RENDERED = 0,
+    GT_CANCELLED = 1,       /* d->cancel stopped it: out is allocated but incomplete (free it) */
+};
+
+/* Renders on all cores, with progress on stderr (base/log.h). */
+enum gt_render_result gt_render(const struct scene *s, const struct light_frustum *f, const struct gt_desc *d,
+                                struct gt_image *out);
 
 /* The ground truth of a run: read from cache_dir when an entry with the same
  * key exists (scene hash, size, N, seed, frustum, GT_VERSION) and records

@@ -16,7 +16,7 @@ static bool hand_over(struct gt_worker *w, unsigned pose, int rc, int samples, b
     } else if (rc == 0) {
         gt_image_free(g);
     }
-    if (current && rc <= 0) {  /* a cancelled level (1) hands nothing over */
+    if (current && rc != GT_CANCELLED) {  /* a cancelled level hands nothing over */
         if (rc < 0)
             w->done_samples = -1;
         w->done_pose = pose, w->fresh = true, w->finished = last || rc < 0;
@@ -48,7 +48,7 @@ static void *worker_main(void *arg)
             const struct gt_desc d = {.width = w->width, .height = w->height, .samples = samples,
                                       .quiet = true, .cancel = &w->cancel};
             const int rc = gt_render(&scene, &frustum, &d, &g);
-            if (rc == 1)
+            if (rc == GT_CANCELLED)
                 gt_image_free(&g);
             if (!hand_over(w, taken, rc, samples, last, &g) || rc != 0)
                 break;
