@@ -69,21 +69,20 @@ static const struct technique_param evsm_params[] = {
     {NULL},
 };
 
-static void evsm_request(const void *settings, const struct light_frustum *f, int map_size_texels,
-                         struct shadowmap_request *r)
+static void evsm_request(const void *settings, const struct request_context *c, struct shadowmap_request *r)
 {
     const struct evsm_settings *s = settings;
-    (void)f, (void)map_size_texels;
-    r->evsm.positive = s->positive_exponent;
-    r->evsm.negative = s->negative_exponent;
+    (void)c;
+    r->evsm.positive = s->positive_exponent, r->evsm.negative = s->negative_exponent;
     r->evsm.blur_radius_texels = s->blur_radius_texels;
 }
 
-TECHNIQUE(evsm,
-    .summary = "Chebyshev bound on exponentially warped moments: far less bleeding than vsm",
-    .needs = SM_EVSM,
-    .request = evsm_request,
-    .regression = TECHNIQUE_CELLS(
-        {"overlapping_occluders", "variant=evsm2,positive_exponent=20"},
-        {"contact_hardening", "negative_exponent=20,blur_radius_texels=8"},
-        {"grazing_receiver", "min_variance=1e-06"}, {"overlapping_occluders", "bleed_reduction=0.3"}));
+static const struct technique_cell evsm_cells[] = {
+    {"overlapping_occluders", {"variant=evsm2,positive_exponent=20", "bleed_reduction=0.3"}},
+    {"contact_hardening", {"negative_exponent=20,blur_radius_texels=8"}},
+    {"grazing_receiver", {"min_variance=1e-06"}},
+    {NULL},
+};
+
+TECHNIQUE(evsm, .needs = SM_EVSM, .request = evsm_request, .regression = evsm_cells,
+          .summary = "Chebyshev bound on exponentially warped moments: far less bleeding than vsm");

@@ -29,8 +29,10 @@ static const struct technique_param hard_params[] = {
     {NULL},
 };
 
-TECHNIQUE(hard,
-    .summary = "one depth comparison: aliased hard edge, no penumbra",
-    .needs = SM_DEPTH,
-    .regression = TECHNIQUE_CELLS(
-        {"grazing_receiver", "constant_bias=0.005"}, {"grazing_receiver", "slope_bias=4"}));
+static const struct technique_cell hard_cells[] = {
+    {"grazing_receiver", {"constant_bias=0.005", "slope_bias=4"}},
+    {NULL},
+};
+
+TECHNIQUE(hard, .needs = SM_DEPTH, .regression = hard_cells,
+          .summary = "one depth comparison: aliased hard edge, no penumbra");

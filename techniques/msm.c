@@ -69,17 +69,18 @@ static const struct technique_param msm_params[] = {
     {NULL},
 };
 
-static void msm_request(const void *settings, const struct light_frustum *f, int map_size_texels,
-                        struct shadowmap_request *r)
+static void msm_request(const void *settings, const struct request_context *c, struct shadowmap_request *r)
 {
-    (void)f, (void)map_size_texels;
+    (void)c;
     r->msm.blur_radius_texels = ((const struct msm_settings *)settings)->blur_radius_texels;
 }
 
-TECHNIQUE(msm,
-    .summary = "4MSM (Hamburger or Hausdorff): the sharpest bound from four filtered moments, little bleeding",
-    .needs = SM_MSM,
-    .request = msm_request,
-    .regression = TECHNIQUE_CELLS(
-        {"overlapping_occluders", "moment_bias=0.003,blur_radius_texels=8"},
-        {"grazing_receiver", "depth_bias=0.001"}, {"stanford_bunny", "bound=hausdorff"}));
+static const struct technique_cell msm_cells[] = {
+    {"overlapping_occluders", {"moment_bias=0.003,blur_radius_texels=8"}},
+    {"grazing_receiver", {"depth_bias=0.001"}},
+    {"stanford_bunny", {"bound=hausdorff"}},
+    {NULL},
+};
+
+TECHNIQUE(msm, .needs = SM_MSM, .request = msm_request, .regression = msm_cells,
+          .summary = "4MSM (Hamburger or Hausdorff): the sharpest bound from four filtered moments, little bleeding");

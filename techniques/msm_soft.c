@@ -77,19 +77,20 @@ static const struct technique_param msm_soft_params[] = {
     {NULL},
 };
 
-static void msm_soft_request(const void *settings, const struct light_frustum *f, int map_size_texels,
-                             struct shadowmap_request *r)
+static void msm_soft_request(const void *settings, const struct request_context *c, struct shadowmap_request *r)
 {
     const struct msm_soft_settings *s = settings;
-    sat_request_search_box(&r->msm_sat, msm_soft_sat_format_ids[s->sat_format], f, s->light_size_scale,
-                           map_size_texels);
+    sat_request_search_box(&r->msm_sat, msm_soft_sat_format_ids[s->sat_format], s->light_size_scale, c);
 }
 
-TECHNIQUE(msm_soft,
-    .summary = "PCSS with blocker depth and filtering by 4MSM from a SAT of four moments",
-    .needs = SM_MSM_SAT,
-    .request = msm_soft_request,
-    .regression = TECHNIQUE_CELLS(
-        {"floating_box_sphere", "sat_format=fp32"}, {"parallel_planes", "light_size_scale=0.5"},
-        {"overlapping_occluders", "moment_bias=0.003"}, {"grazing_receiver", "depth_bias=0.001"},
-        {"contact_hardening", "min_blocker_fraction=0.05"}));
+static const struct technique_cell msm_soft_cells[] = {
+    {"floating_box_sphere", {"sat_format=fp32"}},
+    {"parallel_planes", {"light_size_scale=0.5"}},
+    {"overlapping_occluders", {"moment_bias=0.003"}},
+    {"grazing_receiver", {"depth_bias=0.001"}},
+    {"contact_hardening", {"min_blocker_fraction=0.05"}},
+    {NULL},
+};
+
+TECHNIQUE(msm_soft, .needs = SM_MSM_SAT, .request = msm_soft_request, .regression = msm_soft_cells,
+          .summary = "PCSS with blocker depth and filtering by 4MSM from a SAT of four moments");

@@ -87,13 +87,12 @@ static int pcf_check(const void *settings, char *why, size_t why_size)
     return -1;
 }
 
-TECHNIQUE(pcf,
-    .summary = "fixed-width average of depth comparisons: constant blur, no contact hardening",
-    .needs = SM_DEPTH,
-    .check = pcf_check,
-    .regression = TECHNIQUE_CELLS(
-        {"parallel_planes", "radius_texels=8"}, {"parallel_planes", "pattern=grid,samples=25"},
-        {"parallel_planes", "samples=64"}, {"parallel_planes", "hardware_2x2=true"},
-        {"grazing_receiver", "receiver_plane_bias=false"},
-        {"grazing_receiver", "receiver_plane_bias=false,slope_bias=4"},
-        {"grazing_receiver", "constant_bias=0.005"}));
+static const struct technique_cell pcf_cells[] = {
+    {"parallel_planes", {"radius_texels=8", "pattern=grid,samples=25", "samples=64", "hardware_2x2=true"}},
+    {"grazing_receiver",
+     {"receiver_plane_bias=false", "receiver_plane_bias=false,slope_bias=4", "constant_bias=0.005"}},
+    {NULL},
+};
+
+TECHNIQUE(pcf, .needs = SM_DEPTH, .check = pcf_check, .regression = pcf_cells,
+          .summary = "fixed-width average of depth comparisons: constant blur, no contact hardening");

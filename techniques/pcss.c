@@ -50,11 +50,12 @@ static const struct technique_param pcss_params[] = {
     {NULL},
 };
 
-TECHNIQUE(pcss,
-    .summary = "blocker search, penumbra by similar triangles, PCF of that width",
-    .needs = SM_DEPTH,
-    .regression = TECHNIQUE_CELLS(
-        {"contact_hardening", "blocker_samples=16,filter_samples=64"},
-        {"parallel_planes", "light_size_scale=0.5"}, {"grazing_receiver", "receiver_plane_bias=false"},
-        {"grazing_receiver", "receiver_plane_bias=false,slope_bias=4"},
-        {"grazing_receiver", "constant_bias=0.005"}));
+static const struct technique_cell pcss_cells[] = {
+    {"contact_hardening", {"blocker_samples=16,filter_samples=64"}},
+    {"parallel_planes", {"light_size_scale=0.5"}},
+    {"grazing_receiver", {"receiver_plane_bias=false", "receiver_plane_bias=false,slope_bias=4", "constant_bias=0.005"}},
+    {NULL},
+};
+
+TECHNIQUE(pcss, .needs = SM_DEPTH, .regression = pcss_cells,
+          .summary = "blocker search, penumbra by similar triangles, PCF of that width");

@@ -46,19 +46,19 @@ static const struct technique_param pcss_savsm_params[] = {
     {NULL},
 };
 
-static void pcss_savsm_request(const void *settings, const struct light_frustum *f,
-                               int map_size_texels, struct shadowmap_request *r)
+static void pcss_savsm_request(const void *settings, const struct request_context *c, struct shadowmap_request *r)
 {
     const struct pcss_savsm_settings *s = settings;
-    sat_request_search_box(&r->moments_sat, (enum sat_format)s->sat_format, f, s->light_size_scale,
-                           map_size_texels);
+    sat_request_search_box(&r->moments_sat, s->sat_format, s->light_size_scale, c);
 }
 
-TECHNIQUE(pcss_savsm,
-    .summary = "PCSS with blocker depth and filtering from SAT moments: O(1) in the light size",
-    .needs = SM_MOMENTS_SAT,
-    .request = pcss_savsm_request,
-    .regression = TECHNIQUE_CELLS(
-        {"floating_box_sphere", "sat_format=fp32"}, {"floating_box_sphere", "sat_format=fp32_centered"},
-        {"parallel_planes", "light_size_scale=0.5"}, {"parallel_planes", "min_variance=0.001"},
-        {"contact_hardening", "min_blocker_fraction=0.05"}, {"overlapping_occluders", "bleed_reduction=0.3"}));
+static const struct technique_cell pcss_savsm_cells[] = {
+    {"floating_box_sphere", {"sat_format=fp32", "sat_format=fp32_centered"}},
+    {"parallel_planes", {"light_size_scale=0.5", "min_variance=0.001"}},
+    {"contact_hardening", {"min_blocker_fraction=0.05"}},
+    {"overlapping_occluders", {"bleed_reduction=0.3"}},
+    {NULL},
+};
+
+TECHNIQUE(pcss_savsm, .needs = SM_MOMENTS_SAT, .request = pcss_savsm_request, .regression = pcss_savsm_cells,
+          .summary = "PCSS with blocker depth and filtering from SAT moments: O(1) in the light size");

@@ -49,20 +49,19 @@ void technique_names(struct strbuf *out, const char *sep)
         strbuf_list_printf(out, sep, "%s", (*t)->name);
 }
 
-void technique_request(const struct technique *t, const void *settings,
-                       const struct light_frustum *f, int map_size_texels,
+void technique_request(const struct technique *t, const void *settings, const struct request_context *c,
                        struct shadowmap_request *r)
 {
     memset(r, 0, sizeof *r);
     r->products = t->needs;
     if (t->request)
-        t->request(settings, f, map_size_texels, r);
+        t->request(settings, c, r);
     r->products |= SM_DEPTH;
 }
 
-void sat_request_search_box(struct sat_request *r, enum sat_format format, const struct light_frustum *f,
-                            float light_size_scale, int map_size_texels)
+void sat_request_search_box(struct sat_request *r, int format, float light_size_scale,
+                            const struct request_context *c)
 {
-    r->format = format;
-    r->max_box_texels = light_frustum_search_box_texels(f, light_size_scale, map_size_texels);
+    r->format = (enum sat_format)format;
+    r->max_box_texels = light_frustum_search_box_texels(c->frustum, light_size_scale, c->map_size_texels);
 }

@@ -45,11 +45,10 @@ static const struct technique_param savsm_params[] = {
     {NULL},
 };
 
-static void savsm_request(const void *settings, const struct light_frustum *f,
-                          int map_size_texels, struct shadowmap_request *r)
+static void savsm_request(const void *settings, const struct request_context *c, struct shadowmap_request *r)
 {
     const struct savsm_settings *s = settings;
-    (void)f, (void)map_size_texels;
+    (void)c;
     r->moments_sat.format = (enum sat_format)s->sat_format;
     /* The footprint can exceed the box at a distance or a grazing angle;
      * int32 clips boxes to this side, and a wider bound would cost
@@ -58,11 +57,12 @@ static void savsm_request(const void *settings, const struct light_frustum *f,
                                         ? s->box_width_texels : SAVSM_MAX_FOOTPRINT_TEXELS;
 }
 
-TECHNIQUE(savsm,
-    .summary = "VSM over an exact box filter from a summed-area table: bleeding, SAT precision",
-    .needs = SM_MOMENTS_SAT,
-    .request = savsm_request,
-    .regression = TECHNIQUE_CELLS(
-        {"parallel_planes", "box_width_texels=15"}, {"floating_box_sphere", "sat_format=fp32"},
-        {"floating_box_sphere", "sat_format=fp32_centered"}, {"parallel_planes", "min_variance=0.001"},
-        {"overlapping_occluders", "bleed_reduction=0.3"}));
+static const struct technique_cell savsm_cells[] = {
+    {"parallel_planes", {"box_width_texels=15", "min_variance=0.001"}},
+    {"floating_box_sphere", {"sat_format=fp32", "sat_format=fp32_centered"}},
+    {"overlapping_occluders", {"bleed_reduction=0.3"}},
+    {NULL},
+};
+
+TECHNIQUE(savsm, .needs = SM_MOMENTS_SAT, .request = savsm_request, .regression = savsm_cells,
+          .summary = "VSM over an exact box filter from a summed-area table: bleeding, SAT precision");

@@ -113,25 +113,6 @@ static int mip_levels(int n)
     return levels;
 }
 
-/* A framebuffer rendering into level 0 of texture at attachment (a colour
- * attachment, or GL_DEPTH_ATTACHMENT for a depth-only pass); 0 if
- * incomplete (logged). */
-static GLuint framebuffer(GLuint texture, GLenum attachment, const char *label)
-{
-    GLuint fbo;
-    glGenFramebuffers(1, &fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, attachment, GL_TEXTURE_2D, texture, 0);
-    glDrawBuffers(1, (const GLenum[]){attachment == GL_DEPTH_ATTACHMENT ? GL_NONE : attachment});
-    if (attachment == GL_DEPTH_ATTACHMENT)
-        glReadBuffer(GL_NONE);
-    if (!gl_framebuffer_complete(fbo, label)) {
-        glDeleteFramebuffers(1, &fbo);
-        return 0;
-    }
-    return fbo;
-}
-
 /* A program of a product's pass: the layer's shared defines, then its own.
  * A single stage is a compute pass; two are vertex and fragment. */
 static GLuint pass_program(const char *label, const char *defines, const char *first,
@@ -169,7 +150,7 @@ static void image_pass(struct shadowmap *sm, GLuint fbo, GLuint program, GLuint 
 static int depth_create(struct shadowmap *sm, struct shadowmap_product *p)
 {
     (void)sm;
-    p->framebuffers[0] = framebuffer(p->texture, GL_DEPTH_ATTACHMENT, "shadow map: depth pass");
+    p->framebuffers[0] = gl_framebuffer(NULL, 0, p->texture, "shadow map: depth pass");
     p->programs[0] = pass_program("shadow map depth pass", "", "shadowmap_depth.vert",
                                   "shadowmap_depth.frag");
     return p->framebuffers[0] && p->programs[0] ? 0 : -1;
@@ -200,8 +181,8 @@ static int blurred_create(struct shadowmap *sm, struct shadowmap_product *p, int
     p->temp_texture = map_texture(kinds[product].format, 1, sm->desc.size_texels);
     gl_label(GL_TEXTURE, p->temp_texture, temp);
     free(temp);
-    p->framebuffers[0] = framebuffer(p->texture, GL_COLOR_ATTACHMENT0, product_names[product]);
-    p->framebuffers[1] = framebuffer(p->temp_texture, GL_COLOR_ATTACHMENT0, "blur, rows");
+    p->framebuffers[0] = gl_framebuffer(&p->texture, 1, 0, product_names[product]);
+    p->framebuffers[1] = gl_framebuffer(&p->temp_texture, 1, 0, "blur, rows");
     for (int pass = 0; pass < 2; pass++) {
         char *label = util_printf("%s blur, %s", product_names[product], pass ? "columns" : "rows");
         char *defines = util_printf("#define BLUR_FROM_DEPTH %d\n#define MOMENTS_KIND SM_PRODUCT_%s\n", !pass,

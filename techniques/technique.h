@@ -148,19 +148,24 @@ struct technique_param {
 #define TUNE(...) ((const double[]){__VA_ARGS__, NAN})
 extern const double TUNE_CHOICES[];
 
-/* A regression cell a technique declares (STYLE.md item 6d): its
- * parameters away from their defaults, on a shipped scene where they act.
- * `shadowbench check` renders it against its baseline, and fails when a
- * parameter is set away from its default by none of its technique's cells,
- * or when setting one back changes no pixel (pipeline/regression.h). */
+/* The regression cells a technique declares on one shipped scene (STYLE.md
+ * item 6d): each its parameters away from their defaults, on a scene where
+ * they act. `shadowbench check` renders each against its baseline, and
+ * fails when a parameter is set away from its default by none of its
+ * technique's cells, or when setting one back changes no pixel
+ * (pipeline/regression.h). */
+#define TECHNIQUE_CELLS_PER_SCENE 8
 struct technique_cell {
-    const char *scene;   /* a shipped scene's name */
-    const char *params;  /* as a cell's name spells them: "pattern=grid,samples=25" */
+    const char *scene;  /* a shipped scene's name */
+    const char *params[TECHNIQUE_CELLS_PER_SCENE];  /* as a cell's name spells them
+                                                       ("pattern=grid,samples=25"); NULL ends */
 };
 
-/* A technique's regression cells: .regression = TECHNIQUE_CELLS({"scene",
- * "p=v"}, ...). */
-#define TECHNIQUE_CELLS(...) ((const struct technique_cell[]){__VA_ARGS__, {NULL, NULL}})
+/* What a request is made for: the scene's light frustum and the map's size. */
+struct request_context {
+    const struct light_frustum *frustum;
+    int map_size_texels;
+};
 
 struct technique {
     const char *name;
@@ -171,35 +176,33 @@ struct technique {
     const char *shader;                    /* in shaders/, defines shadow_visibility */
 
     /* Optional. The request for these settings; without it, .needs with
-     * default options. f is the scene's light frustum. */
-    void (*request)(const void *settings, const struct light_frustum *f, int map_size_texels,
-                    struct shadowmap_request *r);
+     * default options. */
+    void (*request)(const void *settings, const struct request_context *c, struct shadowmap_request *r);
     /* Optional. Rules across parameters that a range cannot state: returns
      * 0, or -1 with a one-line reason in why. */
     int (*check)(const void *settings, char *why, size_t why_size);
-    /* Its regression cells (TECHNIQUE_CELLS), ending with {NULL}. */
+    /* Its regression cells, scene by scene, ending with {NULL}. */
     const struct technique_cell *regression;
 };
 
 /* The descriptor that ends techniques/<name>.c: its name, its parameter
  * table <name>_params, its settings struct <name>_settings and its shader
  * shaders/<name>.glsl all follow from the name, written once; the rest are
- * named fields: TECHNIQUE(pcf, .summary = "...", .needs = SM_DEPTH, ...). */
+ * named fields: TECHNIQUE(pcf, .needs = SM_DEPTH, .summary = "...", ...). */
 #define TECHNIQUE(name_, ...)                                                                     \
     const struct technique technique_##name_ = {.name = #name_, .params = name_##_params,         \
                                                 .settings_size = sizeof(struct name_##_settings), \
                                                 .shader = #name_ ".glsl", __VA_ARGS__}
 
 /* t's request for these settings (calls t->request, or uses t->needs). */
-void technique_request(const struct technique *t, const void *settings,
-                       const struct light_frustum *f, int map_size_texels,
+void technique_request(const struct technique *t, const void *settings, const struct request_context *c,
                        struct shadowmap_request *r);
 
 /* The SAT request of a technique whose widest box is its blocker search
  * (pcss_savsm, vssm, msm_soft): format, and the search box at the far
  * plane as the widest box read, which sets int32's fixed-point scale. */
-void sat_request_search_box(struct sat_request *r, enum sat_format format, const struct light_frustum *f,
-                            float light_size_scale, int map_size_texels);
+void sat_request_search_box(struct sat_request *r, int format, float light_size_scale,
+                            const struct request_context *c);
 
 /* NULL-terminated, in registry order. */
 extern const struct technique *const technique_list[];

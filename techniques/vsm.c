@@ -36,17 +36,17 @@ static const struct technique_param vsm_params[] = {
     {NULL},
 };
 
-static void vsm_request(const void *settings, const struct light_frustum *f,
-                        int map_size_texels, struct shadowmap_request *r)
+static void vsm_request(const void *settings, const struct request_context *c, struct shadowmap_request *r)
 {
-    (void)f, (void)map_size_texels;
+    (void)c;
     r->moments.blur_radius_texels = ((const struct vsm_settings *)settings)->blur_radius_texels;
 }
 
-TECHNIQUE(vsm,
-    .summary = "Chebyshev bound from prefiltered moments: light bleeding where occluders overlap",
-    .needs = SM_MOMENTS,
-    .request = vsm_request,
-    .regression = TECHNIQUE_CELLS(
-        {"parallel_planes", "blur_radius_texels=8"}, {"parallel_planes", "min_variance=0.001"},
-        {"overlapping_occluders", "bleed_reduction=0.3"}));
+static const struct technique_cell vsm_cells[] = {
+    {"parallel_planes", {"blur_radius_texels=8", "min_variance=0.001"}},
+    {"overlapping_occluders", {"bleed_reduction=0.3"}},
+    {NULL},
+};
+
+TECHNIQUE(vsm, .needs = SM_MOMENTS, .request = vsm_request, .regression = vsm_cells,
+          .summary = "Chebyshev bound from prefiltered moments: light bleeding where occluders overlap");

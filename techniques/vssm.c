@@ -94,20 +94,21 @@ static const struct technique_param vssm_params[] = {
     {NULL},
 };
 
-static void vssm_request(const void *settings, const struct light_frustum *f, int map_size_texels,
-                         struct shadowmap_request *r)
+static void vssm_request(const void *settings, const struct request_context *c, struct shadowmap_request *r)
 {
     const struct vssm_settings *s = settings;
-    sat_request_search_box(&r->moments_sat, (enum sat_format)s->sat_format, f, s->light_size_scale,
-                           map_size_texels);
+    sat_request_search_box(&r->moments_sat, s->sat_format, s->light_size_scale, c);
 }
 
-TECHNIQUE(vssm,
-    .summary = "PCSS on SAT moments, the kernel subdivided where the Chebyshev test says lit wrongly",
-    .needs = SM_MOMENTS_SAT,
-    .request = vssm_request,
-    .regression = TECHNIQUE_CELLS(
-        {"floating_box_sphere", "sat_format=fp32_centered"}, {"parallel_planes", "light_size_scale=0.5"},
-        {"grazing_receiver", "min_variance=0.001"}, {"contact_hardening", "min_blocker_fraction=0.05"},
-        {"overlapping_occluders", "bleed_reduction=0.3"}, {"overlapping_occluders", "subdivisions=4"},
-        {"overlapping_occluders", "adaptive=true,subdivisions=4"}, {"curved_receivers", "receiver_plane=false"}));
+static const struct technique_cell vssm_cells[] = {
+    {"floating_box_sphere", {"sat_format=fp32_centered"}},
+    {"parallel_planes", {"light_size_scale=0.5"}},
+    {"grazing_receiver", {"min_variance=0.001"}},
+    {"contact_hardening", {"min_blocker_fraction=0.05"}},
+    {"overlapping_occluders", {"bleed_reduction=0.3", "subdivisions=4", "adaptive=true,subdivisions=4"}},
+    {"curved_receivers", {"receiver_plane=false"}},
+    {NULL},
+};
+
+TECHNIQUE(vssm, .needs = SM_MOMENTS_SAT, .request = vssm_request, .regression = vssm_cells,
+          .summary = "PCSS on SAT moments, the kernel subdivided where the Chebyshev test says lit wrongly");

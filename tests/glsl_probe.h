@@ -42,16 +42,11 @@ static inline GLuint glsl_probe_program(const char *dir, const char *source, con
  * floats, row by row. */
 static inline void glsl_probe_draw(GLuint program, int width, int height, float *results)
 {
-    GLuint target, fbo, vao;
-    glGenTextures(1, &target);
-    glBindTexture(GL_TEXTURE_2D, target);
-    glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA32F, width, height);
-    glGenFramebuffers(1, &fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, target, 0);
-    CHECK(gl_framebuffer_complete(fbo, "probe"), "probe framebuffer");
+    GLuint vao, target = gl_texture_2d(GL_RGBA32F, width, height, "probe");
+    const GLuint fbo = gl_framebuffer(&target, 1, 0, "probe");
+    CHECK(fbo, "probe framebuffer");
     glGenVertexArrays(1, &vao);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);  /* the check above leaves it unbound */
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);  /* gl_framebuffer leaves it unbound */
     glViewport(0, 0, width, height);
     glUseProgram(program);
     glBindVertexArray(vao);

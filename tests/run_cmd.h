@@ -36,6 +36,28 @@ static inline int run_cmd(const char *cmd, struct strbuf *err, struct strbuf *ou
     return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+/* A CLI test's start: its argument (the shadowbench binary) and its
+ * temporary folder (a mkdtemp template, made). The binary, or NULL. */
+static inline const char *test_begin(int argc, char **argv, char *dir_template)
+{
+    return argc >= 2 && mkdtemp(dir_template) ? argv[1] : NULL;
+}
+
+/* The main of a CLI test whose parts take nothing: each part in turn, then
+ * its folder removed and the tally. TEST_MAIN(dir, part, part, ...) after
+ * `static const char *sb;`. */
+#define TEST_MAIN(dir_, ...)                                            \
+    int main(int argc, char **argv)                                     \
+    {                                                                   \
+        if (!(sb = test_begin(argc, argv, dir_)))                       \
+            return 1;                                                   \
+        void (*const parts_[])(void) = {__VA_ARGS__};                   \
+        for (size_t i_ = 0; i_ < sizeof parts_ / sizeof *parts_; i_++) \
+            parts_[i_]();                                               \
+        remove_tree(dir_);                                              \
+        return check_finish();                                          \
+    }
+
 /* Removes a test's temporary folder. */
 static inline void remove_tree(const char *dir)
 {

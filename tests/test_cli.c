@@ -60,9 +60,8 @@ static void defaults_are_settable(void)
 
 int main(int argc, char **argv)
 {
-    if (argc < 2 || !mkdtemp(dir))
+    if (!(sb = test_begin(argc, argv, dir)))
         return 1;
-    sb = argv[1];
     defaults_are_settable();
     const char *small = "--scene floating_box_sphere --width 16 --height 16 --gt-samples 1 --no-cache";
 

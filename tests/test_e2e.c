@@ -3,6 +3,7 @@
  * the shipped scene, and the ground-truth cache is reused only when its key
  * (scene, size, samples, version) matches. */
 #include "check.h"
+#include "read_json.h"
 #include "run_cmd.h"
 #include "scene_library.h"
 #include "base/image.h"
@@ -27,13 +28,11 @@ static bool exists(const char *folder, const char *file)
     return ok;
 }
 
-static cJSON *read_json(const char *folder, const char *file)
+/* folder/file as JSON. */
+static cJSON *read_json_in(const char *folder, const char *file)
 {
-    char *p = util_printf("%s/%s", folder, file), *text = NULL;
-    size_t size;
-    cJSON *j = util_read_file(p, &text, &size) == 0 ? cJSON_Parse(text) : NULL;
-    CHECK(j != NULL, "%s is not valid JSON", p);
-    free(text);
+    char *p = util_printf("%s/%s", folder, file);
+    cJSON *j = read_json(p);
     free(p);
     return j;
 }
@@ -81,7 +80,7 @@ static void check_outputs(const char *out)
         exists(cell_dir, cell[i]);
 
     /* metrics.json: every contract key, sane values. */
-    cJSON *m = read_json(cell_dir, "metrics.json");
+    cJSON *m = read_json_in(cell_dir, "metrics.json");
     if (m) {
         CHECK(num(m, "nonfinite") == 0, "hard on the shipped scene must not produce NaN/Inf");
         double scored = num(m, "scored_pixels");
@@ -151,7 +150,7 @@ static void check_outputs(const char *out)
     free(cell_dir);
 
     /* Run-level files. */
-    cJSON *run = read_json(out, "run.json");
+    cJSON *run = read_json_in(out, "run.json");
     if (run) {
         const cJSON *r = cJSON_GetObjectItem(run, "gl_renderer");
         CHECK(cJSON_IsString(r) && strlen(r->valuestring) > 0, "run.json records GL_RENDERER");
@@ -160,7 +159,7 @@ static void check_outputs(const char *out)
               "run.json records command line, date, CPU, git describe");
         cJSON_Delete(run);
     }
-    cJSON *matrix = read_json(out, "matrix.json");
+    cJSON *matrix = read_json_in(out, "matrix.json");
     if (matrix) {
         const cJSON *cells = cJSON_GetObjectItem(matrix, "cells");
         CHECK(cJSON_GetArraySize(cells) == technique_count, "one cell per technique, got %d",
@@ -209,7 +208,7 @@ static void check_unscored(void)
     CHECK(err.data && strstr(err.data, "sky/hard: unscored"), "stderr says which cell and why: %s",
           err.data ? err.data : "");
     char *cell_dir = util_printf("%s/sky/hard", out);
-    cJSON *m = read_json(cell_dir, "metrics.json");
+    cJSON *m = read_json_in(cell_dir, "metrics.json");
     if (m) {
         CHECK(cJSON_IsFalse(cJSON_GetObjectItem(m, "scored")), "marked unscored");
         CHECK(cJSON_IsNull(cJSON_GetObjectItem(m, "rmse")) && cJSON_IsNull(cJSON_GetObjectItem(m, "shaded_rmse")),
@@ -230,9 +229,8 @@ static void check_unscored(void)
 
 int main(int argc, char **argv)
 {
-    if (argc < 2 || !mkdtemp(dir))
+    if (!(sb = test_begin(argc, argv, dir)))
         return 1;
-    sb = argv[1];
     while (technique_list[technique_count])
         technique_count++;
 

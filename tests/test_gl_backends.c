@@ -6,6 +6,7 @@
  * exit 2; the GL_TIME_ELAPSED path times every stage; run.json names the
  * renderer, vendor, platform and timing method. */
 #include "check.h"
+#include "read_json.h"
 #include "run_cmd.h"
 #include "techniques/technique.h"
 
@@ -15,16 +16,6 @@
 
 static const char *sb;
 static char dir[] = "/tmp/sb_test_gl_XXXXXX";
-
-static cJSON *read_json(const char *path)
-{
-    char *text = NULL;
-    size_t size;
-    cJSON *j = util_read_file(path, &text, &size) == 0 ? cJSON_Parse(text) : NULL;
-    free(text);
-    CHECK(j, "%s: no JSON", path);
-    return j;
-}
 
 /* Techniques that between them sample every product of the shared layer:
  * in registry order, each that needs a product none before it does. */
@@ -144,9 +135,8 @@ static void timer_queries(void)
 
 int main(int argc, char **argv)
 {
-    if (argc < 2 || !mkdtemp(dir))
+    if (!(sb = test_begin(argc, argv, dir)))
         return 1;
-    sb = argv[1];
     same_metrics();
     char *no_egl = util_printf("run --gl egl --scene parallel_planes --technique hard --width 16 --height 16 "
                                "--no-cache -q --out %s/never", dir);

@@ -119,9 +119,8 @@ static void hostile_names(void)
 
 int main(int argc, char **argv)
 {
-    if (argc < 2 || !mkdtemp(dir))
+    if (!(sb = test_begin(argc, argv, dir)))
         return 1;
-    sb = argv[1];
     pareto_front();
     hostile_names();
 

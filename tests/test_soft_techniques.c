@@ -372,18 +372,5 @@ static void depth_range_finite(void)
     free(cmd);
 }
 
-int main(int argc, char **argv)
-{
-    if (argc < 2 || !mkdtemp(dir))
-        return 1;
-    sb = argv[1];
-    penumbra_order();
-    vsm_bleeding();
-    soft_leak();
-    vssm_adaptive();
-    vssm_adaptive_levels();
-    all_finite();
-    depth_range_finite();
-    remove_tree(dir);
-    return check_finish();
-}
+TEST_MAIN(dir, penumbra_order, vsm_bleeding, soft_leak, vssm_adaptive, vssm_adaptive_levels, all_finite,
+          depth_range_finite)

@@ -20,6 +20,7 @@
  * - bad values are one line and exit 2.
  * The flicker metric's arithmetic itself: flicker_unit(). */
 #include "check.h"
+#include "read_json.h"
 #include "gltf_writer.h"
 #include "run_cmd.h"
 #include "scene/pose.h"
@@ -62,16 +63,6 @@ static void flicker_unit(void)
     CHECK_NEAR(h[0], 0.25, 1e-6, "alpha v + (1 - alpha) history");
     CHECK_NEAR(h[1], 0.25, 1e-6, "history from the reprojected pixel");
     CHECK_NEAR(h[2], 0.0, 1e-6, "no history: the frame itself");
-}
-
-static cJSON *read_json(const char *path)
-{
-    char *text = NULL;
-    size_t size;
-    cJSON *j = util_read_file(path, &text, &size) == 0 ? cJSON_Parse(text) : NULL;
-    free(text);
-    CHECK(j, "%s: unreadable", path);
-    return j;
 }
 
 static cJSON *row(cJSON *doc, const char *array, const char *a_key, const char *a, const char *b_key, const char *b)
@@ -423,9 +414,8 @@ static void bad_input(const char *scene)
 
 int main(int argc, char **argv)
 {
-    if (argc < 2 || !mkdtemp(dir))
+    if (!(sb = test_begin(argc, argv, dir)))
         return 1;
-    sb = argv[1];
     flicker_unit();
     char *scene = shimmer_scene();
     bad_input(scene);

@@ -4,6 +4,7 @@
  * a Pareto front; run's tuned cells use each scene's fold setting; a stale
  * or out-of-range tuned file is one line naming it, exit 2. */
 #include "check.h"
+#include "read_json.h"
 #include "run_cmd.h"
 #include "base/util.h"
 #include "score/tune_search.h"
@@ -128,17 +129,6 @@ static void tables(void)
             }
             CHECK(has_default, "%s.%s: its tune values lack its default", (*t)->name, p->name);
         }
-}
-
-static cJSON *read_json(const char *path)
-{
-    char *text = NULL;
-    size_t size;
-    if (util_read_file(path, &text, &size) != 0)
-        return NULL;
-    cJSON *j = cJSON_Parse(text);
-    free(text);
-    return j;
 }
 
 static void write_json(const char *path, const cJSON *j)
@@ -303,14 +293,4 @@ static void command(void)
     free(bad);
 }
 
-int main(int argc, char **argv)
-{
-    if (argc < 2 || !mkdtemp(dir))
-        return 1;
-    sb = argv[1];
-    search();
-    tables();
-    command();
-    remove_tree(dir);
-    return check_finish();
-}
+TEST_MAIN(dir, search, tables, command)

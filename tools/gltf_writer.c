@@ -141,6 +141,20 @@ void mesh_begin_part(struct mesh_builder *m, const char *name)
     m->parts[m->part_count++] = (struct mesh_part){name, m->vertex_count, m->index_count};
 }
 
+/* An accessor of buffer view `view`, from offset_bytes (0: none written),
+ * count elements of a component type and type (glTF's numbers, names). */
+static cJSON *accessor(int view, size_t offset_bytes, int component_type, size_t count, const char *type)
+{
+    cJSON *a = cJSON_CreateObject();
+    cJSON_AddNumberToObject(a, "bufferView", view);
+    if (offset_bytes)
+        cJSON_AddNumberToObject(a, "byteOffset", (double)offset_bytes);
+    cJSON_AddNumberToObject(a, "componentType", component_type);
+    cJSON_AddNumberToObject(a, "count", (double)count);
+    cJSON_AddStringToObject(a, "type", type);
+    return a;
+}
+
 int gltf_write(const char *path, const struct mesh_builder *m, const struct gltf_scene_desc *d)
 {
     /* The parts: what came before the first named one is "geometry". */
@@ -245,23 +259,11 @@ int gltf_write(const char *path, const struct mesh_builder *m, const struct gltf
             lo[k % 3] = fminf(lo[k % 3], m->positions[k]);
             hi[k % 3] = fmaxf(hi[k % 3], m->positions[k]);
         }
-        cJSON *a0 = cJSON_CreateObject(), *a1 = cJSON_CreateObject();
-        cJSON_AddNumberToObject(a0, "bufferView", 0);
-        if (first_vertex[i])
-            cJSON_AddNumberToObject(a0, "byteOffset", (double)(12 * first_vertex[i]));
-        cJSON_AddNumberToObject(a0, "componentType", 5126);
-        cJSON_AddNumberToObject(a0, "count", (double)(first_vertex[i + 1] - first_vertex[i]));
-        cJSON_AddStringToObject(a0, "type", "VEC3");
-        cJSON_AddItemToObject(a0, "min", cJSON_CreateFloatArray(lo, 3));
-        cJSON_AddItemToObject(a0, "max", cJSON_CreateFloatArray(hi, 3));
-        cJSON_AddNumberToObject(a1, "bufferView", 1);
-        if (first_index[i])
-            cJSON_AddNumberToObject(a1, "byteOffset", (double)(4 * first_index[i]));
-        cJSON_AddNumberToObject(a1, "componentType", 5125);
-        cJSON_AddNumberToObject(a1, "count", (double)(first_index[i + 1] - first_index[i]));
-        cJSON_AddStringToObject(a1, "type", "SCALAR");
-        cJSON_AddItemToArray(acc, a0);
-        cJSON_AddItemToArray(acc, a1);
+        cJSON *positions = accessor(0, 12 * first_vertex[i], 5126, first_vertex[i + 1] - first_vertex[i], "VEC3");
+        cJSON_AddItemToObject(positions, "min", cJSON_CreateFloatArray(lo, 3));
+        cJSON_AddItemToObject(positions, "max", cJSON_CreateFloatArray(hi, 3));
+        cJSON_AddItemToArray(acc, positions);
+        cJSON_AddItemToArray(acc, accessor(1, 4 * first_index[i], 5125, first_index[i + 1] - first_index[i], "SCALAR"));
     }
 
     cJSON *views = cJSON_AddArrayToObject(g, "bufferViews");

@@ -6,6 +6,7 @@
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -515,4 +516,16 @@ void util_json_merge(cJSON *into, const cJSON *from)
 {
     for (const cJSON *e = from ? from->child : NULL; e; e = e->next)
         cJSON_AddItemToObject(into, e->string, cJSON_Duplicate(e, true));
+}
+
+int util_parse_finite(const char *what, const char *text, double *out)
+{
+    char *end;
+    errno = 0;
+    *out = strtod(text, &end);
+    if (!*text || *end || errno == ERANGE || !isfinite(*out)) {
+        log_error("%s: '%s' is not a finite number", what, text);
+        return -1;
+    }
+    return 0;
 }

@@ -112,6 +112,10 @@ void strbuf_join(struct strbuf *sb, const char *const *items, const char *sep);
  * ends, bytes that are not UTF-8, U+FFFE/F) as U+FFFD. */
 void strbuf_xml(struct strbuf *sb, const char *s);
 
+/* text, the whole of it, as a finite double into *out: 0, or -1 after
+ * "<what>: '<text>' is not a finite number". */
+int util_parse_finite(const char *what, const char *text, double *out);
+
 /* Returns a malloc'ed formatted string (aborts on out of memory). */
 char *util_printf(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 

@@ -215,11 +215,6 @@ int check_main(const struct options *o)
         regression_collect(&r, scenes, scene_count, o->techniques, o->technique_count) != 0 ||
         read_baselines(&r, o) != 0)
         goto out;
-    for (int s = 0; s < scene_count; s++) {
-        struct light_frustum f;
-        if (light_frustum_fit(&scenes[s], &f) != 0)
-            goto out;
-    }
     if (cli_gl_open(o, o->gl) != 0)
         goto out;
     status = EXIT_CHECK_FAILED;

@@ -9,6 +9,7 @@
 
 #include "base/util.h"
 #include "gl/gl_context.h"
+#include "output/out_dir.h"
 #include "pipeline/configs.h"
 #include "render/stage_timer.h"
 #include "scene/scene.h"
@@ -141,6 +142,11 @@ int cli_gl_open(const struct options *o, enum gl_backend backend);
  * by `what`) needs committed code: 0, or -1 after one line saying what
  * changed, unless --allow-uncommitted (which the files record). */
 int cli_require_committed(const struct options *o, const char *what);
+
+/* A command's last words: where its page and its data are (stdout) and how
+ * long it took (the log), for what ("run", "stability"). */
+void cli_done(const struct options *o, const char *what, enum output_file page, const char *data_name,
+              enum output_file data, double start_ms);
 
 /* run.json's record of o (run.c): the provenance (timed: whether the
  * command times stages), the sizes and frames, and the seconds it took. */

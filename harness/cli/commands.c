@@ -102,11 +102,7 @@ const struct command_def commands[COMMAND_COUNT] = {
             "receiver pass to it. The techniques and probes are timed interleaved, one\n"
             "frame of each in turn.\n",
         .notes = NOTES({"scene", "a glTF file or shipped scene (default: the first shipped)"},
-                       {"technique", "techniques to time (default: all)"},
-                       {"width", "receiver width in pixels, " UTIL_STR(CLI_MIN_SIZE) ".." UTIL_STR(CLI_MAX_SIZE)
-                                 " (default {D})"},
-                       {"height", "receiver height in pixels, " UTIL_STR(CLI_MIN_SIZE) ".." UTIL_STR(CLI_MAX_SIZE)
-                                  " (default {D})"}),
+                       {"technique", "techniques to time (default: all)"}),
     },
     [CMD_CHECK] = {
         .name = "check", .main = check_main, .synopsis = "check [options]",
@@ -252,10 +248,6 @@ const struct command_def commands[COMMAND_COUNT] = {
                        {"technique", "the techniques Tab steps through, the first shown (default: all); the "
                                      "second is the split's right side"},
                        {"set", "as for run (repeatable): the settings the view starts from"},
-                       {"width", "the picture's width in pixels, " UTIL_STR(CLI_MIN_SIZE) ".." UTIL_STR(CLI_MAX_SIZE)
-                                 " (default {D})"},
-                       {"height", "the picture's height in pixels, " UTIL_STR(CLI_MIN_SIZE) ".."
-                                  UTIL_STR(CLI_MAX_SIZE) " (default {D})"},
                        {"gt-samples", "the ground truth's last level, a square n*n (default {D})"},
                        {"frames", "draw N frames, then exit, 1.." UTIL_STR(SCRIPT_MAX_FRAME) " (default: until the "
                                   "window closes)"},
@@ -266,11 +258,10 @@ const struct command_def commands[COMMAND_COUNT] = {
             "screenshot not written); 2 bad usage or input, or no window system.\n",
     },
     [CMD_LIST] = {
-        .name = "list", .main = list_main, .synopsis = "list",
-        .summary = "techniques with every parameter (default, range, meaning), and scenes",
-        .about =
+        .name = "list", .main = list_main, .synopsis = "list", .about =
             "Lists every technique with its parameters (type, default, range, meaning) and\n"
             "every shipped scene with its description and the phenomenon it isolates.\n",
+        .summary = "techniques with every parameter (default, range, meaning), and scenes",
     },
     [CMD_HELP] = {
         .name = "help", .main = help_main, .synopsis = "help [COMMAND] [--markdown]",

@@ -6,6 +6,8 @@
 #include "output/provenance.h"
 #include "scene/catalog.h"
 
+#include <stdio.h>
+
 int cli_load_scenes(const struct options *o, const char *const *defaults, int default_count, struct scene *scenes,
                     int *count)
 {
@@ -34,4 +36,11 @@ int cli_require_committed(const struct options *o, const char *what)
         log_error("%s: the source tree (%s) is not a git checkout, so what it records cannot name the code it "
                   "came from; pass --allow-uncommitted (recorded in the files it writes)", what, SB_SOURCE_DIR);
     return -1;
+}
+
+void cli_done(const struct options *o, const char *what, enum output_file page, const char *data_name,
+              enum output_file data, double start_ms)
+{
+    printf("report: %s/%s\n%s: %s/%s\n", o->out_dir, output_files[page], data_name, o->out_dir, output_files[data]);
+    log_info("%s finished in %.1f s", what, (util_now_ms() - start_ms) * 1e-3);
 }

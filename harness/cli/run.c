@@ -157,11 +157,6 @@ int run_main(const struct options *o)
     if (configs_build(&r.configs, &cd) != 0 || cli_load_scenes(o, NULL, 0, scenes, &scene_count) != 0 ||
         out_dir_claim(o->out_dir) != 0 || begin_run(o) != 0)
         goto out;
-    for (int s = 0; s < scene_count; s++) {
-        struct light_frustum f;
-        if (light_frustum_fit(&scenes[s], &f) != 0)
-            goto out;
-    }
     if (cli_gl_open(o, o->gl) != 0)
         goto out;
     status = EXIT_CHECK_FAILED;
@@ -205,9 +200,7 @@ int run_main(const struct options *o)
     }
     if (!failed) {
         status = judge(&r);
-        printf("report: %s/%s\nmatrix: %s/%s\n", o->out_dir, output_files[OUTPUT_REPORT], o->out_dir,
-               output_files[OUTPUT_MATRIX_CSV]);
-        log_info("run finished in %.1f s", (util_now_ms() - start) * 1e-3);
+        cli_done(o, "run", OUTPUT_REPORT, "matrix", OUTPUT_MATRIX_CSV, start);
     }
     for (int i = 0; i < r.cell_count; i++)
         cell_free(&r.cells[i]);

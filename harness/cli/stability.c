@@ -99,11 +99,6 @@ int stability_main(const struct options *o)
     if (cli_load_scenes(o, default_scenes, (int)ARRAY_SIZE(default_scenes), scenes, &scene_count) != 0)
         goto out;
     st.scene_count = scene_count;
-    for (int s = 0; s < scene_count; s++) {
-        struct light_frustum f;
-        if (light_frustum_fit(&scenes[s], &f) != 0)
-            goto out;
-    }
     if (scene_motions && add_scene_motions(&st, scenes, scene_count) != 0)
         goto out;
     if (o->motion_count && !st.motion_count) {  /* only --motion scene */
@@ -143,9 +138,7 @@ int stability_main(const struct options *o)
     }
     if (!rc) {
         status = judge(&st);
-        printf("report: %s/%s\ndata: %s/%s\n", o->out_dir, output_files[OUTPUT_STABILITY_PAGE], o->out_dir,
-               output_files[OUTPUT_STABILITY_CSV]);
-        log_info("stability finished in %.1f s", (util_now_ms() - start) * 1e-3);
+        cli_done(o, "stability", OUTPUT_STABILITY_PAGE, "data", OUTPUT_STABILITY_CSV, start);
     }
     programs_free(&st.programs);  /* with its context */
     gl_context_destroy();

@@ -57,15 +57,29 @@ void gl_install_debug_output(void)
     glDebugMessageControl(GL_DONT_CARE, GL_DONT_CARE, GL_DONT_CARE, 0, NULL, GL_TRUE);
 }
 
-bool gl_framebuffer_complete(GLuint fbo, const char *label)
+GLuint gl_framebuffer(const GLuint *colors, int count, GLuint depth, const char *label)
 {
-    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    GLuint fbo;
+    GLenum buffers[8] = {GL_NONE};
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    for (int i = 0; i < count && i < 8; i++) {
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)i, GL_TEXTURE_2D, colors[i], 0);
+        buffers[i] = GL_COLOR_ATTACHMENT0 + (GLenum)i;
+    }
+    if (depth)
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth, 0);
+    glDrawBuffers(count > 0 ? count : 1, buffers);
+    if (count == 0)
+        glReadBuffer(GL_NONE);
+    const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     gl_label(GL_FRAMEBUFFER, fbo, label);
     if (status == GL_FRAMEBUFFER_COMPLETE)
-        return true;
+        return fbo;
     log_error("%s: framebuffer incomplete (0x%x)", label, status);
-    return false;
+    glDeleteFramebuffers(1, &fbo);
+    return 0;
 }
 
 void gl_label(GLenum type, GLuint object, const char *label)

@@ -112,9 +112,11 @@ bool gl_load(gl_proc (*getproc)(const char *name), bool with_tests);
  * objects: call once per context. */
 void gl_install_debug_output(void);
 
-/* Labels framebuffer fbo (bound), unbinds it and checks it is complete;
- * false after logging "<label>: framebuffer incomplete" if not. */
-bool gl_framebuffer_complete(GLuint fbo, const char *label);
+/* A framebuffer drawing into level 0 of colors[0..count-1] (at colour
+ * attachments 0, 1, ...; none: a depth-only pass) and of depth (0: none),
+ * labelled, left unbound; 0 after logging "<label>: framebuffer
+ * incomplete". */
+GLuint gl_framebuffer(const GLuint *colors, int count, GLuint depth, const char *label);
 
 /* glObjectLabel with a C string. */
 void gl_label(GLenum type, GLuint object, const char *label);

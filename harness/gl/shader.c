@@ -104,6 +104,16 @@ static void composition_free(struct composition *c)
     strbuf_free(&c->text);
 }
 
+/* The info log of a shader or (program) a program; malloc'ed. */
+static char *info_log(GLuint object, bool program)
+{
+    GLint len = 0;
+    (program ? glGetProgramiv : glGetShaderiv)(object, GL_INFO_LOG_LENGTH, &len);
+    char *info = xcalloc((size_t)len + 1, 1);
+    (program ? glGetProgramInfoLog : glGetShaderInfoLog)(object, len, NULL, info);
+    return info;
+}
+
 static GLuint compile_stage(const char *label, const char *defines, const struct shader_stage *st)
 {
     struct composition c = {0};
@@ -116,12 +126,10 @@ static GLuint compile_stage(const char *label, const char *defines, const struct
     const char *text = c.text.data;
     glShaderSource(sh, 1, &text, NULL);
     glCompileShader(sh);
-    GLint ok = 0, len = 0;
+    GLint ok = 0;
     glGetShaderiv(sh, GL_COMPILE_STATUS, &ok);
     if (!ok) {
-        glGetShaderiv(sh, GL_INFO_LOG_LENGTH, &len);
-        char *info = xcalloc((size_t)len + 1, 1);
-        glGetShaderInfoLog(sh, len, NULL, info);
+        char *info = info_log(sh, false);
         log_error("%s: %s does not compile:", label, st->files[0]);
         log_shader_errors(&c, label, info);
         free(info);
@@ -150,12 +158,10 @@ GLuint shader_program(const char *label, const char *defines, const struct shade
     }
     if (ok) {
         glLinkProgram(prog);
-        GLint linked = 0, len = 0;
+        GLint linked = 0;
         glGetProgramiv(prog, GL_LINK_STATUS, &linked);
         if (!linked) {
-            glGetProgramiv(prog, GL_INFO_LOG_LENGTH, &len);
-            char *info = xcalloc((size_t)len + 1, 1);
-            glGetProgramInfoLog(prog, len, NULL, info);
+            char *info = info_log(prog, true);
             log_error("%s: program does not link: %s", label, info);
             free(info);
             ok = false;

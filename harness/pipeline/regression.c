@@ -157,15 +157,15 @@ int regression_collect(struct regression *r, const struct scene *scenes, int sce
         }
         /* in registry order, whatever the order of the selection */
         for (const struct technique *const *t = technique_list; *t; t++)
-            for (const struct technique_cell *d = (*t)->regression; d && d->scene; d++) {
-                if (strcmp(d->scene, scenes[s].name) != 0)
-                    continue;
-                char *label = util_printf("%s@%s", (*t)->name, d->params);
-                const int rc = add_cell(r, techniques, technique_count, &scenes[s], label, true);
-                free(label);
-                if (rc)
-                    return -1;
-            }
+            for (const struct technique_cell *d = (*t)->regression; d && d->scene; d++)
+                for (int k = 0; k < TECHNIQUE_CELLS_PER_SCENE && d->params[k] && !strcmp(d->scene, scenes[s].name);
+                     k++) {
+                    char *label = util_printf("%s@%s", (*t)->name, d->params[k]);
+                    const int rc = add_cell(r, techniques, technique_count, &scenes[s], label, true);
+                    free(label);
+                    if (rc)
+                        return -1;
+                }
         if (add_files(r, techniques, technique_count, &scenes[s]) != 0)
             return -1;
     }

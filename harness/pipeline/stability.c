@@ -254,18 +254,6 @@ static void variation_free(struct variation *v)
     v->count = 0;
 }
 
-static int parse_number(const char *what, const char *text, double *out)
-{
-    char *end;
-    errno = 0;
-    *out = strtod(text, &end);
-    if (!*text || *end || errno == ERANGE || !isfinite(*out)) {
-        log_error("%s: '%s' is not a finite number", what, text);
-        return -1;
-    }
-    return 0;
-}
-
 /* The variable or technique parameter that v->name names, its reference
  * value into *reference and, for a parameter, a copy of its technique's
  * settings to check values on into *work. Returns 0 or -1 (logged). */
@@ -328,7 +316,7 @@ static int add_value(struct variation *v, const char *list, const char *text, vo
     if (v->kind == VARY_PARAM) {
         rc = params_set(v->t, work, v->p->name, text);
         value = rc ? 0 : params_get(v->p, work);
-    } else if ((rc = parse_number(v->name, text, &value)) == 0) {
+    } else if ((rc = util_parse_finite(v->name, text, &value)) == 0) {
         const bool whole = v->kind != VARY_MAP_SIZE || value == floor(value);
         if (!whole || value < stability_variables[v->kind].lo || value > stability_variables[v->kind].hi) {
             log_error("--vary %s: %s is out of range [%g, %g]%s", v->name, text, stability_variables[v->kind].lo,

@@ -20,11 +20,8 @@ int irradiance_create(struct irradiance_pass *p, const struct scene *s, int widt
         return -1;
     p->target = gl_texture_2d(GL_R32F, width, height, "irradiance");
     p->depth = gl_texture_2d(GL_DEPTH_COMPONENT32F, width, height, "irradiance depth");
-    glGenFramebuffers(1, &p->fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, p->fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, p->target, 0);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, p->depth, 0);
-    return gl_framebuffer_complete(p->fbo, "irradiance pass") ? 0 : -1;
+    p->fbo = gl_framebuffer(&p->target, 1, p->depth, "irradiance pass");
+    return p->fbo ? 0 : -1;
 }
 
 double irradiance_render(const struct irradiance_pass *p, const struct scene *s, const struct receiver *r,

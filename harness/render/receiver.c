@@ -18,13 +18,8 @@ int receiver_create(struct receiver *r, const struct scene *s, int width, int he
     r->visibility = gl_texture_2d(GL_R32F, width, height, "receiver: visibility");
     r->distance = gl_texture_2d(GL_R32F, width, height, "receiver: camera distance");
     r->depth = gl_texture_2d(GL_DEPTH_COMPONENT32F, width, height, "receiver: depth");
-    glGenFramebuffers(1, &r->fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, r->fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, r->visibility, 0);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, r->distance, 0);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, r->depth, 0);
-    glDrawBuffers(2, (const GLenum[]){GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1});
-    if (!gl_framebuffer_complete(r->fbo, "receiver pass")) {
+    r->fbo = gl_framebuffer((const GLuint[]){r->visibility, r->distance}, 2, r->depth, "receiver pass");
+    if (!r->fbo) {
         receiver_destroy(r);
         return -1;
     }

@@ -78,7 +78,8 @@ static void timed_frame(const struct stage_timer *t, const struct stage_timer_ce
 static int request(const struct stage_timer *t, const struct stage_timer_cell *c,
                    struct shadowmap_request *r)
 {
-    technique_request(c->technique, c->settings, &t->sm->frustum, t->sm->desc.size_texels, r);
+    technique_request(c->technique, c->settings, &(struct request_context){&t->sm->frustum, t->sm->desc.size_texels},
+                      r);
     return shadowmap_prepare(t->sm, r);
 }
 

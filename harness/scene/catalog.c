@@ -1,4 +1,5 @@
 #include "catalog.h"
+#include "light_frustum.h"
 #include "base/log.h"
 #include "base/util.h"
 
@@ -131,7 +132,10 @@ int catalog_load(const char *const *names, int n, const char *const *reserved, s
         rc = scene_load(paths[i], &scenes[i]);
         if (!rc)
             (*count)++;
-        if (!rc && (rc = catalog_check_name(&scenes[i], reserved)) != 0)
+        struct light_frustum f;
+        if (!rc && (catalog_check_name(&scenes[i], reserved) != 0 || light_frustum_fit(&scenes[i], &f) != 0))
+            rc = -1;
+        if (rc)
             continue;
         /* Outputs go to <out>/<scene name>: two scenes may not share one. */
         for (int j = 0; j < i && !rc; j++)

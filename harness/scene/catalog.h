@@ -22,10 +22,11 @@ void catalog_free(char **paths, int count);
 int catalog_check_name(const struct scene *s, const char *const *reserved);
 
 /* Loads the scenes that names[0..n-1] name (n = 0: every shipped scene),
- * at most max, into scenes[0..*count-1], each name checked as above and
- * no two with one name (outputs are per scene name). On failure the
- * scenes loaded so far stay counted in *count (scene_free them). Returns 0
- * or -1 (logged). */
+ * at most max, into scenes[0..*count-1], each name checked as above, no
+ * two with one name (outputs are per scene name), and each light's
+ * frustum fitted (light_frustum_fit: geometry in front of the light). On
+ * failure the scenes loaded so far stay counted in *count (scene_free
+ * them). Returns 0 or -1 (logged). */
 int catalog_load(const char *const *names, int n, const char *const *reserved, struct scene *scenes, int max,
                  int *count);
 

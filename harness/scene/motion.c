@@ -15,18 +15,6 @@ const struct motion_kind_info motion_kinds[MOTION_KIND_COUNT] = {
 #undef X
 };
 
-static int parse_number(const char *what, const char *text, double *out)
-{
-    char *end;
-    errno = 0;
-    *out = strtod(text, &end);
-    if (!*text || *end || errno == ERANGE || !isfinite(*out)) {
-        log_error("%s: '%s' is not a finite number", what, text);
-        return -1;
-    }
-    return 0;
-}
-
 int motion_parse(const char *what, const char *spec, int scene, int entry, struct motion *m)
 {
     memset(m, 0, sizeof *m);
@@ -65,7 +53,7 @@ int motion_parse(const char *what, const char *spec, int scene, int entry, struc
         log_error("%s: '%s': static takes no step", what, spec);
         return -1;
     }
-    if (eq && parse_number(what, eq + 1, &m->step) != 0)
+    if (eq && util_parse_finite(what, eq + 1, &m->step) != 0)
         return -1;
     if (k != MOTION_STATIC && !(m->step != 0 && fabs(m->step) <= motion_kinds[k].max)) {
         log_error("%s: '%s': the step must be non-zero and at most %g %s in size", what, spec, motion_kinds[k].max,

@@ -148,10 +148,7 @@ void viewer_present(struct viewer *v, int fw, int fh)
         glDeleteTextures(1, &v->show_texture);
         glDeleteFramebuffers(1, &v->show_fbo);
         v->show_texture = gl_texture_2d(GL_RGB8, p->width, p->height, "view: the window's picture");
-        glGenFramebuffers(1, &v->show_fbo);
-        glBindFramebuffer(GL_FRAMEBUFFER, v->show_fbo);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, v->show_texture, 0);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        v->show_fbo = gl_framebuffer(&v->show_texture, 1, 0, "view: the window's picture");
         v->show_w = p->width, v->show_h = p->height;
     }
     glBindTexture(GL_TEXTURE_2D, v->show_texture);
