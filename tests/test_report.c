@@ -3,12 +3,11 @@
  * Chromium (no server), holds the matrix (sorted by its script when the
  * address asks), every picture (each loads: a broken one is marked
  * "missing", which the test proves it would see), and the inline charts
- * with their Pareto fronts and bars. Also the Pareto front itself. */
+ * with their Pareto fronts and bars (the front itself: test_policy). */
 #include "check.h"
 #include "scene/catalog.h"
 #include "run_cmd.h"
 #include "output/chart.h"
-#include "score/frontier.h"
 
 #include <cjson/cJSON.h>
 #include <stdlib.h>
@@ -62,16 +61,6 @@ static int rmse_column(const char *dom, double *v, int max)
     return n;
 }
 
-static void pareto_front(void)
-{
-    /* x: time, y: error. 0 and 3 are beaten by 1 (faster and better), 2 is
-     * the slowest but the best, 4 ties 1 in time with a worse error. */
-    const double x[] = {5, 1, 9, 6, 1}, y[] = {0.5, 0.3, 0.1, 0.35, 0.4};
-    int front[5];
-    int m = frontier_pareto(x, y, 5, front);
-    CHECK(m == 2 && front[0] == 1 && front[1] == 2, "front: %d items, first %d", m, front[0]);
-}
-
 /* A scene whose file name and description are HTML: the report shows them
  * as text, and nothing in them runs (issue 12: a file name reached id,
  * href and a caption unescaped). */
@@ -121,7 +110,6 @@ int main(int argc, char **argv)
 {
     if (!(sb = test_begin(argc, argv, dir)))
         return 1;
-    pareto_front();
     hostile_names();
 
     char *out = util_printf("%s/run", dir);
