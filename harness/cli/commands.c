@@ -57,7 +57,7 @@ const struct command_def commands[COMMAND_COUNT] = {
             "server needed), matrix.csv, matrix.json, run.json, charts/*.svg (error against\n"
             "time with the Pareto front, per scene and over all scenes; failure metrics per\n"
             "technique) and per scene/cell visibility.exr, error.exr, visibility.png,\n"
-            "heatmap.png, metrics.json (docs/outputs.md). With no options: every shipped\n"
+            "heatmap.png, metrics.json (README, Outputs). With no options: every shipped\n"
             "scene x every technique, at its defaults and at its tuned settings. The total\n"
             "time is printed at the end.\n",
         .notes = NOTES({"warmup", "untimed frames per cell before them, 0.." UTIL_STR(CLI_MAX_WARMUP)

@@ -1,4 +1,4 @@
-/* The regression check's cells (`shadowbench check`; docs: the regression
+/* The regression check's cells (`shadowbench check`; README, Regression
  * check). Its cells: every selected technique at its defaults on every
  * selected scene, its tuned cell where it has a tuned file, the cells its
  * descriptor declares (technique.h: .regression, each parameter away from
