@@ -74,9 +74,9 @@ static int run_scene(struct run *r, const struct scene *scene, struct scene_setu
     const int n = r->configs.count;
     log_info("scene %s: %zu triangles", scene->name, scene->triangle_count);
     char *dir = util_printf("%s/%s", o->out_dir, scene->name);
-    if (util_mkdirs(dir) != 0 ||
-        scene_setup_open(ss, scene, &(struct scene_setup_desc){o->width, o->height, o->shadow_map_size,
-                                                                o->gt_samples, 0, o->cache_dir, 0, &r->programs}) != 0) {
+    const struct scene_setup_desc desc = {o->width, o->height, o->shadow_map_size, o->gt_samples, 0, o->cache_dir, 0,
+                                          &r->programs};
+    if (util_mkdirs(dir) != 0 || scene_setup_open(ss, scene, &desc) != 0) {
         free(dir);
         return -1;
     }

@@ -109,7 +109,8 @@ cJSON *provenance_json(int argc, char **argv, bool timed, enum stage_timing timi
     cJSON_AddStringToObject(r, "gl_vendor", gl_context_vendor());
     cJSON_AddStringToObject(r, "gl_version", gl_context_version());
     cJSON_AddStringToObject(r, "gl_platform", gl_context_platform());
-    cJSON_AddStringToObject(r, "timing_method", timed ? stage_timing_text(timing) : "none (this command times nothing)");
+    cJSON_AddStringToObject(r, "timing_method",
+                            timed ? stage_timing_text(timing) : "none (this command times nothing)");
     cJSON_AddStringToObject(r, "embree_version", RTC_VERSION_STRING);
     cJSON_AddStringToObject(r, "openexr_version", OPENEXR_VERSION_STRING);
     cJSON_AddStringToObject(r, "cpu", cpu);

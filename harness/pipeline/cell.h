@@ -83,15 +83,18 @@ int scene_setup_cell(struct scene_setup *ss, const struct technique *t, const vo
 /* Scores what the receiver holds now (the last frame rendered) into m. */
 void scene_setup_score(struct scene_setup *ss, struct metrics *m);
 
-/* Times the n cells interleaved (stage_timer.h): warmup untimed rounds,
- * then frames rounds; out[i] is cell i's. on_round (may be NULL) is called
- * after each round. Returns 0 or -1 (logged). */
+/* How a scene's cells are timed (stage_timer.h): warmup untimed rounds,
+ * then frames rounds, each round one frame of every cell in turn; on_round
+ * (may be NULL) is called after each round. */
 struct scene_setup_timing {
     int warmup, frames;
     enum stage_timing timing;
     void (*on_round)(void *user, int round, int rounds);
     void *user;
 };
+
+/* Times the n cells interleaved; out[i] is cell i's. Returns 0 or -1
+ * (logged). */
 int scene_setup_time(struct scene_setup *ss, const struct scene_setup_timing *how, const struct stage_timer_cell *cells,
                      int n, struct stage_times *out);
 

@@ -454,7 +454,8 @@ void stability_judge(struct stability *st)
 {
     for (int i = 0; i < st->point_count; i++) {
         struct vary_point *p = &st->points[i];
-        const struct vary_point *ref = stability_point(st, p->scene, p->variation, st->vars[p->variation].reference, p->t);
+        const int reference = st->vars[p->variation].reference;
+        const struct vary_point *ref = stability_point(st, p->scene, p->variation, reference, p->t);
         p->broken = ref && break_rule_broken(&p->m, &ref->m);
     }
 }

@@ -70,8 +70,8 @@ static int measure(struct tuner *tn, const int *point, int k, int warmup, int fr
     struct scene_setup *ss = &tn->setups[k];
     const struct stage_timer_cell cell = {tn->t, s, program_for(tn, s, k)};
     struct stage_times times;
-    int rc = !cell.program ||
-             scene_setup_time(ss, &(struct scene_setup_timing){.warmup = warmup, .frames = frames, .timing = tn->o->timing}, &cell, 1, &times) != 0;
+    const struct scene_setup_timing how = {.warmup = warmup, .frames = frames, .timing = tn->o->timing};
+    int rc = !cell.program || scene_setup_time(ss, &how, &cell, 1, &times) != 0;
     free(s);
     if (rc)
         return -1;
