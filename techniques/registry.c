@@ -1,6 +1,6 @@
 /* Every technique the harness knows, in the order `list` and the matrix
- * show them. Adding one: techniques/<name>.c (ending in `const struct
- * technique technique_<name>`), shaders/<name>.glsl, and X(<name>) here. */
+ * show them. Adding one: techniques/<name>.c (ending in its descriptor,
+ * TECHNIQUE(<name>, ...)), shaders/<name>.glsl, and X(<name>) here. */
 #include "technique.h"
 #include "base/util.h"
 #include "scene/light_frustum.h"
@@ -41,6 +41,14 @@ int technique_index(const struct technique *t)
     while (technique_list[i] && technique_list[i] != t)
         i++;
     return i;
+}
+
+bool technique_in(const struct technique *const *list, int n, const struct technique *t)
+{
+    for (int i = 0; i < n; i++)
+        if (list[i] == t)
+            return true;
+    return false;
 }
 
 void technique_names(struct strbuf *out, const char *sep)

@@ -19,9 +19,8 @@ struct product_kind {
     const char *sampler;   /* texture: its GLSL sampler2D (SM_PRODUCT_SAMPLERS declares it) */
     const char *compare_sampler;  /* texture: also a sampler2DShadow through the comparison sampler
                                      (SM_BINDING_<ID>_COMPARE), or NULL */
-    bool blurred;          /* made by moments_blur.frag: MOMENTS_KIND is its SM_PRODUCT_<ID> */
-    int sat_channels;      /* a summed-area table by sat_build.comp: its SAT_CHANNELS (2 or 4) */
-    int sat_slot;          /* a summed-area table: its fields in the block, sm.sat[slot] */
+    int sat_channels;      /* a summed-area table by sat_build.comp: its SAT_CHANNELS (2 or 4); its
+                              fields in the block: sm.sat[sat_slot_of] */
     /* What the passes need beyond a texture product's texture (framebuffers,
      * programs; a buffer product's buffer): called once. Returns 0 or -1
      * (logged); what it made before failing is deleted with the rest. */
@@ -49,6 +48,15 @@ static int binding_of(int p)
         else
             buffer++;
     return kinds[p].format ? unit : buffer;
+}
+
+/* Summed-area table p's slot of the block: the SAT products in table order. */
+static int sat_slot_of(int p)
+{
+    int slot = 0;
+    for (int i = 0; i < p; i++)
+        slot += kinds[i].sat_channels > 0;
+    return slot;
 }
 
 static const char *const product_ids[] = {
@@ -172,11 +180,13 @@ static void depth_render(struct shadowmap *sm, struct shadowmap_product *p,
 /* ---- moments (d, d²), evsm (warped moments), msm (four moments): separable
  * Gaussian, mipmaps */
 
-/* The passes of a product made from the depth map by moments_blur.frag:
- * its rows pass converts (BLUR_FROM_DEPTH), its columns pass filters; its
- * MOMENTS_KIND is the product's own SM_PRODUCT_<ID>. */
-static int blurred_create(struct shadowmap *sm, struct shadowmap_product *p, int product)
+/* The passes of a product made from the depth map by moments_blur.frag
+ * (moments, evsm, msm): its rows pass converts (BLUR_FROM_DEPTH), its
+ * columns pass filters; its MOMENTS_KIND is the product's own
+ * SM_PRODUCT_<ID>. */
+static int blurred_create(struct shadowmap *sm, struct shadowmap_product *p)
 {
+    const int product = (int)(p - sm->products);
     char *temp = util_printf("shadow map: %s blur temporary", product_names[product]);
     p->temp_texture = map_texture(kinds[product].format, 1, sm->desc.size_texels);
     gl_label(GL_TEXTURE, p->temp_texture, temp);
@@ -191,21 +201,6 @@ static int blurred_create(struct shadowmap *sm, struct shadowmap_product *p, int
         free(label), free(defines);
     }
     return p->framebuffers[0] && p->framebuffers[1] && p->programs[0] && p->programs[1] ? 0 : -1;
-}
-
-static int moments_create(struct shadowmap *sm, struct shadowmap_product *p)
-{
-    return blurred_create(sm, p, SM_PRODUCT_MOMENTS);
-}
-
-static int evsm_create(struct shadowmap *sm, struct shadowmap_product *p)
-{
-    return blurred_create(sm, p, SM_PRODUCT_EVSM);
-}
-
-static int msm_create(struct shadowmap *sm, struct shadowmap_product *p)
-{
-    return blurred_create(sm, p, SM_PRODUCT_MSM);
 }
 
 static int check_radius(const char *product, int radius)
@@ -389,7 +384,7 @@ static void sat_render(struct shadowmap *sm, struct shadowmap_product *p,
     (void)mesh;
     const int i = (int)(p - sm->products), n = sm->desc.size_texels;
     const struct sat_request *sr = sat_request_of(r, i);
-    struct shadowmap_sat_block *b = &sm->block.sat[kinds[i].sat_slot];
+    struct shadowmap_sat_block *b = &sm->block.sat[sat_slot_of(i)];
     b->format = (int)sr->format;
     if (sr->format == SAT_INT32) {
         sat_int32_scale(sr, n, &b->scale, &b->max_box_texels);
@@ -422,23 +417,23 @@ static const struct product_kind kinds[SM_PRODUCT_COUNT] = {
         .create = depth_create, .render = depth_render,
     },
     [SM_PRODUCT_MOMENTS] = {
-        .format = GL_RG32F, .mipmapped = true, .sampler = "sm_moments", .blurred = true,
-        .create = moments_create, .render = moments_render, .check = moments_check, .same = moments_same,
+        .format = GL_RG32F, .mipmapped = true, .sampler = "sm_moments",
+        .create = blurred_create, .render = moments_render, .check = moments_check, .same = moments_same,
     },
     [SM_PRODUCT_MOMENTS_SAT] = {
-        .sat_channels = 2, .sat_slot = 0,
+        .sat_channels = 2,
         .create = sat_create, .render = sat_render, .same = moments_sat_same,
     },
     [SM_PRODUCT_EVSM] = {
-        .format = GL_RGBA32F, .mipmapped = true, .sampler = "sm_evsm", .blurred = true,
-        .create = evsm_create, .render = evsm_render, .check = evsm_check, .same = evsm_same,
+        .format = GL_RGBA32F, .mipmapped = true, .sampler = "sm_evsm",
+        .create = blurred_create, .render = evsm_render, .check = evsm_check, .same = evsm_same,
     },
     [SM_PRODUCT_MSM] = {
-        .format = GL_RGBA32F, .mipmapped = true, .sampler = "sm_msm", .blurred = true,
-        .create = msm_create, .render = msm_render, .check = msm_check, .same = msm_same,
+        .format = GL_RGBA32F, .mipmapped = true, .sampler = "sm_msm",
+        .create = blurred_create, .render = msm_render, .check = msm_check, .same = msm_same,
     },
     [SM_PRODUCT_MSM_SAT] = {
-        .sat_channels = 4, .sat_slot = 1,
+        .sat_channels = 4,
         .create = sat_create, .render = sat_render, .check = msm_sat_check, .same = msm_sat_same,
     },
 };
@@ -466,7 +461,7 @@ void shadowmap_shader_defines(struct strbuf *out)
         if (kinds[p].compare_sampler)
             strbuf_printf(out, "#define SM_BINDING_%s_COMPARE %d\n", product_ids[p], binding_of(p) + 1);
         if (kinds[p].sat_channels)
-            strbuf_printf(out, "#define SM_SAT_SLOT_%s %d\n", product_ids[p], kinds[p].sat_slot);
+            strbuf_printf(out, "#define SM_SAT_SLOT_%s %d\n", product_ids[p], sat_slot_of(p));
     }
 #define X(id, name) strbuf_printf(out, "#define SM_LIGHT_" #id " %d\n", LIGHT_##id);
     LIGHT_SHAPES(X)
@@ -522,18 +517,15 @@ int shadowmap_refit(struct shadowmap *sm, const struct scene *s, const struct li
 int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct shadowmap_desc *desc)
 {
     memset(sm, 0, sizeof *sm);
-    unsigned slots = 0;
-    for (int i = 0; i < SM_PRODUCT_COUNT; i++) {
+    for (int i = 0; i < SM_PRODUCT_COUNT; i++)
         if (!kinds[i].create || !kinds[i].render) {  /* an X() in SM_PRODUCTS without its row */
             log_error("shadow map: product '%s' has no row in the layer's table", product_names[i]);
             return -1;
         }
-        if (kinds[i].sat_channels && (kinds[i].sat_slot >= SM_SAT_TABLES || (slots & (1u << kinds[i].sat_slot)))) {
-            log_error("shadow map: product '%s' needs a SAT slot of its own below SM_SAT_TABLES (%d)",
-                      product_names[i], SM_SAT_TABLES);
-            return -1;
-        }
-        slots |= kinds[i].sat_channels ? 1u << kinds[i].sat_slot : 0;
+    if (sat_slot_of(SM_PRODUCT_COUNT) != SM_SAT_TABLES) {  /* the block holds a slot per table */
+        log_error("shadow map: %d summed-area tables in the layer's table, SM_SAT_TABLES says %d",
+                  sat_slot_of(SM_PRODUCT_COUNT), SM_SAT_TABLES);
+        return -1;
     }
     sm->desc = *desc;
     if (!sm->desc.size_texels)
@@ -604,7 +596,7 @@ bool shadowmap_ensure_product(struct shadowmap *sm, const struct scene_mesh *mes
 
 struct shadowmap_sat_block *shadowmap_sat_fields(struct shadowmap *sm, int p)
 {
-    return &sm->block.sat[kinds[p].sat_slot];
+    return kinds[p].sat_channels ? &sm->block.sat[sat_slot_of(p)] : NULL;
 }
 
 void shadowmap_bind(const struct shadowmap *sm)

@@ -28,9 +28,10 @@
 
 #include <stdbool.h>
 
-/* The summed-area tables' fields of the block, one slot per SAT product
- * (its row's sat_slot: SM_SAT_SLOT_<ID> in GLSL), so that two tables
- * coexist in one request. std140 mirror of `struct SmSatTable` in
+/* The summed-area tables' fields of the block, one slot per SAT product in
+ * the order of the product table (SM_SAT_SLOT_<ID> in GLSL), so that two
+ * tables coexist in one request; the layer refuses to start when the table
+ * holds another number of them. std140 mirror of `struct SmSatTable` in
  * shaders/shadow_block.glsl. */
 #define SM_SAT_TABLES 2
 struct shadowmap_sat_block {
@@ -141,7 +142,7 @@ bool shadowmap_ensure_product(struct shadowmap *sm, const struct scene_mesh *mes
 void shadowmap_invalidate(struct shadowmap *sm);
 
 /* The block's fields of summed-area table product p (SM_PRODUCT_MOMENTS_SAT,
- * SM_PRODUCT_MSM_SAT): its slot. */
+ * SM_PRODUCT_MSM_SAT): its slot; NULL for a product that is no table. */
 struct shadowmap_sat_block *shadowmap_sat_fields(struct shadowmap *sm, int p);
 
 /* Binds the uniform block and every product to the bindings the shaders

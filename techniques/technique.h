@@ -8,6 +8,7 @@
 #define SB_TECHNIQUE_H
 
 #include <math.h>
+#include <stdbool.h>
 #include <stddef.h>
 
 /* Shadow-map products (DESIGN.md §1, §5): X(ID, name). Each is a row of the
@@ -213,6 +214,13 @@ const struct technique *technique_find(const char *name);
 /* t's index in technique_list: what settings are kept by, a technique's
  * colour in every chart. */
 int technique_index(const struct technique *t);
+
+/* Whether t is among list[0..n-1] (a selection of techniques). */
+bool technique_in(const struct technique *const *list, int n, const struct technique *t);
+
+/* The most techniques one selection holds (--technique; the study's, the
+ * viewer's lists). */
+#define TECHNIQUE_SELECTION_MAX 32
 
 struct strbuf;  /* base/util.h */
 

@@ -211,7 +211,7 @@ int check_main(const struct options *o)
     struct program_cache programs = {0};
     cJSON *provenance = NULL;
     if ((o->update && cli_require_committed(o, "check --update") != 0) ||
-        cli_load_scenes(o, NULL, 0, scenes, &scene_count) != 0 || check_folders(o) != 0 ||
+        cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0 || check_folders(o) != 0 ||
         regression_collect(&r, scenes, scene_count, o->techniques, o->technique_count) != 0 ||
         read_baselines(&r, o) != 0)
         goto out;

@@ -11,6 +11,7 @@
 #include "gl/gl_context.h"
 #include "output/out_dir.h"
 #include "pipeline/configs.h"
+#include "render/receiver.h"
 #include "render/stage_timer.h"
 #include "scene/scene.h"
 #include "techniques/technique.h"
@@ -34,11 +35,9 @@ enum command {
 };
 
 #define CLI_MAX_SCENES 64
-#define CLI_MAX_TECHNIQUES 32
+#define CLI_MAX_TECHNIQUES TECHNIQUE_SELECTION_MAX
 #define CLI_MAX_MOTIONS 16
 #define CLI_MAX_VARIES 16
-#define CLI_MIN_SIZE 16     /* --width, --height */
-#define CLI_MAX_SIZE 8192
 #define CLI_MAX_WARMUP 100
 
 /* Everything a command line says, every option at its command's default
@@ -130,10 +129,10 @@ void cli_help_markdown(struct strbuf *out);
 void *cli_settings(const struct options *o, const struct technique *t);
 
 /* The commands' shared steps (common.c), each logging its refusal: */
-/* the scenes of o (its default scenes when none is named), at most
- * CLI_MAX_SCENES: 0 or -1 (scene_free the *count loaded either way); */
+/* the scenes of o (its default scenes when none is named), at most max
+ * (the room in scenes): 0 or -1 (scene_free the *count loaded either way); */
 int cli_load_scenes(const struct options *o, const char *const *defaults, int default_count, struct scene *scenes,
-                    int *count);
+                    int max, int *count);
 /* the shaders and the GL context of o's --shaders and --gl: 0 or -1 (bad
  * usage: a --shaders that is not one, a context that cannot be made here). */
 int cli_gl_open(const struct options *o, enum gl_backend backend);
@@ -151,6 +150,16 @@ void cli_done(const struct options *o, const char *what, enum output_file page, 
 /* run.json's record of o (run.c): the provenance (timed: whether the
  * command times stages), the sizes and frames, and the seconds it took. */
 cJSON *cli_run_record(const struct options *o, bool timed, double seconds);
+
+/* stability's defaults, when it is given no --scene (the scenes), or no
+ * --motion and no --vary (the motions and variations; "scene": each
+ * scene's own motions, extras.shadowbench.motions). */
+#define STABILITY_DEFAULT_SCENES 2
+#define STABILITY_DEFAULT_MOTIONS 5
+#define STABILITY_DEFAULT_VARIES 3
+extern const char *const stability_default_scenes[STABILITY_DEFAULT_SCENES];
+extern const char *const stability_default_motions[STABILITY_DEFAULT_MOTIONS];
+extern const char *const stability_default_varies[STABILITY_DEFAULT_VARIES];
 
 /* The entries. */
 int run_main(const struct options *o);

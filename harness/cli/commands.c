@@ -43,6 +43,20 @@ static void stability_more(struct strbuf *out)
     strbuf_printf(out, "\n");
     cli_help_wrap(out, rule, 0, 0);
     free(rule);
+    struct strbuf d = {0};
+    strbuf_printf(&d, "With no --motion and no --vary: --motion");
+    for (int i = 0; i < STABILITY_DEFAULT_MOTIONS; i++)
+        strbuf_printf(&d, "%s%s", i ? ", " : " ", stability_default_motions[i]);
+    strbuf_printf(&d, " (at their default steps) and --vary");
+    for (int i = 0; i < STABILITY_DEFAULT_VARIES; i++)
+        strbuf_printf(&d, "%s%s", i ? ", " : " ", stability_default_varies[i]);
+    strbuf_printf(&d, ". With no --scene: the scenes");
+    for (int i = 0; i < STABILITY_DEFAULT_SCENES; i++)
+        strbuf_printf(&d, "%s%s", i ? ", " : " ", stability_default_scenes[i]);
+    strbuf_printf(&d, ".");
+    strbuf_printf(out, "\n");
+    cli_help_wrap(out, d.data, 0, 0);
+    strbuf_free(&d);
 }
 
 const struct command_def commands[COMMAND_COUNT] = {
@@ -61,7 +75,10 @@ const struct command_def commands[COMMAND_COUNT] = {
             "scene x every technique, at its defaults and at its tuned settings. The total\n"
             "time is printed at the end.\n",
         .notes = NOTES({"warmup", "untimed frames per cell before them, 0.." UTIL_STR(CLI_MAX_WARMUP)
-                                  " (default {D}: the render that scores each cell comes first and warms it)"}),
+                                  " (default {D}: the render that scores each cell comes first and warms it)"},
+                       {"gl", "the GL context: osmesa (default: llvmpipe, the CPU) or egl (headless: a GPU "
+                              "through EGL's device platform where one is present, else Mesa's surfaceless "
+                              "llvmpipe); run.json names the renderer, vendor, platform and timing method"}),
         .after =
             "Timing: a scene's cells are first rendered and scored, one by one, then timed\n"
             "interleaved, one frame of each in turn, so a slow spell of the machine is\n"
@@ -112,16 +129,17 @@ const struct command_def commands[COMMAND_COUNT] = {
             "The regression check per technique. Renders every baseline cell again at the\n"
             "settings it records (results/baselines/<scene>/<cell>.json and its V_tech,\n"
             "<cell>.png: " UTIL_STR(BASELINE_SIZE) "x" UTIL_STR(BASELINE_SIZE) ", " UTIL_STR(BASELINE_GT_SAMPLES)
-            " ground-truth samples, the default shadow map) and compares:\n"
-            "a metric worse than its recorded tolerance, or a picture that moved (more than\n"
-            "0.15 % of its pixels by more than 0.002) with no metric better, is REGRESSED;\n"
-            "a metric better than its tolerance with none worse is 'improved'. Cells: every\n"
-            "technique at its defaults (and at its tuned settings) on every shipped scene,\n"
-            "and the cells each technique declares in its descriptor (.regression in\n"
-            "techniques/<name>.c) that set each parameter away from its default. For each\n"
-            "of those, setting the parameter back must change the picture. One line per\n"
-            "cell; what moved under it. Under --out: check.html with a V_now - V_baseline\n"
-            "heatmap of each cell that moved.\n",
+            " ground-truth samples, the default shadow map)\n"
+            "and compares: a metric worse than its recorded tolerance, or a picture that\n"
+            "moved (a share of more than " UTIL_STR(BASELINE_PIXEL_FRACTION) " of its pixels by more than "
+            UTIL_STR(BASELINE_PIXEL_THRESHOLD) ") with no\n"
+            "metric better, is REGRESSED; a metric better than its tolerance with none\n"
+            "worse is 'improved'. Cells: every technique at its defaults (and at its tuned\n"
+            "settings) on every shipped scene, and the cells each technique declares in\n"
+            "its descriptor (.regression in techniques/<name>.c) that set each parameter\n"
+            "away from its default. For each of those, setting the parameter back must\n"
+            "change the picture. One line per cell; what moved under it. Under --out:\n"
+            "check.html with a V_now - V_baseline heatmap of each cell that moved.\n",
         .notes = NOTES({"scene", "check only this scene's cells (repeatable)"},
                        {"technique", "check only these techniques' cells"},
                        {"out", "where check.html goes (default {D})"},
@@ -190,12 +208,7 @@ const struct command_def commands[COMMAND_COUNT] = {
             "\n"
             "--vary: one thing takes each listed value; every technique's rmse,\n"
             "penumbra_rmse, leak_fraction and dark_fraction against it, and where it\n"
-            "breaks.\n"
-            "\n"
-            "With neither: --motion static, light_shift, light_rotate, camera_shift (at\n"
-            "their default steps) and scene, and --vary shadow_map_size=256,512,1024,2048,4096,\n"
-            "light_scale=0.25,0.5,1,2,4 and depth_range=1,10,100,1000,10000, on the scenes\n"
-            "floating_box_sphere and overlapping_occluders.\n"
+            "breaks. With neither, and without --scene, the defaults below.\n"
             "\n"
             "Writes, under --out: stability.html (open it in a browser: tables, charts, each\n"
             "motion's frames with a slider), stability.csv (one row per technique x motion\n"
@@ -204,8 +217,8 @@ const struct command_def commands[COMMAND_COUNT] = {
             "error_frames.png (the frames side by side). A run first removes what the last\n"
             "run into --out listed in its stability.json (its frames and charts), and\n"
             "nothing else.\n",
-        .notes = NOTES({"scene", "a glTF file, or the name of a shipped scene (repeatable; default: "
-                                 "floating_box_sphere and overlapping_occluders)"},
+        .notes = NOTES({"scene", "a glTF file, or the name of a shipped scene (repeatable; default: see "
+                                 "below)"},
                        {"frames", "frames of each motion, " UTIL_STR(STABILITY_MIN_FRAMES) ".."
                                   UTIL_STR(STABILITY_MAX_FRAMES) " (default {D})"}),
         .after =

@@ -9,11 +9,11 @@
 #include <stdio.h>
 
 int cli_load_scenes(const struct options *o, const char *const *defaults, int default_count, struct scene *scenes,
-                    int *count)
+                    int max, int *count)
 {
     const bool named = o->scene_count > 0;
     return catalog_load(named ? o->scenes : defaults, named ? o->scene_count : default_count, output_files, scenes,
-                        CLI_MAX_SCENES, count);
+                        max, count);
 }
 
 int cli_gl_open(const struct options *o, enum gl_backend backend)
@@ -33,8 +33,9 @@ int cli_require_committed(const struct options *o, const char *what)
                   "it records would name a build nobody can reproduce; commit them, or pass --allow-uncommitted "
                   "(recorded in the files it writes)", what, changed);
     else
-        log_error("%s: the source tree (%s) is not a git checkout, so what it records cannot name the code it "
-                  "came from; pass --allow-uncommitted (recorded in the files it writes)", what, SB_SOURCE_DIR);
+        log_error("%s: the source tree (%s) is not a git checkout (or git is missing), so what it records cannot "
+                  "name the code it came from; pass --allow-uncommitted (recorded in the files it writes)", what,
+                  SB_SOURCE_DIR);
     return -1;
 }
 

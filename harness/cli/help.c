@@ -40,7 +40,7 @@ static void option_help(const struct option_row *r, enum command cmd, const stru
         if (strcmp(n->option, r->name) == 0)
             help = n->help;
     const char *mark = strstr(help, "{D}");
-    if (!mark) {
+    if (!mark || !(r->kind == OPTION_INT || r->kind == OPTION_FOLDER || r->kind == OPTION_TEXT)) {  /* no field */
         strbuf_printf(out, "%s", help);
         return;
     }

@@ -32,9 +32,21 @@
 
 static int set_scene(struct options *o, const char *arg)
 {
-    if (o->scene_count == CLI_MAX_SCENES || (commands[o->cmd].one_scene && o->scene_count == 1)) {
-        log_error("--scene: %s", o->scene_count == CLI_MAX_SCENES ? "too many scenes"
-                                                                  : "gt, bench and view take one scene");
+    if (o->scene_count == CLI_MAX_SCENES) {
+        log_error("--scene: too many scenes");
+        return -1;
+    }
+    if (commands[o->cmd].one_scene && o->scene_count == 1) {
+        const char *names[COMMAND_COUNT];
+        int n = 0;
+        for (int k = 0; k < COMMAND_COUNT; k++)
+            if (commands[k].one_scene)
+                names[n++] = commands[k].name;
+        struct strbuf which = {0};  /* "gt, bench and view" */
+        for (int i = 0; i < n; i++)
+            strbuf_printf(&which, "%s%s", i == 0 ? "" : i == n - 1 ? " and " : ", ", names[i]);
+        log_error("--scene: %s take one scene", which.data);
+        strbuf_free(&which);
         return -1;
     }
     o->scenes[o->scene_count++] = arg;
@@ -241,10 +253,10 @@ const struct option_row option_rows[] = {
      "scene it did not see gets the setting chosen on all)"},
     {"tuned", 0, "DIR", ON(RUN) | ON(CHECK) | ON(TUNE), OPTION_FOLDER, FIELD(tuned_dir), 0, 0, set_tuned,
      "where the tuned settings are (default {D})"},
-    {"width", 0, "W", (RENDERING & ~ON(CHECK)) | ON(GT), OPTION_INT, FIELD(width), CLI_MIN_SIZE, CLI_MAX_SIZE, NULL,
-     "image width in pixels, " UTIL_STR(CLI_MIN_SIZE) ".." UTIL_STR(CLI_MAX_SIZE) " (default {D})"},
-    {"height", 0, "H", (RENDERING & ~ON(CHECK)) | ON(GT), OPTION_INT, FIELD(height), CLI_MIN_SIZE, CLI_MAX_SIZE,
-     NULL, "image height in pixels, " UTIL_STR(CLI_MIN_SIZE) ".." UTIL_STR(CLI_MAX_SIZE) " (default {D})"},
+    {"width", 0, "W", (RENDERING & ~ON(CHECK)) | ON(GT), OPTION_INT, FIELD(width), RECEIVER_MIN_SIZE, RECEIVER_MAX_SIZE, NULL,
+     "image width in pixels, " UTIL_STR(RECEIVER_MIN_SIZE) ".." UTIL_STR(RECEIVER_MAX_SIZE) " (default {D})"},
+    {"height", 0, "H", (RENDERING & ~ON(CHECK)) | ON(GT), OPTION_INT, FIELD(height), RECEIVER_MIN_SIZE, RECEIVER_MAX_SIZE,
+     NULL, "image height in pixels, " UTIL_STR(RECEIVER_MIN_SIZE) ".." UTIL_STR(RECEIVER_MAX_SIZE) " (default {D})"},
     {"gt-samples", 0, "N", TRACING | ON(VIEW), OPTION_INT, FIELD(gt_samples), 0, 0, set_gt_samples,
      "light samples per pixel of the ground truth, a square n*n, 1.." UTIL_STR(GT_MAX_SAMPLES) " (default {D})"},
     {"shadow-map-size", 0, "N", RENDERING & ~ON(CHECK), OPTION_INT, FIELD(shadow_map_size), SHADOWMAP_MIN_SIZE,
@@ -265,8 +277,7 @@ const struct option_row option_rows[] = {
      "GLSL folder (default: found next to the executable or in the source tree; or $SHADOWBENCH_SHADERS)"},
     {"gl", 0, "osmesa|egl", RENDERING & ~ON(VIEW), OPTION_NONE, 0, 0, 0, set_gl,
      "the GL context: osmesa (default: llvmpipe, the CPU) or egl (headless: a GPU through EGL's device platform "
-     "where one is present, else Mesa's surfaceless llvmpipe); run.json names the renderer, vendor, platform and "
-     "timing method"},
+     "where one is present, else Mesa's surfaceless llvmpipe); the outputs name the renderer"},
     {"timing", 0, "auto|wall|query", ON(RUN) | ON(BENCH) | ON(TUNE), OPTION_NONE, 0, 0, 0, set_timing,
      "how stages are timed: wall clock around glFinish or GL_TIME_ELAPSED queries; auto (default): wall on a CPU "
      "rasteriser (llvmpipe, where queries do not measure the work), queries on a GPU"},

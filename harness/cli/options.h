@@ -29,7 +29,8 @@ struct option_row {
     /* Parses arg instead of the field's own parser (may be NULL). Returns 0
      * or -1 (logged). */
     int (*call)(struct options *o, const char *arg);
-    const char *help;       /* {D}: the command's default, from the field */
+    const char *help;       /* {D}: the command's default, from the field (OPTION_INT, _FOLDER,
+                               _TEXT rows only) */
 };
 
 /* Ends with {NULL}. */

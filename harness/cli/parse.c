@@ -78,20 +78,16 @@ void cli_options_defaults(struct options *o, enum command cmd)
     o->accumulate = STABILITY_DEFAULT_ACCUMULATE;
 }
 
-static bool selected(const struct options *o, const struct technique *t)
-{
-    for (int k = 0; k < o->technique_count; k++)
-        if (o->techniques[k] == t)
-            return true;
-    return false;
-}
-
 /* The rules across options, once every option is read. */
 static int check_options(struct options *o)
 {
     const struct command_def *c = &commands[o->cmd];
     if (o->update && o->strict) {
         log_error("--strict: has no effect with --update (which records every cell)");
+        return -1;
+    }
+    if (o->allow_uncommitted && !o->update && !o->write_tuned) {
+        log_error("--allow-uncommitted: has an effect only when recording (check --update, tune --write-tuned)");
         return -1;
     }
     if (c->needs_scene && o->scene_count == 0) {
@@ -109,7 +105,7 @@ static int check_options(struct options *o)
         return -1;
     }
     for (int i = 0; technique_list[i] && o->technique_count; i++)
-        if (o->settings[i] && !selected(o, technique_list[i])) {  /* set, so meant: as a sweep of it would be */
+        if (o->settings[i] && !technique_in(o->techniques, o->technique_count, technique_list[i])) {  /* set, so meant: as a sweep of it would be */
             log_error("--set: %s is not among the techniques selected with --technique", technique_list[i]->name);
             return -1;
         }

@@ -154,7 +154,7 @@ int run_main(const struct options *o)
     struct report_scene rs[CLI_MAX_SCENES] = {0};
     const struct config_desc cd = {o->techniques, o->technique_count, o->settings, o->sweeps, o->sweep_count,
                                    o->set_count, o->settings_mode, o->tuned_dir};
-    if (configs_build(&r.configs, &cd) != 0 || cli_load_scenes(o, NULL, 0, scenes, &scene_count) != 0 ||
+    if (configs_build(&r.configs, &cd) != 0 || cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0 ||
         out_dir_claim(o->out_dir) != 0 || begin_run(o) != 0)
         goto out;
     if (cli_gl_open(o, o->gl) != 0)

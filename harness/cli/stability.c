@@ -13,23 +13,23 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The default scenes, motions and variations (no --scene, --motion,
- * --vary); "scene": each scene's own motions (extras.shadowbench.motions). */
-static const char *const default_scenes[] = {"floating_box_sphere", "overlapping_occluders"};
-static const char *const default_motions[] = {"static", "light_shift", "light_rotate", "camera_shift", "scene"};
-static const char *const default_varies[] = {"shadow_map_size=256,512,1024,2048,4096", "light_scale=0.25,0.5,1,2,4",
-                                             "depth_range=1,10,100,1000,10000"};
+const char *const stability_default_scenes[STABILITY_DEFAULT_SCENES] = {"floating_box_sphere",
+                                                                        "overlapping_occluders"};
+const char *const stability_default_motions[STABILITY_DEFAULT_MOTIONS] = {"static", "light_shift", "light_rotate",
+                                                                          "camera_shift", "scene"};
+const char *const stability_default_varies[STABILITY_DEFAULT_VARIES] = {
+    "shadow_map_size=256,512,1024,2048,4096", "light_scale=0.25,0.5,1,2,4", "depth_range=1,10,100,1000,10000"};
 
 /* The motions of the command line (or the defaults) and, with "scene", of
  * each scene; the variations. Returns 0 or -1 (logged). */
 static int plan(struct stability *st, const struct options *o)
 {
     const bool defaults = !o->motion_count && !o->vary_count;
-    const int motion_count = defaults ? (int)ARRAY_SIZE(default_motions) : o->motion_count;
-    const int vary_count = defaults ? (int)ARRAY_SIZE(default_varies) : o->vary_count;
+    const int motion_count = defaults ? (int)ARRAY_SIZE(stability_default_motions) : o->motion_count;
+    const int vary_count = defaults ? (int)ARRAY_SIZE(stability_default_varies) : o->vary_count;
     bool scene_motions = false;  /* --motion scene: each scene's own motions */
     for (int i = 0; i < motion_count; i++) {
-        const char *spec = defaults ? default_motions[i] : o->motions[i];
+        const char *spec = defaults ? stability_default_motions[i] : o->motions[i];
         struct motion m;
         if (!strcmp(spec, "scene")) {
             if (scene_motions) {
@@ -42,7 +42,7 @@ static int plan(struct stability *st, const struct options *o)
         }
     }
     for (int i = 0; i < vary_count; i++)
-        if (stability_add_variation(st, defaults ? default_varies[i] : o->varies[i]) != 0)
+        if (stability_add_variation(st, defaults ? stability_default_varies[i] : o->varies[i]) != 0)
             return -1;
     return scene_motions ? 1 : 0;
 }
@@ -96,7 +96,8 @@ int stability_main(const struct options *o)
         log_error("--gt-samples: stability needs at least 4 (its noise floor compares two halves of the samples)");
         goto out;
     }
-    if (cli_load_scenes(o, default_scenes, (int)ARRAY_SIZE(default_scenes), scenes, &scene_count) != 0)
+    if (cli_load_scenes(o, stability_default_scenes, (int)ARRAY_SIZE(stability_default_scenes), scenes,
+                        CLI_MAX_SCENES, &scene_count) != 0)
         goto out;
     st.scene_count = scene_count;
     if (scene_motions && add_scene_motions(&st, scenes, scene_count) != 0)
@@ -122,7 +123,7 @@ int stability_main(const struct options *o)
         for (int m = 0; m < st.motion_count && !rc; m++)
             if (motion_on(&st.motions[m], s)) {
                 log_info("scene %s, motion %s", scenes[s].name, st.motions[m].label);
-                rc = stability_motion(&st, s, m);
+                rc = stability_motion(&st, s, m) || stability_output_frames(&so);
             }
     for (int s = 0; s < scene_count && !rc; s++)
         for (int v = 0; v < st.var_count && !rc; v++) {

@@ -106,7 +106,7 @@ int tune_main(const struct options *o)
     struct program_cache programs = {0};
     int scene_count = 0, status = EXIT_USAGE, opened = 0;
     if ((o->write_tuned && cli_require_committed(o, "tune --write-tuned") != 0) ||
-        cli_load_scenes(o, NULL, 0, scenes, &scene_count) != 0)
+        cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0)
         goto out;
     if (scene_count < 2 || scene_count > TUNE_MAX_SCENES) {
         log_error("tune: needs 2 to %d scenes (each scene's setting is chosen on the others), got %d",

@@ -115,7 +115,7 @@ int view_main(const struct options *o)
         return EXIT_USAGE;
     struct scene s;
     int scene_count = 0;
-    if (cli_load_scenes(o, NULL, 0, &s, &scene_count) != 0) {
+    if (cli_load_scenes(o, NULL, 0, &s, 1, &scene_count) != 0) {
         if (scene_count)
             scene_free(&s);
         return EXIT_USAGE;

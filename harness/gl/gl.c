@@ -61,9 +61,13 @@ GLuint gl_framebuffer(const GLuint *colors, int count, GLuint depth, const char 
 {
     GLuint fbo;
     GLenum buffers[8] = {GL_NONE};
+    if (count > 8) {
+        log_error("%s: %d colour attachments, at most 8", label, count);
+        return 0;
+    }
     glGenFramebuffers(1, &fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    for (int i = 0; i < count && i < 8; i++) {
+    for (int i = 0; i < count; i++) {
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)i, GL_TEXTURE_2D, colors[i], 0);
         buffers[i] = GL_COLOR_ATTACHMENT0 + (GLenum)i;
     }

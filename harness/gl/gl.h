@@ -86,7 +86,8 @@
     X(PFNGLUNIFORM2FVPROC, glUniform2fv)
 
 /* The read-backs only the tests call (a product's texture or buffer
- * contents): loaded by gl_load_test_functions, never by the program. */
+ * contents): loaded by gl_context_load_test_functions, never by the
+ * program. */
 #define GL_TEST_FUNCS(X) \
     X(PFNGLGETTEXIMAGEPROC, glGetTexImage) \
     X(PFNGLGETBUFFERSUBDATAPROC, glGetBufferSubData)
@@ -112,8 +113,8 @@ bool gl_load(gl_proc (*getproc)(const char *name), bool with_tests);
  * objects: call once per context. */
 void gl_install_debug_output(void);
 
-/* A framebuffer drawing into level 0 of colors[0..count-1] (at colour
- * attachments 0, 1, ...; none: a depth-only pass) and of depth (0: none),
+/* A framebuffer drawing into level 0 of colors[0..count-1] (count <= 8, at
+ * colour attachments 0, 1, ...; none: a depth-only pass) and of depth (0: none),
  * labelled, left unbound; 0 after logging "<label>: framebuffer
  * incomplete". */
 GLuint gl_framebuffer(const GLuint *colors, int count, GLuint depth, const char *label);

@@ -563,20 +563,30 @@ int stability_output_frame(void *user, const struct motion_row *row, int frame, 
     picture_error_heatmap(v, ss->gt.v, ss->scored, ss->width, ss->height, &pic);
     strip_put(&strips[1], &pic, frame, frames);
     picture_free(&pic);
-    if (frame < frames - 1)
-        return 0;
+    return 0;
+}
+
+int stability_output_frames(struct stability_output *so)
+{
     const struct stability *st = so->st;
-    char *dir = util_printf("%s/%s/%s/%s", so->out_dir, st->scenes[row->scene].name, st->motions[row->motion].label,
-                            row->label);
-    int rc = util_mkdirs(dir);
-    for (int f = 0; f < 2; f++) {
-        char *path = util_printf("%s/%s", dir, frame_files[f]);
-        rc = rc || image_write_png(path, strips[f].w * strips[f].frames, strips[f].ph, strips[f].rgb);
-        free(path);
-        free(strips[f].rgb);
-        strips[f] = (struct frame_strip){0};
+    int rc = 0;
+    for (int i = 0; i < so->strip_count; i++) {
+        struct frame_strip *strips = so->strips[i];
+        if (!strips[0].rgb)
+            continue;
+        const struct motion_row *row = &st->rows[i];
+        char *dir = util_printf("%s/%s/%s/%s", so->out_dir, st->scenes[row->scene].name,
+                                st->motions[row->motion].label, row->label);
+        rc = rc || util_mkdirs(dir);
+        for (int f = 0; f < 2; f++) {
+            char *path = util_printf("%s/%s", dir, frame_files[f]);
+            rc = rc || image_write_png(path, strips[f].w * strips[f].frames, strips[f].ph, strips[f].rgb);
+            free(path);
+            free(strips[f].rgb);
+            strips[f] = (struct frame_strip){0};
+        }
+        free(dir);
     }
-    free(dir);
     return rc ? -1 : 0;
 }
 

@@ -29,9 +29,14 @@ struct stability_output {
 void stability_output_begin(struct stability_output *so, const struct stability *st, const char *out_dir);
 
 /* st->on_frame (user: the stability_output): a frame of a row into its
- * strips, written after its last frame. */
+ * strips. */
 int stability_output_frame(void *user, const struct motion_row *row, int frame, int frames,
                            const struct scene_setup *ss, const float *v);
+
+/* After a motion ran whole: its rows' strips written (and freed). Returns
+ * 0 or -1 (logged). A motion that failed writes none: stability_output_free
+ * drops them. */
+int stability_output_frames(struct stability_output *so);
 
 /* stability.html, stability.json and stability.csv, with the run record
  * (run.json's keys); on failure none of the three. Returns 0 or -1. */

@@ -24,14 +24,6 @@ static void sweep_clear(struct sweep *s)
     free(s->values);
 }
 
-static bool selected(const struct config_desc *o, const struct technique *t)
-{
-    for (int i = 0; i < o->technique_count; i++)
-        if (o->techniques[i] == t)
-            return true;
-    return false;
-}
-
 static int parse_sweep(const struct config_desc *o, const char *arg, const struct sweep *done,
                        int done_count, struct sweep *s)
 {
@@ -48,7 +40,7 @@ static int parse_sweep(const struct config_desc *o, const char *arg, const struc
         log_error("--sweep: unknown technique '%s'", tech);
         return -1;
     }
-    if (!selected(o, s->t)) {
+    if (!technique_in(o->techniques, o->technique_count, s->t)) {
         log_error("--sweep: %s is not among the techniques selected with --technique", tech);
         return -1;
     }

@@ -9,14 +9,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-static bool selected(const struct technique *const *techniques, int n, const struct technique *t)
-{
-    for (int i = 0; i < n; i++)
-        if (techniques[i] == t)
-            return true;
-    return false;
-}
-
 /* "pcf@radius_texels=8,pattern=grid" -> technique and settings (defaults
  * plus the values); "pcf@tuned" -> pcf's tuned settings for scene s (from
  * tuned_dir). Returns 0 or -1 (logged). */
@@ -97,7 +89,7 @@ static int add_cell(struct regression *r, const struct technique *const *techniq
         return 0;
     char name[64];  /* a technique not selected: its cells are not read (a tuned one needs its file) */
     snprintf(name, sizeof name, "%.*s", (int)strcspn(label, "@"), label);
-    if ((t = technique_find(name)) && !selected(techniques, technique_count, t))
+    if ((t = technique_find(name)) && !technique_in(techniques, technique_count, t))
         return 0;
     if (parse_label(label, s, r->tuned_dir, &t, &settings) != 0)
         return -1;

@@ -108,8 +108,12 @@ static int add_rows(struct stability *st, int s, int m, size_t count, struct liv
     for (int i = 0; i < st->technique_count; i++) {
         const struct technique *t = st->techniques[i];
         const GLuint program = programs_get(&st->programs, t, st->settings[i], st->scenes[s].light.shape);
-        if (!program)
+        if (!program) {  /* the rows so far go too */
+            for (int k = 0; k < n; k++)
+                free(live[k].v), free(live[k].history), free(live[k].prev_history);
+            st->row_count -= n;
             return -1;
+        }
         const bool noisy = receiver_program_animated(program);
         for (int animated = 0; animated <= (int)noisy; animated++)
             for (int acc = 0; acc <= 1; acc++) {

@@ -28,7 +28,7 @@
 #define STABILITY_DEFAULT_ACCUMULATE 0.1   /* a new frame's weight in the moving average */
 #define STABILITY_MAX_VALUES 32
 #define STABILITY_MAX_VARIATIONS 16
-#define STABILITY_MAX_TECHNIQUES 32
+#define STABILITY_MAX_TECHNIQUES TECHNIQUE_SELECTION_MAX
 
 /* What --vary takes besides T.P: X(ID, name, reference value, smallest,
  * largest, meaning). */

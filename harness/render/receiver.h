@@ -12,6 +12,11 @@
 
 #include <stdbool.h>
 
+/* The image sizes the receiver renders (and every command takes: --width,
+ * --height; a baseline records one), in pixels. */
+#define RECEIVER_MIN_SIZE 16
+#define RECEIVER_MAX_SIZE 8192
+
 struct receiver {
     int width, height;
     GLuint fbo, visibility, distance, depth;

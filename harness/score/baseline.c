@@ -2,6 +2,7 @@
 #include "base/image.h"
 #include "base/log.h"
 #include "base/util.h"
+#include "render/receiver.h"
 #include "techniques/params.h"
 #include "techniques/shadowmap.h"
 
@@ -91,8 +92,8 @@ static const char *problem_of(struct baseline *b, const char *scene, const char 
                  "it anew: shadowbench check --update)", version, GT_VERSION);
         return buf;
     }
-    const double w = json_in_range(settings, "width", 1, 65536);
-    const double h = json_in_range(settings, "height", 1, 65536);
+    const double w = json_in_range(settings, "width", RECEIVER_MIN_SIZE, RECEIVER_MAX_SIZE);
+    const double h = json_in_range(settings, "height", RECEIVER_MIN_SIZE, RECEIVER_MAX_SIZE);
     const double n = json_in_range(settings, "gt_samples", 1, GT_MAX_SAMPLES);
     const double seed = json_in_range(settings, "gt_seed", 1, UINT32_MAX);
     const double map = json_in_range(settings, "shadow_map_size", SHADOWMAP_MIN_SIZE, SHADOWMAP_MAX_SIZE);
@@ -244,7 +245,7 @@ void baseline_spread(const float *v, const float *gl_distance, const struct metr
         spread[g] = 0;
     if (n <= 0)
         return;
-    const int count = others[0].width * others[0].height;
+    const int count = others[0].width * others[0].height;  /* at most RECEIVER_MAX_SIZE^2: an int */
     float *scored = xmalloc(sizeof(float) * (size_t)count);
     for (int s = 0; s < n; s++) {
         struct metrics other = {0};

@@ -22,7 +22,7 @@
 struct tune_sample {
     double objective;
     double ms, ms_q1, ms_q3;  /* time per frame: median and quartiles */
-    bool retimed;             /* timed again for the files (cli/tune.c), not by the search */
+    bool retimed;             /* timed again for the files (pipeline/tuner.c), not by the search */
 };
 
 /* Evaluates point on scene into *s. Returns 0, or -1 to stop the search (an

@@ -21,7 +21,7 @@
 
 #include <stdbool.h>
 
-#define VIEWER_MAX_TECHNIQUES 32
+#define VIEWER_MAX_TECHNIQUES TECHNIQUE_SELECTION_MAX
 #define VIEWER_LIGHT_REACH 2.0f  /* the light moves at most this many scene sizes */
 #define VIEWER_DOLLY_REACH 20.0f /* the camera's distance changes at most this many times */
 #define VIEWER_WHITE 2.5         /* the shaded and E views: this times the mean E over the geometry is white */
