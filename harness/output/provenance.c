@@ -12,7 +12,7 @@
 #include <time.h>
 #include <unistd.h>
 
-char *provenance_command_line(int argc, char **argv)
+static char *command_line(int argc, char **argv)
 {
     struct strbuf cmd = {0};
     for (int i = 0; i < argc; i++)
@@ -22,7 +22,7 @@ char *provenance_command_line(int argc, char **argv)
     return text;
 }
 
-char *provenance_utc_date(void)
+static char *utc_date(void)
 {
     char date[64];
     time_t now = time(NULL);
@@ -64,10 +64,13 @@ const char *provenance_source_text(enum source_state s)
                                  : "not a git checkout";
 }
 
-char *provenance_git_describe(void)
+/* `git describe --always` of the source tree, "-dirty" where its code
+ * has changes (state): a results file a tuning has just rewritten
+ * (results/tuned/) is not the code. "unknown" without git; malloc'ed. */
+static char *git_describe(enum source_state state)
 {
     char buf[128] = "unknown";
-    char *cmd = util_printf("git -C '%s' describe --always --dirty 2>/dev/null", SB_SOURCE_DIR);
+    char *cmd = util_printf("git -C '%s' describe --always 2>/dev/null", SB_SOURCE_DIR);
     FILE *p = popen(cmd, "r");
     free(cmd);
     if (p) {
@@ -76,7 +79,7 @@ char *provenance_git_describe(void)
         pclose(p);
     }
     buf[strcspn(buf, "\n")] = '\0';
-    return xstrdup(buf);
+    return util_printf("%s%s", buf, strcmp(buf, "unknown") != 0 && state == SOURCE_CHANGED ? "-dirty" : "");
 }
 
 static char *cpu_model(void)
@@ -98,13 +101,13 @@ static char *cpu_model(void)
 cJSON *provenance_json(int argc, char **argv, bool timed, enum stage_timing timing)
 {
     cJSON *r = cJSON_CreateObject();
-    char *cmd = provenance_command_line(argc, argv), *git = provenance_git_describe(), *cpu = cpu_model(),
-         *date = provenance_utc_date();
+    char changed[512];
+    const enum source_state state = provenance_source_state(changed, sizeof changed);
+    char *cmd = command_line(argc, argv), *git = git_describe(state), *cpu = cpu_model(), *date = utc_date();
     cJSON_AddStringToObject(r, "command_line", cmd);
     cJSON_AddStringToObject(r, "shadowbench_version", SB_VERSION);
     cJSON_AddStringToObject(r, "git_describe", git);
-    char changed[512];
-    cJSON_AddStringToObject(r, "source_tree", provenance_source_text(provenance_source_state(changed, sizeof changed)));
+    cJSON_AddStringToObject(r, "source_tree", provenance_source_text(state));
     cJSON_AddStringToObject(r, "gl_renderer", gl_context_renderer());
     cJSON_AddStringToObject(r, "gl_vendor", gl_context_vendor());
     cJSON_AddStringToObject(r, "gl_version", gl_context_version());

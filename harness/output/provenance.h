@@ -1,7 +1,8 @@
 /* Where a result came from (DESIGN.md §8): one record, written with the
  * same keys into run.json, tuned files and baselines (util_json_merge): the
- * command line, the versions, the device, the CPU, the date, `git describe`
- * of the source tree and whether its code was committed ("source_tree"). */
+ * command line (as UTF-8 text), the versions, the device, the CPU, the date
+ * (UTC), `git describe` of the source tree ("-dirty" where its code has
+ * uncommitted changes) and whether its code was committed ("source_tree"). */
 #ifndef SB_PROVENANCE_H
 #define SB_PROVENANCE_H
 
@@ -26,14 +27,5 @@ enum source_state provenance_source_state(char *what, size_t size);
 
 /* The state in words, as the record's "source_tree" says it. */
 const char *provenance_source_text(enum source_state s);
-
-/* The command line as UTF-8 text (any other byte as U+FFFD); malloc'ed. */
-char *provenance_command_line(int argc, char **argv);
-
-/* `git describe --always --dirty` of the source tree, or "unknown"; malloc'ed. */
-char *provenance_git_describe(void);
-
-/* Now, in UTC, as the outputs write it: "2026-11-23T22:28:48Z"; malloc'ed. */
-char *provenance_utc_date(void);
 
 #endif
