@@ -113,11 +113,15 @@ static void refused(const char *env, const char *args, const char *line_start)
     free(cmd);
 }
 
-/* The query path: every stage timed, positive and finite, and named. */
+/* The query path: every stage timed, positive and finite, and named. One
+ * timed frame, so the stages must add up to the total: with more, each
+ * column is its own median, and a sum of medians is not the median of the
+ * frames' sums (3 frames on a loaded machine put them 30 % apart). The
+ * tolerance is the printing's: four values rounded to 0.01 ms. */
 static void timer_queries(void)
 {
     char *cmd = util_printf("%s bench --gl egl --timing query --scene parallel_planes --technique hard,vsm "
-                            "--width 64 --height 64 --shadow-map-size 256 --frames 3 --warmup 1", sb);
+                            "--width 64 --height 64 --shadow-map-size 256 --frames 1 --warmup 1", sb);
     struct strbuf out = {0}, err = {0};
     int status = run_cmd(cmd, &err, &out);
     CHECK(status == 0, "bench --timing query: exit %d: %s", status, err.data);
@@ -127,7 +131,7 @@ static void timer_queries(void)
     double sm = NAN, prep = NAN, recv = NAN, total = NAN;
     CHECK(vsm && sscanf(vsm, "\nvsm %lf %lf %lf %lf", &sm, &prep, &recv, &total) == 4, "bench: no vsm row: %s",
           out.data);
-    CHECK(sm > 0 && prep > 0 && recv > 0 && fabs(sm + prep + recv - total) < 0.05 * total,
+    CHECK(sm > 0 && prep > 0 && recv > 0 && fabs(sm + prep + recv - total) <= 0.02 + 1e-9,
           "queries: vsm's stages %g + %g + %g must be positive and make its total %g", sm, prep, recv, total);
     strbuf_free(&out), strbuf_free(&err);
     free(cmd);

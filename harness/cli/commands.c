@@ -113,11 +113,12 @@ const struct command_def commands[COMMAND_COUNT] = {
             "Times every selected technique on one scene, without ground truth or files:\n"
             "the median time (--timing) of K frames after warm-up, per stage: shadow map\n"
             "(the depth pass), filter prep (moments, blur, mipmaps, summed-area table) and\n"
-            "receiver pass, and the quartiles of the frame totals. Then the\n"
-            "texture-fetch limit on the same scene: a receiver pass that does only the\n"
-            "depth fetches of each PCF-family technique, and the ratio of the technique's\n"
-            "receiver pass to it. The techniques and probes are timed interleaved, one\n"
-            "frame of each in turn.\n",
+            "receiver pass, and the median and quartiles of the frame totals. Each column\n"
+            "is its own median, so with several frames the stages need not add up to the\n"
+            "total. Then the texture-fetch limit on the same scene: a receiver pass that\n"
+            "does only the depth fetches of each PCF-family technique, and the ratio of\n"
+            "the technique's receiver pass to it. The techniques and probes are timed\n"
+            "interleaved, one frame of each in turn.\n",
         .notes = NOTES({"scene", "a glTF file or shipped scene (default: the first shipped)"},
                        {"technique", "techniques to time (default: all)"}),
     },
