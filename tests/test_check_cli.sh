@@ -1,8 +1,9 @@
 #!/bin/sh
 # Protects `shadowbench check` as a user meets it (README, Regression check):
 # recording, passing, each kind of failure with its exit status and the line
-# that says it, the page of moved cells, and bad baselines refused with one
-# line naming the file. On one scene and one technique, in a scratch folder.
+# that says it, the page of moved cells, bad baselines refused with one
+# line naming the file, an interrupted --update that changes nothing, a
+# pipe closed early and the baselines of a scene no longer shipped. On one scene and one technique, in a scratch folder.
 # Usage: test_check_cli.sh <shadowbench>
 set -u
 sb=$1
@@ -150,6 +151,42 @@ expect 2 "unknown option for check" --width 64
 out=$("$sb" run --baselines "$B" 2>&1)
 [ $? = 2 ] && printf '%s' "$out" | grep -q "unknown option for run" ||
     { echo "FAILED: run --baselines: $out"; failed=$((failed + 1)); }
+
+# --update stopped before the end leaves the baselines as they were (every
+# file byte for byte) and its next set for the next --update to remove.
+record
+sums() { (cd "$B" && find . -type f ! -name .lock | sort | xargs md5sum); }
+before=$(sums)
+rm -f "$tmp/update.fifo" && mkfifo "$tmp/update.fifo"
+"$sb" check --update --allow-uncommitted --scene parallel_planes --technique hard,pcf --baselines "$B" --out "$tmp/out" \
+    --cache "$tmp/cache" >"$tmp/update.fifo" 2>/dev/null &
+pid=$!
+while IFS= read -r line; do
+    case $line in *"  hard"*) kill -TERM $pid ;; esac
+done < "$tmp/update.fifo"
+wait $pid
+rc=$?
+[ $rc = 143 ] && [ "$(sums)" = "$before" ] && ls -d "$B.tmp."* >/dev/null 2>&1 &&
+    echo "ok: --update killed after its first cell: exit 143, the baselines as they were" ||
+    { echo "FAILED: a killed --update: exit $rc"; failed=$((failed + 1)); }
+record
+! ls -d "$B.tmp."* >/dev/null 2>&1 && echo "ok: the next --update removes the dead one's set" ||
+    { echo "FAILED: a dead --update's set left: $(ls -d "$B.tmp."*)"; failed=$((failed + 1)); }
+
+# A reader that closes the pipe stops nothing: check checks every cell and
+# its status is its verdict (SIGPIPE killed it before the first cell).
+status=$( { "$sb" check -q --scene parallel_planes --technique hard --baselines "$B" --out "$tmp/piped" \
+                --cache "$tmp/cache"; echo $? > "$tmp/piped.rc"; } | head -c 0; cat "$tmp/piped.rc")
+[ "$status" = 0 ] && [ -f "$tmp/piped/check.html" ] && echo "ok: check | head -c 0: every cell checked, exit 0" ||
+    { echo "FAILED: check | head -c 0: exit $status"; failed=$((failed + 1)); }
+
+# With every shipped scene checked, a baselines folder of a scene no longer
+# shipped is named (its baselines would go unchecked without a word).
+mkdir -p "$B/no_longer_shipped" && cp "$cell" "$B/no_longer_shipped/hard.json"
+out=$("$sb" check -q --technique hard --baselines "$B" --out "$tmp/out" --cache "$tmp/cache" 2>&1)
+printf '%s\n' "$out" | grep -q "ORPHANED    $B/no_longer_shipped: no shipped scene is called 'no_longer_shipped'" &&
+    echo "ok: a scene no longer shipped: ORPHANED" || { echo "FAILED: no ORPHANED line: $out"; failed=$((failed + 1)); }
+rm -r "$B/no_longer_shipped"
 
 [ "$failed" = 0 ] && echo "all passed" || echo "$failed failed"
 [ "$failed" = 0 ]

@@ -3,8 +3,13 @@
 # per folder at a time; a run killed by SIGTERM or SIGINT exits 143 or 130,
 # leaves no temporary behind and says it is incomplete; a later run removes
 # the temporaries of dead runs and only those; a write that fails is one
-# line and an incomplete run; scene names that would
-# escape their folder or take a run file's name are refused before any work.
+# line and an incomplete run, the same for every command, SIGXFSZ or not;
+# scene names that would escape their folder or take a run file's name are
+# refused before any work; the cache's dead temporaries go; the limits
+# (file size, address space, memory) are one line each; standard output
+# that fails is said, a pipe closed early stops nothing; a signal after
+# "finished" changes no status; no write goes through a link out of --out;
+# an interrupted tune leaves its tuned folder as it was.
 # Usage: test_data_safety.sh <shadowbench> <source root>
 set -u
 sb=$1 root=$2
@@ -65,11 +70,12 @@ printf '%s' "$out" | grep -q "from cache" && [ -z "$(find "$tmp/cache" -name '*.
     ok "concurrent writers leave one whole cache entry" || fail "cache after concurrent writers: $out"
 
 # A write that fails (the file-size limit makes write() fail with EFBIG,
-# where a full disk gives ENOSPC): one line naming the file, exit 1, no
-# temporary left, and run.json says incomplete. 4 KiB stops a cell's EXR,
-# 40 KiB the ground truth's.
+# where a full disk gives ENOSPC; the program ignores the SIGXFSZ that
+# would kill it): one line naming the file, exit 1, no temporary left, and
+# run.json says incomplete. 4 KiB stops a cell's EXR, 40 KiB the ground
+# truth's.
 for kib in 4 40; do
-    out=$( (trap '' XFSZ; ulimit -f $kib; "$sb" run --scene parallel_planes --technique hard,pcf \
+    out=$( (ulimit -f $kib; "$sb" run --scene parallel_planes --technique hard,pcf \
                --width 128 --height 128 --gt-samples 16 --frames 1 --warmup 0 --no-cache -q \
                --out "$tmp/full$kib") 2>&1)
     rc=$?
@@ -112,6 +118,161 @@ for name in ... . .. .hidden report.html matrix.csv run.json charts "$long" "$ba
         ok "scene '$name.gltf' refused" || fail "scene '$name.gltf': exit $rc: $out"
     rm -f "$tmp/$name.gltf"
 done
+
+# The file-size limit as the hostile pass met it (a 64² EXR of the ground
+# truth past 4 KiB), and one too small for tune.json or run.json: one line,
+# exit 1 (a runtime error, the same for every command), no temporary.
+out=$( (ulimit -f 4; "$sb" run --scene floating_box_sphere --technique hard,pcss --width 64 --height 64 \
+           --gt-samples 16 --frames 1 --settings default --no-cache -q --out "$tmp/fsize") 2>&1)
+rc=$?
+[ $rc = 1 ] && [ "$(printf '%s\n' "$out" | wc -l)" = 1 ] && printf '%s' "$out" | grep -q "File too large" &&
+    [ -z "$(find "$tmp/fsize" -name '*.tmp.*')" ] && ok "ulimit -f 4: '$out'" || fail "ulimit -f 4: exit $rc: $out"
+for cmd in "run --scene parallel_planes --technique hard" \
+           "tune --scene parallel_planes --scene thin_features --technique hard"; do
+    out=$( (ulimit -f 0; "$sb" $cmd $small --out "$tmp/f0") 2>&1)
+    rc=$?
+    [ $rc = 1 ] && [ "$(printf '%s\n' "$out" | wc -l)" = 1 ] && printf '%s' "$out" | grep -q "cannot write: File too large" &&
+        ok "${cmd%% *} with nothing writable past 0 bytes: exit 1, '$out'" || fail "${cmd%% *} under ulimit -f 0: exit $rc: $out"
+    rm -rf "$tmp/f0"
+done
+
+# A cache writer that died before its rename leaves "<entry>.tmp.<pid>": the
+# next command that uses the cache removes it (a live writer's stays).
+mkdir -p "$tmp/sweep"
+: > "$tmp/sweep/parallel_planes-0.exr.tmp.4194305"
+: > "$tmp/sweep/parallel_planes-1.exr.tmp.$$"
+"$sb" gt --scene parallel_planes --width 32 --height 32 --gt-samples 4 --cache "$tmp/sweep" -q --out "$tmp/sweep-gt" \
+    >/dev/null || fail "gt into the cache"
+[ ! -e "$tmp/sweep/parallel_planes-0.exr.tmp.4194305" ] && [ -e "$tmp/sweep/parallel_planes-1.exr.tmp.$$" ] &&
+    ok "a dead writer's cache temporary removed, a live one's kept" || fail "cache temporaries: $(ls "$tmp/sweep")"
+
+# A cache entry that cannot be written (its name taken by a folder) costs
+# time, not the result: a warning, the run exits 0.
+entry=$(ls "$tmp/sweep" | grep -v '\.tmp\.' | head -1)
+rm "$tmp/sweep/$entry" && mkdir "$tmp/sweep/$entry"
+out=$("$sb" gt --scene parallel_planes --width 32 --height 32 --gt-samples 4 --cache "$tmp/sweep" --out "$tmp/sweep-gt" \
+          2>&1 >/dev/null)
+rc=$?
+[ $rc = 0 ] && ! printf '%s' "$out" | grep -q "error:" && printf '%s' "$out" | grep -q "warning: ground truth parallel_planes: not cached" &&
+    ok "a cache entry that cannot be written: warnings, exit 0" || fail "an unwritable cache entry: exit $rc: $out"
+
+# Under an address-space limit Mesa crashes rather than failing: refused in
+# one line before it is reached (exit 2). A scene too large for the memory
+# left is out of memory, exit 1, saying how much it needed, not "malformed".
+# (Not under the sanitizers: their shadow memory needs terabytes of address
+# space.)
+if [ -z "${SB_SANITIZED:-}" ]; then
+    out=$( (ulimit -v 262144; "$sb" run --scene floating_box_sphere --technique hard --width 64 --height 64 \
+               --gt-samples 16 --frames 1 --settings default --no-cache -q --out "$tmp/as") 2>&1)
+    rc=$?
+    [ $rc = 2 ] && [ "$(printf '%s\n' "$out" | wc -l)" = 1 ] &&
+        printf '%s' "$out" | grep -q "^shadowbench: error: OpenGL: the address-space limit (ulimit -v 262144 KiB) is below" &&
+        ok "ulimit -v 256 MiB: '$out'" || fail "ulimit -v 256 MiB: exit $rc: $out"
+    python3 -c '
+import base64, json, sys
+blob = bytes(30 << 20)
+json.dump({"asset": {"version": "2.0"}, "buffers": [{"byteLength": len(blob),
+           "uri": "data:application/octet-stream;base64," + base64.b64encode(blob).decode()}]}, open(sys.argv[1], "w"))' \
+        "$tmp/big.gltf"
+    for kib in 300000 400000; do
+        out=$( (ulimit -v $kib; "$sb" gt --scene "$tmp/big.gltf" -q --out "$tmp/big") 2>&1)
+        rc=$?
+        [ $rc = 1 ] && [ "$(printf '%s\n' "$out" | wc -l)" = 1 ] &&
+            printf '%s' "$out" | grep -q "^shadowbench: error: $tmp/big.gltf: out of memory.*: [0-9]* more bytes were needed" &&
+            ok "a 40 MB data URI under ulimit -v $kib: '$out'" || fail "a 40 MB data URI under ulimit -v $kib: exit $rc: $out"
+    done
+    rm -f "$tmp/big.gltf"
+fi
+
+# Standard output: a reader that closes the pipe stops nothing (the status
+# is the command's own), a full device is one line and exit 1.
+status=$( { "$sb" list 2>"$tmp/list.err"; echo $? > "$tmp/list.rc"; } | head -c 0; cat "$tmp/list.rc")
+[ "$status" = 0 ] && [ ! -s "$tmp/list.err" ] && ok "list | head -c 0: exit 0, nothing said" ||
+    fail "list | head -c 0: exit $status: $(cat "$tmp/list.err")"
+for args in list --help "help run"; do
+    out=$("$sb" $args 2>&1 >/dev/full)
+    rc=$?
+    # (the reason is known when the last write fails; help's is not the last)
+    [ $rc = 1 ] && [ "$(printf '%s\n' "$out" | wc -l)" = 1 ] &&
+        printf '%s' "$out" | grep -q "^shadowbench: error: standard output: cannot write: " &&
+        ok "$args > /dev/full: exit 1, '$out'" || fail "$args > /dev/full: exit $rc: $out"
+done
+# stderr closed at the first line: the run goes on and completes (SIGPIPE
+# killed it with 141 at its first message).
+status=$( { "$sb" run --scene parallel_planes --technique hard $small --out "$tmp/pipe" 2>&1 >/dev/null;
+            echo $? > "$tmp/pipe.rc"; } | head -c 1 >/dev/null; cat "$tmp/pipe.rc")
+[ "$status" = 0 ] && grep -q '"complete":	true' "$tmp/pipe/run.json" && ok "stderr closed early: the run completes, exit 0" ||
+    fail "stderr closed early: exit $status"
+
+# SIGTERM as soon as the run says it has finished: it is complete, so it
+# exits 0 (it exited 143 with a whole report). A kill that finds the process
+# gone proves nothing: up to 5 tries, at least one must land.
+landed=0
+for try in 1 2 3 4 5; do
+    rm -f "$tmp/late.fifo" && mkfifo "$tmp/late.fifo"
+    "$sb" run --scene parallel_planes --technique hard --width 64 --height 64 --gt-samples 16 --frames 3 --warmup 0 \
+        --no-cache --out "$tmp/late" 2>"$tmp/late.fifo" >/dev/null &
+    pid=$!
+    hit=0
+    while IFS= read -r line; do
+        case $line in *"run finished"*) kill -TERM $pid 2>/dev/null && hit=1 ;; esac
+    done < "$tmp/late.fifo"
+    wait $pid
+    rc=$?
+    complete=$(grep -c '"complete":	true' "$tmp/late/run.json")
+    if [ $hit = 1 ]; then
+        landed=$((landed + 1))
+        [ $rc = 0 ] && [ "$complete" = 1 ] && ok "SIGTERM after 'run finished' (try $try): exit 0, complete" ||
+            fail "SIGTERM after 'run finished' (try $try): exit $rc, complete $complete"
+    fi
+    [ $landed -ge 2 ] && break
+done
+[ $landed -ge 1 ] || fail "SIGTERM after 'run finished': no kill landed in 5 tries"
+
+# A folder inside --out that is a link would take the run's files out of
+# it: refused in one line, nothing written through it.
+mkdir -p "$tmp/linked/out" "$tmp/linked/elsewhere"
+"$sb" run --scene parallel_planes --technique hard $small --out "$tmp/linked/out" >/dev/null 2>&1
+rm -rf "$tmp/linked/out/parallel_planes" && ln -s "$tmp/linked/elsewhere" "$tmp/linked/out/parallel_planes"
+out=$("$sb" run --scene parallel_planes --technique hard $small --out "$tmp/linked/out" 2>&1)
+rc=$?
+[ $rc = 1 ] && [ "$(printf '%s\n' "$out" | wc -l)" = 1 ] && printf '%s' "$out" | grep -q "parallel_planes: a link" &&
+    [ -z "$(ls -A "$tmp/linked/elsewhere")" ] && ok "a scene folder that is a link: '$out'" ||
+    fail "a scene folder that is a link: exit $rc: $out; elsewhere holds $(ls -A "$tmp/linked/elsewhere")"
+
+# An interrupted tune leaves the tuned folder as it was (every file, byte
+# for byte) and its next set for the next tune to remove; a whole tune
+# replaces the folder as one set, keeping the files of techniques it did
+# not tune.
+tune="tune --scene parallel_planes --scene thin_features --width 32 --height 32 --gt-samples 4 --frames 1 --no-cache
+      --write-tuned --allow-uncommitted -q"
+"$sb" $tune --technique hard,pcf --tuned "$tmp/tuned" --out "$tmp/tune1" >/dev/null || fail "the first tune"
+before=$(cd "$tmp/tuned" && md5sum hard.json pcf.json)
+"$sb" $tune --technique hard,pcf --width 40 --tuned "$tmp/tuned" --out "$tmp/tune2" >/dev/null 2>&1 &
+pid=$!
+i=0
+while [ ! -f "$tmp/tune2/hard.json" ] && [ $i -lt 200 ]; do sleep 0.05; i=$((i + 1)); done
+kill -TERM $pid
+wait $pid
+rc=$?
+[ $rc = 143 ] && [ "$(cd "$tmp/tuned" && md5sum hard.json pcf.json)" = "$before" ] && ls -d "$tmp/tuned.tmp."* >/dev/null 2>&1 &&
+    ok "a tune killed after its first technique: exit 143, the tuned folder as it was" ||
+    fail "a killed tune: exit $rc, tuned folder $(cd "$tmp/tuned" && md5sum hard.json pcf.json)"
+"$sb" $tune --technique hard --width 40 --tuned "$tmp/tuned" --out "$tmp/tune3" >/dev/null || fail "the third tune"
+after=$(cd "$tmp/tuned" && md5sum hard.json pcf.json)
+[ "$(printf '%s\n' "$after" | grep pcf)" = "$(printf '%s\n' "$before" | grep pcf)" ] &&
+    [ "$(printf '%s\n' "$after" | grep hard)" != "$(printf '%s\n' "$before" | grep hard)" ] &&
+    ! ls -d "$tmp/tuned.tmp."* >/dev/null 2>&1 && [ "$(ls "$tmp/tuned")" = "$(printf 'hard.json\npcf.json')" ] &&
+    ok "a whole tune: hard.json new, pcf.json kept, the dead tune's set removed" ||
+    fail "after a whole tune: $(ls -a "$tmp") / $after"
+
+# --write-tuned into a folder that cannot be made is refused before --out
+# is made.
+: > "$tmp/plain"
+out=$("$sb" $tune --technique hard --tuned "$tmp/plain/tuned" --out "$tmp/tune4" 2>&1)
+rc=$?
+[ $rc = 2 ] && [ "$(printf '%s\n' "$out" | wc -l)" = 1 ] && [ ! -e "$tmp/tune4" ] &&
+    ok "an unmakeable --tuned: refused before --out, '$out'" || fail "an unmakeable --tuned: exit $rc: $out"
 
 [ "$failed" = 0 ] && echo "all passed" || echo "$failed failed"
 [ "$failed" = 0 ]

@@ -371,6 +371,27 @@ int main(int argc, char **argv)
     view("far", far_script.data, &far, NULL);
     CHECK(strstr(far.data, "no farther") != NULL, "the limit is said: %s", far.data);
     strbuf_free(&far), strbuf_free(&far_script);
+    /* So does the pitch, said as the other limits are: 40 presses of W
+     * (0.05 rad each, 2 asked, VIEWER_PITCH_MAX given; it stopped without
+     * a word) */
+    struct strbuf pitch = {0}, pitch_script = {0};
+    for (int i = 0; i < 40; i++)
+        strbuf_printf(&pitch_script, "0 W\n");
+    view("pitch", pitch_script.data, &pitch, NULL);
+    CHECK(strstr(pitch.data, "no farther") && strstr(pitch.data, "80 degrees of pitch"), "the pitch's limit is said: %s",
+          pitch.data);
+    strbuf_free(&pitch), strbuf_free(&pitch_script);
+    /* A screenshot waits for its pose's whole ground truth, and shows the
+     * wait on a terminal (script(1) gives it one): the bunny at 1024
+     * samples per pixel takes about a second here. */
+    struct strbuf waited = {0};
+    char *wait_cmd = util_printf("script -qec \"xvfb-run -a %s view --scene stanford_bunny --width %d --height %d "
+                                 "--gt-samples 1024 --frames 1 --screenshot %s/wait.png\" /dev/null", sb, W, H, dir);
+    CHECK(run_cmd(wait_cmd, NULL, &waited) == 0 && waited.data &&
+              strstr(waited.data, "the screenshot waits for its ground truth: "),
+          "no progress while the screenshot waits: %s", waited.data);
+    strbuf_free(&waited);
+    free(wait_cmd);
     const double moved = logged_rmse(e6.data), still = logged_rmse(e1.data);
     CHECK(moved < 2 * still + 0.01, "pcss after the light moved: rmse %.4f (still: %.4f)", moved, still);
 

@@ -13,7 +13,11 @@
 
 static int exr_failed(exr_context_t ctx, const char *path, const char *what, exr_result_t rc)
 {
-    log_error("%s: %s: %s", path, what, exr_get_default_error_message(rc));
+    /* the library's write error hides the system's reason: errno keeps it
+     * (write_exr_to clears it first) */
+    const int err = rc == EXR_ERR_WRITE_IO ? errno : 0;
+    log_error("%s: %s: %s%s%s", path, what, exr_get_default_error_message(rc), err ? ": " : "",
+              err ? strerror(err) : "");
     if (ctx)
         exr_finish(&ctx);
     return -1;
@@ -33,6 +37,7 @@ static int write_exr_to(const char *path, const char *file, int width, int heigh
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
     init.error_handler_fn = exr_quiet;
     int part = 0;
+    errno = 0;
     exr_result_t rc = exr_start_write(&ctx, file, EXR_WRITE_FILE_DIRECTLY, &init);
     if (rc != EXR_ERR_SUCCESS)
         return exr_failed(NULL, path, "cannot write", rc);

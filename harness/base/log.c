@@ -64,6 +64,16 @@ void log_msg(enum log_level level, const char *fmt, ...)
     strbuf_free(&text);
 }
 
+void log_error_unallocated(const char *text)
+{
+    char line[512];
+    const int n = snprintf(line, sizeof line, "shadowbench: error: %s%s%s\n", context ? context : "",
+                           context ? ": " : "", text);
+    end_progress_line();
+    if (n > 0 && write(STDERR_FILENO, line, (size_t)n < sizeof line ? (size_t)n : sizeof line - 1) < 0)
+        return;  /* nothing left to tell it to */
+}
+
 void log_progress(const char *fmt, ...)
 {
     static double last_ms;

@@ -30,6 +30,10 @@ void log_set_context(const char *context);
 void log_progress(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 void log_progress_done(void);
 
+/* An error line written with no allocation (a stack buffer, one write):
+ * for when the memory has run out. */
+void log_error_unallocated(const char *text);
+
 #define log_error(...) log_msg(LOG_ERROR, __VA_ARGS__)
 #define log_warn(...)  log_msg(LOG_WARN, __VA_ARGS__)
 #define log_info(...)  log_msg(LOG_INFO, __VA_ARGS__)

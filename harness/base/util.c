@@ -20,30 +20,24 @@
 void *xmalloc(size_t size)
 {
     void *p = malloc(size ? size : 1);
-    if (!p) {
-        log_error("out of memory (%zu bytes)", size);
-        abort();
-    }
+    if (!p)
+        util_out_of_memory(size);
     return p;
 }
 
 void *xcalloc(size_t count, size_t size)
 {
     void *p = calloc(count ? count : 1, size ? size : 1);
-    if (!p) {
-        log_error("out of memory (%zu x %zu bytes)", count, size);
-        abort();
-    }
+    if (!p)
+        util_out_of_memory(count > SIZE_MAX / (size ? size : 1) ? SIZE_MAX : count * size);
     return p;
 }
 
 void *xrealloc(void *p, size_t size)
 {
     p = realloc(p, size ? size : 1);
-    if (!p) {
-        log_error("out of memory (%zu bytes)", size);
-        abort();
-    }
+    if (!p)
+        util_out_of_memory(size);
     return p;
 }
 
@@ -106,20 +100,49 @@ char *util_temp_begin(const char *path)
 
 void util_temp_end(void) { temp_active = 0; }
 
-static void on_signal(int sig)
+/* Set once a command has begun its last writes (util_signals_defer). */
+static volatile sig_atomic_t finishing;
+
+/* The process's last act on a signal or a failed allocation: the temporary
+ * being written removed (unlink and _exit are async-signal-safe). */
+static void leave(int status) __attribute__((noreturn));
+static void leave(int status)
 {
     if (temp_active)
-        unlink(temp_path);  /* async-signal-safe, as is _exit */
-    _exit(128 + sig);
+        unlink(temp_path);
+    _exit(status);
+}
+
+static void on_signal(int sig)
+{
+    if (!finishing)  /* once finishing, the signal is let go: the command ends by itself */
+        leave(128 + sig);
 }
 
 void util_exit_cleanly_on_signals(void)
 {
-    struct sigaction sa = {.sa_handler = on_signal};
+    /* SA_RESTART: a signal let go while finishing interrupts no write */
+    struct sigaction sa = {.sa_handler = on_signal, .sa_flags = SA_RESTART};
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, NULL);
     sigaction(SIGTERM, &sa, NULL);
     sigaction(SIGHUP, &sa, NULL);
+    /* A write past the file-size limit or into a pipe nobody reads fails
+     * (EFBIG, EPIPE) and is reported by its writer, rather than killing the
+     * process without a word and leaving its temporary. */
+    signal(SIGXFSZ, SIG_IGN);
+    signal(SIGPIPE, SIG_IGN);
+}
+
+void util_signals_defer(void) { finishing = 1; }
+
+void util_out_of_memory(size_t size)
+{
+    char text[120];
+    snprintf(text, sizeof text, "out of memory: %zu more bytes were needed and could not be had", size);
+    log_error_unallocated(text);
+    fflush(stdout);
+    leave(1);
 }
 
 int util_remove_stale_temps(const char *dir, int depth)
@@ -150,7 +173,7 @@ int util_remove_stale_temps(const char *dir, int depth)
 int util_lock_dir(const char *dir)
 {
     char *path = util_printf("%s/.lock", dir);
-    int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);  /* a link there: refused */
     int rc = 0;
     if (fd < 0) {
         log_error("%s: cannot lock: %s", dir, strerror(errno));
@@ -236,6 +259,26 @@ int util_mkdirs(const char *path)
         return -ENOTDIR;
     }
     return 0;
+}
+
+int util_mkdirs_own(const char *path, int own)
+{
+    int rc = util_mkdirs(path);
+    char *p = xstrdup(path);
+    for (int k = 0; k < own && !rc; k++) {
+        struct stat st;
+        if (lstat(p, &st) == 0 && S_ISLNK(st.st_mode)) {
+            log_error("%s: a link: shadowbench writes inside its output folder, never through a link out of it "
+                      "(remove the link)", p);
+            rc = -ELOOP;
+        }
+        char *slash = strrchr(p, '/');
+        if (!slash)
+            break;
+        *slash = '\0';
+    }
+    free(p);
+    return rc;
 }
 
 int util_utf8_next(const char *s, unsigned *cp)

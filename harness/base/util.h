@@ -32,8 +32,21 @@ char *util_temp_begin(const char *path);
 void util_temp_end(void);
 
 /* SIGINT, SIGTERM and SIGHUP remove the temporary being written, then exit
- * with 128 + the signal (130, 143, 129): no half-written file is left. */
+ * with 128 + the signal (130, 143, 129): no half-written file is left.
+ * SIGXFSZ and SIGPIPE are ignored: the write fails instead (EFBIG, EPIPE)
+ * and its writer says so. */
 void util_exit_cleanly_on_signals(void);
+
+/* From now on the process finishes by itself: a signal is let go (any
+ * thread may take it), so a command that has begun writing the record that
+ * says it is complete ends with its own status, never killed after saying
+ * "complete". */
+void util_signals_defer(void);
+
+/* One line on stderr ("out of memory: N more bytes were needed ..."), the
+ * temporary being written removed, exit 1 (a runtime error). What xmalloc
+ * and its kin do when the memory is not there. */
+void util_out_of_memory(size_t size) __attribute__((noreturn));
 
 /* Removes "<name>.tmp.<pid>" files under dir (depth levels of folders
  * below it) whose process is gone: leftovers of a killed run. Returns how
@@ -51,6 +64,12 @@ int util_write_file_atomic(const char *path, const void *data, size_t size);
 
 /* mkdir -p. Returns 0 or -errno, and logs the failure. */
 int util_mkdirs(const char *path);
+
+/* util_mkdirs, and the last `own` parts of path must be folders of their
+ * own: one that is a link (<out>/<scene> leading elsewhere) would take the
+ * files written into it out of the folder the command owns. Returns 0 or
+ * -errno (logged). */
+int util_mkdirs_own(const char *path, int own);
 
 /* True when a file can be created in dir (it is probed, then removed). */
 bool util_dir_writable(const char *dir);

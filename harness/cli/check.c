@@ -7,8 +7,10 @@
 #include "output/check_page.h"
 #include "output/out_dir.h"
 #include "output/provenance.h"
+#include "output/results_set.h"
 #include "pipeline/regression.h"
 
+#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -77,11 +79,12 @@ static int setup_for(struct scene_setup *ss, struct baseline_setup *open, struct
     return 0;
 }
 
-/* Renders, compares (or records) every cell of one scene. Returns -1 on a
- * runtime error, else the number of failures (regressions, missing
- * baselines, idle parameters, improvements with --strict). */
+/* Renders, compares (or, into the baselines folder `record`, records)
+ * every cell of one scene. Returns -1 on a runtime error, else the number
+ * of failures (regressions, missing baselines, idle parameters,
+ * improvements with --strict). */
 static int check_scene(struct regression *r, const struct scene *s, const struct options *o, const cJSON *provenance,
-                       struct program_cache *programs)
+                       const char *record, struct program_cache *programs)
 {
     int failures = 0;
     struct scene_setup ss = {0};
@@ -119,8 +122,10 @@ static int check_scene(struct regression *r, const struct scene *s, const struct
                 print_status("new", c, c->base.doc ? "   (its settings changed: not compared)" : "");
             const struct baseline_record rec = {s->name, c->label, c->t, c->settings, c->setup, &c->now, c->v,
                                                 c->spread, provenance};
-            if (baseline_write(c->json_path, c->png_path, &rec) != 0)
+            char *json = regression_file(record, c, "json"), *png = regression_file(record, c, "png");
+            if (baseline_write(json, png, &rec) != 0)
                 failures = -1;
+            free(json), free(png);
         } else {
             compare(c, o);
             failures += c->cmp.status == BASELINE_REGRESSED || (c->cmp.status == BASELINE_IMPROVED && o->strict);
@@ -160,10 +165,11 @@ static char *absolute(const char *path)
     return joined;
 }
 
-/* The baselines folder is a folder (made and writable for --update), and
- * --out is not it or inside it: the page's pictures would overwrite the
- * baselines'. Returns 0 or -1 (logged). */
-static int check_folders(const struct options *o)
+/* The baselines folder is a folder (with --update, claimed and its next
+ * set opened: the cells are recorded as one set), and --out is not it or
+ * inside it: the page's pictures would overwrite the baselines'. Returns 0
+ * or -1 (logged). */
+static int check_folders(const struct options *o, struct results_set *record)
 {
     struct stat st;
     if (stat(o->baselines_dir, &st) == 0 && !S_ISDIR(st.st_mode)) {
@@ -177,9 +183,36 @@ static int check_folders(const struct options *o)
         log_error("--out %s: inside the baselines folder %s (its pictures would overwrite them)", o->out_dir,
                   o->baselines_dir);
     free(out), free(base);
-    if (inside || (o->update && out_dir_claim_results(o->baselines_dir, 2) != 0))
+    if (inside || (o->update && results_set_open(record, o->baselines_dir, 2) != 0))
         return -1;
     return out_dir_claim(o->out_dir);
+}
+
+/* With every shipped scene checked, the folders of the baselines folder
+ * that no scene is called (a scene renamed or removed, or a user's own not
+ * named with --scene): their baselines are not checked. Each said; returns
+ * how many. */
+static int orphans(const struct options *o, const struct scene *scenes, int scene_count)
+{
+    struct dirent **names = NULL;
+    const int count = scandir(o->baselines_dir, &names, NULL, alphasort);
+    int n = 0;
+    for (int i = 0; i < count; i++) {
+        const char *name = names[i]->d_name;
+        char *path = util_printf("%s/%s", o->baselines_dir, name);
+        bool known = name[0] == '.' || !util_is_dir(path);
+        for (int s = 0; s < scene_count && !known; s++)
+            known = strcmp(scenes[s].name, name) == 0;
+        if (!known) {
+            printf("  ORPHANED    %s: no shipped scene is called '%s', so none of its baselines is checked "
+                   "(remove the folder, or name its scene with --scene)\n", path, name);
+            n++;
+        }
+        free(path);
+        free(names[i]);
+    }
+    free(names);
+    return n;
 }
 
 /* Every cell's baseline read; --update repairs what it cannot read. */
@@ -209,9 +242,10 @@ int check_main(const struct options *o)
     int scene_count = 0, status = EXIT_USAGE;
     struct regression r = {.baselines_dir = o->baselines_dir, .tuned_dir = o->tuned_dir};
     struct program_cache programs = {0};
+    struct results_set record = {0};
     cJSON *provenance = NULL;
     if ((o->update && cli_require_committed(o, "check --update") != 0) ||
-        cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0 || check_folders(o) != 0 ||
+        cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0 || check_folders(o, &record) != 0 ||
         regression_collect(&r, scenes, scene_count, o->techniques, o->technique_count) != 0 ||
         read_baselines(&r, o) != 0)
         goto out;
@@ -223,7 +257,7 @@ int check_main(const struct options *o)
            o->update ? " (recording them anew)" : "");
     int failures = 0;
     for (int s = 0; s < scene_count && failures >= 0; s++) {
-        const int f = check_scene(&r, &scenes[s], o, provenance, &programs);
+        const int f = check_scene(&r, &scenes[s], o, provenance, record.next, &programs);
         failures = f < 0 ? -1 : failures + f;
     }
     if (failures >= 0 && o->scene_count == 0) {  /* every scene: every parameter set by a declared cell */
@@ -233,6 +267,12 @@ int check_main(const struct options *o)
             printf("  UNCOVERED   %s.%s: no cell sets it away from its default (add one to the .regression cells "
                    "of techniques/%s.c)\n", missing[k].t->name, missing[k].p->name, missing[k].t->name);
         failures += n;
+        const int orphaned = orphans(o, scenes, scene_count);
+        failures += o->strict ? orphaned : 0;
+    }
+    if (failures >= 0 && o->update) {  /* the new baselines as one set, whatever signal comes now */
+        util_signals_defer();
+        failures = results_set_commit(&record) != 0 ? -1 : failures;
     }
     if (failures >= 0 && check_page_write(&r, o->out_dir) != 0)
         failures = -1;
@@ -249,6 +289,9 @@ int check_main(const struct options *o)
     programs_free(&programs);
     gl_context_destroy();
 out:
+    if (record.next && status != EXIT_USAGE)
+        log_info("%s: left as it was (the recording did not finish)", o->baselines_dir);
+    results_set_free(&record);
     cJSON_Delete(provenance);
     regression_free(&r);
     for (int s = 0; s < scene_count; s++)

@@ -147,9 +147,11 @@ const struct command_def commands[COMMAND_COUNT] = {
                        {"tuned", "the tuned settings of the T@tuned cells (default {D})"}),
         .after =
             "exit status: 0 every cell passed; 1 a cell regressed, has no baseline or\n"
-            "records parameters its name no longer means, an improvement with --strict, or\n"
-            "a parameter that no cell sets or that changes nothing; 2 bad usage or an\n"
-            "unreadable baseline (one line naming the file and the problem).\n",
+            "records parameters its name no longer means, an improvement or baselines of a\n"
+            "scene not shipped (ORPHANED) with --strict, or a parameter that no cell sets or\n"
+            "that changes nothing; 2 bad usage or an unreadable baseline (one line naming\n"
+            "the file and the problem). --update records the cells as one set: stopped\n"
+            "before the end, it leaves the baselines as they were.\n",
     },
     [CMD_TUNE] = {
         .name = "tune", .main = tune_main, .synopsis = "tune [options]",

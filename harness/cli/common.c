@@ -6,14 +6,22 @@
 #include "output/provenance.h"
 #include "scene/catalog.h"
 
+#include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 
 int cli_load_scenes(const struct options *o, const char *const *defaults, int default_count, struct scene *scenes,
                     int max, int *count)
 {
     const bool named = o->scene_count > 0;
-    return catalog_load(named ? o->scenes : defaults, named ? o->scene_count : default_count, output_files, scenes,
-                        max, count);
+    const int rc = catalog_load(named ? o->scenes : defaults, named ? o->scene_count : default_count, output_files,
+                                scenes, max, count);
+    if (rc == -ENOMEM) {  /* said; a runtime error, not bad input. Nothing is written yet. */
+        for (int i = 0; i < *count; i++)
+            scene_free(&scenes[i]);
+        exit(EXIT_CHECK_FAILED);
+    }
+    return rc;
 }
 
 int cli_gl_open(const struct options *o, enum gl_backend backend)

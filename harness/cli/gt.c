@@ -21,7 +21,7 @@ int gt_main(const struct options *o)
         return EXIT_USAGE;
     }
     char *dir = util_printf("%s/%s", o->out_dir, s.name);
-    if (out_dir_claim(dir) != 0) {
+    if (util_mkdirs_own(dir, 1) != 0 || out_dir_claim(dir) != 0) {  /* <out>/<scene>: not a link out */
         free(dir);
         scene_free(&s);
         return EXIT_USAGE;

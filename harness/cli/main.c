@@ -6,8 +6,14 @@
 #include "base/util.h"
 #include "truth/groundtruth.h"
 
+#include <cjson/cJSON.h>
+
+#include <errno.h>
+#include <poll.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 static int command_named(const char *name)
 {
@@ -35,6 +41,23 @@ static int unknown_command(const char *name)
     return EXIT_USAGE;
 }
 
+/* The command's status once standard output is written whole. A reader
+ * that closed the pipe early (`| head`) stops nothing: SIGPIPE is ignored,
+ * the work is done and its status stands. Any other failure to write it (a
+ * full disk, /dev/full) is one line and exit 1. */
+static int finish_stdout(int status)
+{
+    const int flushed = fflush(stdout), err = errno;
+    if (flushed == 0 && !ferror(stdout))
+        return status;
+    struct pollfd p = {.fd = STDOUT_FILENO, .events = POLLOUT};
+    if (poll(&p, 1, 0) == 1 && (p.revents & POLLERR))  /* a pipe whose reader is gone */
+        return status;
+    log_error("standard output: cannot write: %s", flushed ? strerror(err) : "a write failed, so what it shows is "
+              "incomplete");
+    return status ? status : EXIT_CHECK_FAILED;
+}
+
 int help_main(const struct options *o)
 {
     struct strbuf text = {0};
@@ -47,13 +70,12 @@ int help_main(const struct options *o)
     return EXIT_OK;
 }
 
-int main(int argc, char **argv)
+static int run(int argc, char **argv)
 {
     if (argc < 2) {
         print(cli_help_main, stderr);
         return EXIT_USAGE;
     }
-    util_exit_cleanly_on_signals();
     const char *name = argv[1];
     if (strcmp(name, "--help") == 0 || strcmp(name, "-h") == 0) {
         print(cli_help_main, stdout);
@@ -82,4 +104,13 @@ int main(int argc, char **argv)
     cli_options_free(&o);
     gt_shutdown();
     return status;
+}
+
+int main(int argc, char **argv)
+{
+    util_exit_cleanly_on_signals();
+    /* cJSON reads a failed allocation as malformed JSON: out of memory is
+     * said as such instead (util_out_of_memory) */
+    cJSON_InitHooks(&(cJSON_Hooks){.malloc_fn = xmalloc, .free_fn = free});
+    return finish_stdout(run(argc, argv));
 }

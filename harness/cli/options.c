@@ -284,17 +284,19 @@ const struct option_row option_rows[] = {
     {"baselines", 0, "DIR", ON(CHECK), OPTION_FOLDER, FIELD(baselines_dir), 0, 0, NULL,
      "the baselines (default {D})"},
     {"update", 0, NULL, ON(CHECK), OPTION_FLAG, FIELD(update), 0, 0, NULL,
-     "record the selected cells anew (atomically), printing what moved; tolerances from the metrics' spread over "
+     "record the selected cells anew, as one set (stopped before the end, none is), printing what moved; tolerances from the metrics' spread over "
      UTIL_STR(BASELINE_SEEDS) " ground-truth seeds. Commit them with the change that moved them, after looking at "
      "the page"},
-    {"strict", 0, NULL, ON(CHECK), OPTION_FLAG, FIELD(strict), 0, 0, NULL, "an improvement fails too"},
+    {"strict", 0, NULL, ON(CHECK), OPTION_FLAG, FIELD(strict), 0, 0, NULL,
+     "an improvement fails too, as do the baselines of a scene not shipped (ORPHANED)"},
     {"allow-uncommitted", 0, NULL, ON(CHECK) | ON(TUNE), OPTION_FLAG, FIELD(allow_uncommitted), 0, 0, NULL,
      "record (--update, --write-tuned) from a source tree whose code that renders or scores has uncommitted "
      "changes, which is refused otherwise; the files say so (their source_tree and command_line)"},
     {"objective", 0, "M", ON(TUNE), OPTION_NONE, 0, 0, 0, set_objective,
      "the error minimised, averaged over the scenes: penumbra_rmse (default), rmse or shaded_rmse"},
     {"write-tuned", 0, NULL, ON(TUNE), OPTION_FLAG, FIELD(write_tuned), 0, 0, NULL,
-     "also write the tuned settings for run (see --tuned)"},
+     "also write the tuned settings for run (see --tuned), as one set once every technique is tuned (stopped "
+     "before, the folder stays as it was)"},
     {"motion", 0, "M[=STEP]", ON(STABILITY), OPTION_NONE, 0, 0, 0, set_motion,
      "a motion of --frames frames (repeatable), one of the motions below"},
     {"vary", 0, "NAME=V1,V2,...", ON(STABILITY), OPTION_NONE, 0, 0, 0, set_vary,

@@ -76,7 +76,7 @@ static int run_scene(struct run *r, const struct scene *scene, struct scene_setu
     char *dir = util_printf("%s/%s", o->out_dir, scene->name);
     const struct scene_setup_desc desc = {o->width, o->height, o->shadow_map_size, o->gt_samples, 0, o->cache_dir, 0,
                                           &r->programs};
-    if (util_mkdirs(dir) != 0 || scene_setup_open(ss, scene, &desc) != 0) {
+    if (util_mkdirs_own(dir, 1) != 0 || scene_setup_open(ss, scene, &desc) != 0) {
         free(dir);
         return -1;
     }
@@ -155,8 +155,12 @@ int run_main(const struct options *o)
     const struct config_desc cd = {o->techniques, o->technique_count, o->settings, o->sweeps, o->sweep_count,
                                    o->set_count, o->settings_mode, o->tuned_dir};
     if (configs_build(&r.configs, &cd) != 0 || cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0 ||
-        out_dir_claim(o->out_dir) != 0 || begin_run(o) != 0)
+        out_dir_claim(o->out_dir) != 0)
         goto out;
+    if (begin_run(o) != 0) {  /* a write that fails: a runtime error */
+        status = EXIT_CHECK_FAILED;
+        goto out;
+    }
     if (cli_gl_open(o, o->gl) != 0)
         goto out;
     status = EXIT_CHECK_FAILED;
@@ -189,6 +193,9 @@ int run_main(const struct options *o)
         scene_setup_free(&ss);
     }
     if (!failed) {
+        /* From here the run finishes whatever signal comes: killed after its
+         * folder says complete, it would exit 143 with a whole report. */
+        util_signals_defer();
         cJSON *run = cli_run_record(o, true, (util_now_ms() - start) * 1e-3);
         cJSON_AddTrueToObject(run, "complete");
         struct report rep = {.out_dir = o->out_dir, .width = o->width, .height = o->height, .run = run, .scenes = rs,

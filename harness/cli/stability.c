@@ -131,6 +131,7 @@ int stability_main(const struct options *o)
             rc = stability_vary(&st, s, v);
         }
     if (!rc) {
+        util_signals_defer();  /* its files are written as a set: whole, then the status (run.c) */
         stability_judge(&st);
         cJSON *run = cli_run_record(o, false, (util_now_ms() - start) * 1e-3);
         cJSON_AddNumberToObject(run, "accumulate", o->accumulate);

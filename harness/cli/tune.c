@@ -1,12 +1,14 @@
 /* shadowbench tune: every selected technique tuned on the scenes
- * (pipeline/tuner.h), each record written to <out>/<technique>.json and,
- * with --write-tuned, to the tuned folder that run reads (score/tuned.h). */
+ * (pipeline/tuner.h), each record written to <out>/<technique>.json as it
+ * is done and, with --write-tuned, into the tuned folder that run reads
+ * (score/tuned.h) as one set once every technique is (output/results_set.h). */
 #include "cli.h"
 #include "base/log.h"
 #include "base/util.h"
 #include "output/out_dir.h"
 #include "output/provenance.h"
 #include "output/report.h"
+#include "output/results_set.h"
 #include "pipeline/tuner.h"
 
 #include <dirent.h>
@@ -61,9 +63,10 @@ static int tune_state(const struct options *o, bool complete, double seconds)
     return rc;
 }
 
-/* Tunes every technique in turn; returns the exit status. */
-static int tune_all(const struct options *o, const struct scene *scenes, struct scene_setup *setups, int scene_count,
-                    struct program_cache *programs)
+/* Tunes every technique in turn, its record written into out and into
+ * tuned (NULL: none); returns the exit status. */
+static int tune_all(const struct options *o, const char *tuned, const struct scene *scenes, struct scene_setup *setups,
+                    int scene_count, struct program_cache *programs)
 {
     const struct tune_options to = {o->width, o->height, o->gt_samples, o->shadow_map_size, o->frames, o->warmup,
                                     o->timing, o->objective};
@@ -86,7 +89,7 @@ static int tune_all(const struct options *o, const struct scene *scenes, struct 
             util_json_merge(record, provenance);
             cJSON_Delete(provenance);
             if (write_file(o->out_dir, o->techniques[i]->name, record) != 0 ||
-                (o->write_tuned && write_file(o->tuned_dir, o->techniques[i]->name, record) != 0))
+                (tuned && write_file(tuned, o->techniques[i]->name, record) != 0))
                 status = EXIT_CHECK_FAILED;
             cJSON_Delete(record);
         }
@@ -104,6 +107,7 @@ int tune_main(const struct options *o)
     static struct scene scenes[CLI_MAX_SCENES];
     static struct scene_setup setups[CLI_MAX_SCENES];
     struct program_cache programs = {0};
+    struct results_set tuned = {0};
     int scene_count = 0, status = EXIT_USAGE, opened = 0;
     if ((o->write_tuned && cli_require_committed(o, "tune --write-tuned") != 0) ||
         cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0)
@@ -113,9 +117,15 @@ int tune_main(const struct options *o)
                   TUNE_MAX_SCENES, scene_count);
         goto out;
     }
-    if ((o->write_tuned && tuned_dir_ours(o->tuned_dir) != 0) || out_dir_claim(o->out_dir) != 0 ||
-        (o->write_tuned && out_dir_claim_results(o->tuned_dir, 1) != 0) || tune_state(o, false, 0) != 0 ||
-        cli_gl_open(o, o->gl) != 0)
+    /* the tuned folder first: one it cannot write is refused before --out is made */
+    if ((o->write_tuned && (tuned_dir_ours(o->tuned_dir) != 0 || results_set_open(&tuned, o->tuned_dir, 1) != 0)) ||
+        out_dir_claim(o->out_dir) != 0)
+        goto out;
+    if (tune_state(o, false, 0) != 0) {  /* a write that fails: a runtime error */
+        status = EXIT_CHECK_FAILED;
+        goto out;
+    }
+    if (cli_gl_open(o, o->gl) != 0)
         goto out;
     status = EXIT_CHECK_FAILED;
     log_info("tune: %d technique(s) on %d scenes, %dx%d, %d GT samples, %d^2 shadow map, objective mean %s, "
@@ -128,13 +138,17 @@ int tune_main(const struct options *o)
             opened++;  /* scene_setup_open leaves it to be freed */
             goto out_gl;
         }
-    status = tune_all(o, scenes, setups, scene_count, &programs);
+    status = tune_all(o, tuned.next, scenes, setups, scene_count, &programs);
     if (status == EXIT_OK) {
+        util_signals_defer();  /* the tuned set and tune.json say complete: then the status (run.c) */
         const double seconds = (util_now_ms() - start) * 1e-3;
-        status = tune_state(o, true, seconds) ? EXIT_CHECK_FAILED : EXIT_OK;
-        printf("tuned: %s/<technique>.json%s%s\n", o->out_dir, o->write_tuned ? " and " : "",
-               o->write_tuned ? o->tuned_dir : "");
-        log_info("tune finished in %.0f s", seconds);
+        if ((o->write_tuned && results_set_commit(&tuned) != 0) || tune_state(o, true, seconds) != 0) {
+            status = EXIT_CHECK_FAILED;
+        } else {
+            printf("tuned: %s/<technique>.json%s%s\n", o->out_dir, o->write_tuned ? " and " : "",
+                   o->write_tuned ? o->tuned_dir : "");
+            log_info("tune finished in %.0f s", seconds);
+        }
     }
 out_gl:
     for (int s = 0; s < opened; s++)
@@ -142,6 +156,9 @@ out_gl:
     programs_free(&programs);
     gl_context_destroy();
 out:
+    if (tuned.next && status != EXIT_USAGE)
+        log_info("%s: left as it was (the tuning did not finish)", o->tuned_dir);
+    results_set_free(&tuned);
     for (int s = 0; s < scene_count; s++)
         scene_free(&scenes[s]);
     return status;

@@ -4,6 +4,7 @@
 #include "base/log.h"
 
 #include <string.h>
+#include <sys/resource.h>
 
 static const struct gl_backend_ops *current;
 static char platform[64];
@@ -19,12 +20,30 @@ int gl_backend_parse(const char *name, enum gl_backend *out)
     return 0;
 }
 
+/* Mesa does not survive every refused mapping: under an address-space
+ * limit (ulimit -v) llvmpipe dies of SIGSEGV inside OSMesaCreateContextAttribs
+ * at 256 MiB, in shader linking at 273 MiB and 512 MiB, in texture
+ * allocation at 879 MiB, where it should fail. Every command here that
+ * draws succeeded at GL_MIN_ADDRESS_SPACE_MIB, so a lower limit is refused
+ * in one line before Mesa is reached. Returns 0 or -1 (logged). */
+static int check_address_space(void)
+{
+    struct rlimit as;
+    if (getrlimit(RLIMIT_AS, &as) != 0 || as.rlim_cur == RLIM_INFINITY ||
+        as.rlim_cur >= (rlim_t)GL_MIN_ADDRESS_SPACE_MIB << 20)
+        return 0;
+    log_error("OpenGL: the address-space limit (ulimit -v %llu KiB) is below the %d MiB shadowbench needs: under "
+              "it Mesa crashes rather than failing; raise or lift the limit", (unsigned long long)(as.rlim_cur >> 10),
+              GL_MIN_ADDRESS_SPACE_MIB);
+    return -1;
+}
+
 int gl_context_create(enum gl_backend backend)
 {
     static const struct gl_backend_ops *const backends[] = {
         [GL_BACKEND_OSMESA] = &gl_backend_osmesa, [GL_BACKEND_EGL] = &gl_backend_egl, [GL_BACKEND_GLFW] = &gl_backend_glfw};
     const struct gl_backend_ops *ops = backends[backend];
-    if (ops->create(platform, sizeof platform) != 0)
+    if (check_address_space() != 0 || ops->create(platform, sizeof platform) != 0)
         return -1;
     current = ops;
     if (!gl_load(ops->getproc, false)) {

@@ -14,10 +14,15 @@ enum gl_backend { GL_BACKEND_OSMESA, GL_BACKEND_EGL, GL_BACKEND_GLFW };
 /* "osmesa" or "egl" into *out: 0, or -1 for another name (not logged). */
 int gl_backend_parse(const char *name, enum gl_backend *out);
 
+/* The least address space (ulimit -v) a context is made under: below it
+ * Mesa's llvmpipe crashes rather than failing (gl_context.c). */
+#define GL_MIN_ADDRESS_SPACE_MIB 1024
+
 /* Creates and makes current a GL 4.5 core context, loads the entry points,
  * installs debug output and sets the conventions every pass relies on
  * (glClipControl zero-to-one with reversed Z). Returns 0 or -1 (one
- * logged line). */
+ * logged line: also an address-space limit below
+ * GL_MIN_ADDRESS_SPACE_MIB). */
 int gl_context_create(enum gl_backend backend);
 void gl_context_destroy(void);
 

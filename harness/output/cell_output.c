@@ -36,7 +36,7 @@ int output_cell_images(const char *dir, const struct cell_images *im)
          *heat = util_printf("%s/%s", dir, cell_files[CELL_HEATMAP_PNG]);
     struct picture hm;
     picture_error_heatmap(im->v, im->v_gt, im->scored, w, h, &hm);
-    int rc = util_mkdirs(dir) ||
+    int rc = util_mkdirs_own(dir, 2) ||  /* <scene>/<cell> */
              image_write_exr(vis_exr, w, h, &(struct exr_channel){"V", (float *)im->v}, 1, NULL) ||
              image_write_exr(err_exr, w, h, &(struct exr_channel){"E", error}, 1, NULL) ||
              write_visibility_png(dir, CELL_VISIBILITY_PNG, im->v, im->distance, NULL, w, h) ||

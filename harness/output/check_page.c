@@ -41,7 +41,7 @@ int check_page_write(const struct regression *r, const char *out)
                            &pic);
         char *name = util_printf("%s/%s/%s.png", out, c->scene->name, c->label);
         char *dir = util_printf("%s/%s", out, c->scene->name);
-        int rc = util_mkdirs(dir) || image_write_png(name, pic.width, pic.height, pic.rgb);
+        int rc = util_mkdirs_own(dir, 1) || image_write_png(name, pic.width, pic.height, pic.rgb);
         picture_free(&pic);
         free(base), free(shown_px), free(name), free(dir);
         if (rc) {

@@ -23,7 +23,7 @@ int out_dir_prepare(const char *dir)
     if (util_mkdirs(dir) != 0)
         return -1;
     if (!util_dir_writable(dir)) {
-        log_error("%s: output folder is not writable", dir);
+        log_error("%s: not a writable folder", dir);
         return -1;
     }
     return 0;
@@ -54,13 +54,8 @@ int out_dir_claim(const char *dir)
                   "output folder", dir);
         return -1;
     }
-    return out_dir_claim_results(dir, 3);
-}
-
-int out_dir_claim_results(const char *dir, int depth)
-{
     if (out_dir_prepare(dir) != 0 || util_lock_dir(dir) != 0)
         return -1;
-    util_remove_stale_temps(dir, depth);
+    util_remove_stale_temps(dir, 3);  /* <out>/<scene>/<cell>/files */
     return 0;
 }

@@ -36,10 +36,4 @@ int out_dir_prepare(const char *dir);
  * refused. Returns 0 or -1 (logged). */
 int out_dir_claim(const char *dir);
 
-/* A committed results folder (baselines, tuned settings: files in it and no
- * .lock in a fresh clone): made if need be, locked, and its own
- * temporaries (depth levels down) removed; nothing else touched. Returns 0
- * or -1 (logged). */
-int out_dir_claim_results(const char *dir, int depth);
-
 #endif

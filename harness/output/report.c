@@ -548,7 +548,7 @@ int report_write(const struct report *r)
 {
     char *run_path = util_printf("%s/run.json", r->out_dir), *charts = util_printf("%s/charts", r->out_dir);
     /* run.json last: it says "complete" only when the rest is written. */
-    int rc = util_mkdirs(charts) || write_matrix(r) || write_html(r) || report_write_json(run_path, r->run);
+    int rc = util_mkdirs_own(charts, 1) || write_matrix(r) || write_html(r) || report_write_json(run_path, r->run);
     free(run_path), free(charts);
     return rc ? -1 : 0;
 }

@@ -577,7 +577,7 @@ int stability_output_frames(struct stability_output *so)
         const struct motion_row *row = &st->rows[i];
         char *dir = util_printf("%s/%s/%s/%s", so->out_dir, st->scenes[row->scene].name,
                                 st->motions[row->motion].label, row->label);
-        rc = rc || util_mkdirs(dir);
+        rc = rc || util_mkdirs_own(dir, 3);  /* <scene>/<motion>/<row> */
         for (int f = 0; f < 2; f++) {
             char *path = util_printf("%s/%s", dir, frame_files[f]);
             rc = rc || image_write_png(path, strips[f].w * strips[f].frames, strips[f].ph, strips[f].rgb);
@@ -593,7 +593,7 @@ int stability_output_frames(struct stability_output *so)
 int stability_output_write(struct stability_output *so, const cJSON *run)
 {
     char *charts = util_printf("%s/%s", so->out_dir, output_files[OUTPUT_CHARTS]);
-    int rc = util_mkdirs(charts) || write_html(so, run) || write_data(so, run);
+    int rc = util_mkdirs_own(charts, 1) || write_html(so, run) || write_data(so, run);
     free(charts);
     for (int f = OUTPUT_STABILITY_JSON; rc && f <= OUTPUT_STABILITY_PAGE; f++) {  /* none, rather than a mixed set */
         char *path = out_dir_path(so->out_dir, (enum output_file)f);

@@ -101,9 +101,14 @@ static int add_cell(struct regression *r, const struct technique *const *techniq
     *c = (struct regression_cell){.scene = s, .label = xstrdup(label), .t = t, .label_settings = settings,
                                   .declared = declared, .setup = baseline_setup_default};
     c->settings = memcpy(xmalloc(t->settings_size), settings, t->settings_size);
-    c->json_path = util_printf("%s/%s/%s.json", r->baselines_dir, s->name, label);
-    c->png_path = util_printf("%s/%s/%s.png", r->baselines_dir, s->name, label);
+    c->json_path = regression_file(r->baselines_dir, c, "json");
+    c->png_path = regression_file(r->baselines_dir, c, "png");
     return 0;
+}
+
+char *regression_file(const char *dir, const struct regression_cell *c, const char *ext)
+{
+    return util_printf("%s/%s/%s.%s", dir, c->scene->name, c->label, ext);
 }
 
 /* The baseline files under <baselines>/<scene>/ (their stems), in name

@@ -48,6 +48,10 @@ struct regression {
 int regression_collect(struct regression *r, const struct scene *scenes, int scene_count,
                        const struct technique *const *techniques, int technique_count);
 
+/* "<dir>/<scene>/<label>.<ext>": where c's baseline files lie in a
+ * baselines folder (ext "json" or "png"); malloc'ed. */
+char *regression_file(const char *dir, const struct regression_cell *c, const char *ext);
+
 /* Reads cell c's baseline, if it has one. Returns 0 or -1 (logged). */
 int regression_read(struct regression_cell *c);
 

@@ -83,7 +83,8 @@ struct scene {
 #define SCENE_MAX_TRIANGLES 10000000
 
 /* Loads path into *s. On failure logs one line "<path>: <problem>" and
- * returns a negative value; *s is then empty (scene_free is still safe). */
+ * returns a negative value (-ENOMEM: the memory ran out, not a fault of
+ * the file); *s is then empty (scene_free is still safe). */
 int scene_load(const char *path, struct scene *s);
 void scene_free(struct scene *s);
 

@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <cstring>
 #include <memory>
+#include <new>
 #include <set>
 #include <string>
 #include <vector>
@@ -26,6 +27,38 @@ extern "C" {
 #include "base/log.h"
 #include "base/util.h"
 }
+
+// The global operator new, replaced for one thing: the size of an
+// allocation that fails, so that a scene too large for the memory at hand
+// is one line saying how much was needed (scene_load) and a runtime error,
+// not "malformed". It allocates and fails as the library's does (without a
+// new-handler, which nothing here installs). Every plain, array and
+// nothrow form is replaced, each delete freeing what its new allocated (a
+// sanitizer's own forms would not match them); the aligned forms stay the
+// library's, matched among themselves.
+static thread_local std::size_t failed_allocation;
+
+static void *allocate(std::size_t size)
+{
+    if (void *p = std::malloc(size ? size : 1))
+        return p;
+    failed_allocation = size;
+    throw std::bad_alloc();
+}
+
+void *operator new(std::size_t size) { return allocate(size); }
+void *operator new[](std::size_t size) { return allocate(size); }
+void *operator new(std::size_t size, const std::nothrow_t &) noexcept { return std::malloc(size ? size : 1); }
+void *operator new[](std::size_t size, const std::nothrow_t &) noexcept { return std::malloc(size ? size : 1); }
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"  // free is the match of the malloc above
+void operator delete(void *p) noexcept { std::free(p); }
+void operator delete[](void *p) noexcept { std::free(p); }
+void operator delete(void *p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void *p, std::size_t) noexcept { std::free(p); }
+void operator delete(void *p, const std::nothrow_t &) noexcept { std::free(p); }
+void operator delete[](void *p, const std::nothrow_t &) noexcept { std::free(p); }
+#pragma GCC diagnostic pop
 
 namespace {
 
@@ -998,9 +1031,12 @@ void load(const char *path, const char *bytes, size_t size, struct scene *s)
                                               tinygltf::WriteWholeFile, &files});
     tinygltf::Model model;
     std::string err, warn;
+    failed_allocation = 0;
     bool ok = glb ? gltf.LoadBinaryFromMemory(&model, &err, &warn, (const unsigned char *)bytes,
                                               (unsigned)size, dir)
                   : gltf.LoadASCIIFromString(&model, &err, &warn, bytes, (unsigned)size, dir);
+    if (!ok && failed_allocation)  // tinygltf turns its parser's bad_alloc into an error string
+        throw std::bad_alloc();
     if (!ok)  // a line of tinygltf's, capped: it can quote a whole data URI
         fail("malformed glTF: " + first_line(err).substr(0, 200));
     if (model.scenes.size() != (size_t)cJSON_GetArraySize(cJSON_GetObjectItemCaseSensitive(j, "scenes")) ||
@@ -1061,19 +1097,32 @@ extern "C" int scene_load(const char *path, struct scene *s)
     *s = scene{};
     char *bytes = nullptr;
     size_t size = 0;
+    log_set_context(path);  // for what stops the program inside (memory that ran out: util.h)
     int err = util_read_file(path, &bytes, &size);
+    log_set_context(nullptr);
     if (err) {
         log_error("%s: cannot open: %s", path, util_read_error(err));
         return err;
     }
     try {
+        log_set_context(path);
         load(path, bytes, size, s);
+        log_set_context(nullptr);
     } catch (const load_error &e) {
+        log_set_context(nullptr);
         log_error("%s: %s", path, e.what.c_str());
         free(bytes);
         scene_free(s);
         return -EINVAL;
+    } catch (const std::bad_alloc &) {
+        log_set_context(nullptr);
+        log_error("%s: out of memory loading it: %zu more bytes were needed and could not be had", path,
+                  failed_allocation);
+        free(bytes);
+        scene_free(s);
+        return -ENOMEM;
     } catch (const std::exception &e) {  // tinygltf/json internals
+        log_set_context(nullptr);
         log_error("%s: malformed glTF: %s", path, e.what());
         free(bytes);
         scene_free(s);

@@ -23,6 +23,19 @@
 #include <stdlib.h>
 #include <string.h>
 
+const char *cull_embree_error_text(enum RTCError code)
+{
+    switch (code) {
+    case RTC_ERROR_NONE: return "no error recorded";
+    case RTC_ERROR_INVALID_ARGUMENT: return "an invalid argument";
+    case RTC_ERROR_INVALID_OPERATION: return "an invalid operation";
+    case RTC_ERROR_OUT_OF_MEMORY: return "out of memory (raise the address-space limit, ulimit -v, or free memory)";
+    case RTC_ERROR_UNSUPPORTED_CPU: return "this CPU is not supported";
+    case RTC_ERROR_CANCELLED: return "cancelled";
+    default: return "an unknown error";
+    }
+}
+
 /* Steps (boxes and triangles tested) a search may take before it gives up
  * and the pixel is traced: a few microseconds, against the ~1000 rays (tens
  * of microseconds) it spares. */
@@ -282,7 +295,7 @@ struct cull *cull_build(RTCDevice dev, const struct scene *s)
     }
     build_patches(s, c);
     if (count && build_bvh(dev, c, count) != 0) {
-        log_error("ground truth: Embree cannot build the culling BVH (error %d)", (int)rtcGetDeviceError(dev));
+        log_error("ground truth: Embree cannot build the culling BVH: %s", cull_embree_error_text(rtcGetDeviceError(dev)));
         cull_free(c);
         return NULL;
     }

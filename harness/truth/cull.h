@@ -21,6 +21,9 @@
 
 #define CULL_MAX_OCCLUDERS 8
 
+/* An Embree error code in words ("out of memory" for RTC_ERROR_OUT_OF_MEMORY). */
+const char *cull_embree_error_text(enum RTCError code);
+
 /* A patch set up for segments from o. The segment to a light point q
  * crosses the patch's plane where s(q) = n.q - d has the sign opposite to
  * so = s(o), at t = so / (so - s(q)), and crosses it inside the patch

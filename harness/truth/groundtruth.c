@@ -117,7 +117,7 @@ light_points(const struct scene_light *L, const float *u, const float *v, float 
 static void on_embree_error(void *user, enum RTCError code, const char *what)
 {
     (void)user;
-    log_error("Embree error %d: %s", (int)code, what ? what : "");
+    log_error("Embree: %s: %s", cull_embree_error_text(code), what ? what : "");
 }
 
 /* One Embree device per process, its error callback installed once
@@ -130,7 +130,7 @@ static RTCDevice embree_device(void)
         return device;
     device = rtcNewDevice(NULL);
     if (!device)
-        log_error("Embree: cannot create a device (error %d)", (int)rtcGetDeviceError(NULL));
+        log_error("Embree: cannot create a device: %s", cull_embree_error_text(rtcGetDeviceError(NULL)));
     else
         rtcSetDeviceErrorFunction(device, on_embree_error, NULL);
     return device;
@@ -573,6 +573,8 @@ int gt_obtain(const struct scene *s, const struct light_frustum *f, const struct
         path = util_printf("%s/%s-%016llx.exr", cache_dir, s->name,
                            (unsigned long long)util_hash(UTIL_HASH_INIT, key, strlen(key)));
     memset(out, 0, sizeof *out);
+    if (cache_dir)  /* what writers killed before their rename left */
+        util_remove_stale_temps(cache_dir, 0);
     log_errors_as_warnings(true);  /* an unusable entry is rendered again: not an error of the run */
     int rc = path ? cache_read(path, key, &d, out) : -ENOENT;
     log_errors_as_warnings(false);
@@ -590,9 +592,11 @@ int gt_obtain(const struct scene *s, const struct light_frustum *f, const struct
                      (double)out->shadow_rays * 1e-6, out->seconds, out->msamples_per_second);
             struct exr_channel ch[GT_CACHE_CHANNELS];
             cache_channels(out, ch);
+            log_errors_as_warnings(true);  /* a cache that cannot be written costs time, not the result */
             if (path && (util_mkdirs(cache_dir) != 0 ||
                          image_write_exr(path, d.width, d.height, ch, GT_CACHE_CHANNELS, key) != 0))
                 log_warn("ground truth %s: not cached", s->name);
+            log_errors_as_warnings(false);
         }
     }
     free(key);

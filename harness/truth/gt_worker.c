@@ -2,6 +2,7 @@
 #include "base/log.h"
 
 #include <string.h>
+#include <time.h>
 
 /* Hands a finished level (rc 0) or a failure (rc < 0) of pose over, unless
  * the pose is no longer the one asked for; returns whether it still is. */
@@ -84,12 +85,27 @@ void gt_worker_ask(struct gt_worker *w, unsigned pose, const struct scene *s, co
     pthread_mutex_unlock(&w->lock);
 }
 
-int gt_worker_take(struct gt_worker *w, unsigned pose, bool wait, struct gt_image *out)
+bool gt_worker_wait(struct gt_worker *w, unsigned pose, int ms, int *level)
+{
+    struct timespec until;
+    clock_gettime(CLOCK_REALTIME, &until);  /* the condition variable's clock */
+    until.tv_nsec += (long)(ms % 1000) * 1000000L;
+    until.tv_sec += ms / 1000 + until.tv_nsec / 1000000000L;
+    until.tv_nsec %= 1000000000L;
+    pthread_mutex_lock(&w->lock);
+    int rc = 0;
+    while (rc == 0 && w->asked == pose && !(w->done_pose == pose && w->finished))
+        rc = pthread_cond_timedwait(&w->done_cond, &w->lock, &until);
+    const bool done = w->asked != pose || (w->done_pose == pose && w->finished);
+    *level = w->done_pose == pose && w->done_samples > 0 ? w->done_samples : 0;
+    pthread_mutex_unlock(&w->lock);
+    return done;
+}
+
+int gt_worker_take(struct gt_worker *w, unsigned pose, struct gt_image *out)
 {
     int samples = 0;
     pthread_mutex_lock(&w->lock);
-    while (wait && pose && w->asked == pose && !(w->done_pose == pose && w->finished))
-        pthread_cond_wait(&w->done_cond, &w->lock);
     if (w->fresh && w->done_pose == pose) {
         samples = w->done_samples;
         if (samples > 0) {

@@ -35,11 +35,15 @@ int gt_worker_start(struct gt_worker *w, int width, int height, int max_samples)
  * frustum. */
 void gt_worker_ask(struct gt_worker *w, unsigned pose, const struct scene *s, const struct light_frustum *f);
 
+/* Waits up to ms for the last level of pose (asked for) to be done, or to
+ * fail. Returns whether it is; *level: the samples per pixel of the newest
+ * level done so far (0: none yet). */
+bool gt_worker_wait(struct gt_worker *w, unsigned pose, int ms, int *level);
+
 /* Moves the newest level of pose into *out (freeing what it held) and
  * returns its samples per pixel; 0 when none is newer than the last taken,
- * -1 when tracing the pose failed. wait: first waits until the pose's last
- * level is done (pose must have been asked for). */
-int gt_worker_take(struct gt_worker *w, unsigned pose, bool wait, struct gt_image *out);
+ * -1 when tracing the pose failed. */
+int gt_worker_take(struct gt_worker *w, unsigned pose, struct gt_image *out);
 
 /* Stops the thread (cancelling its level) and frees what it holds; a
  * worker that never started is left as it is. */

@@ -185,7 +185,12 @@ int viewer_screenshot(int fw, int fh, const char *path)
 
 int viewer_frame(struct viewer *v, bool wait_for_truth)
 {
-    const int got = gt_worker_take(&v->worker, v->pose_id, wait_for_truth, &v->gt);
+    const double start = util_now_ms();
+    for (int level = 0; wait_for_truth && !gt_worker_wait(&v->worker, v->pose_id, 250, &level);)
+        log_progress("view: the screenshot waits for its ground truth: %d of %d samples per pixel done, %.0f s",
+                     level, v->d.gt_samples, (util_now_ms() - start) * 1e-3);
+    log_progress_done();
+    const int got = gt_worker_take(&v->worker, v->pose_id, &v->gt);
     if (got)
         v->gt_samples = got;
     for (int k = 0; k <= (int)v->split; k++)

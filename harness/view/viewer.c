@@ -49,9 +49,11 @@ void viewer_apply_pose(struct viewer *v)
     const float reach = VIEWER_LIGHT_REACH * v->extent, dolly = logf(VIEWER_DOLLY_REACH);
     p->light_dx = fminf(fmaxf(p->light_dx, -reach), reach), p->light_dy = fminf(fmaxf(p->light_dy, -reach), reach);
     p->dolly = fminf(fmaxf(p->dolly, -dolly), dolly);
+    p->pitch = fminf(fmaxf(p->pitch, -VIEWER_PITCH_MAX), VIEWER_PITCH_MAX);
     if (memcmp(&asked, p, sizeof asked) != 0)
-        say(v, "no farther: the light stays within %g scene sizes, the camera within %gx its distance",
-            (double)VIEWER_LIGHT_REACH, (double)VIEWER_DOLLY_REACH);
+        say(v, "no farther: the light stays within %g scene sizes, the camera within %gx its distance and "
+            "%.0f degrees of pitch", (double)VIEWER_LIGHT_REACH, (double)VIEWER_DOLLY_REACH,
+            (double)VIEWER_PITCH_MAX * 180 / M_PI);
     struct scene s = scene_orbited(v->base, &v->pose, v->extent);
     if (shadowmap_refit(&v->sm, &s, NULL) != 0) {
         shadowmap_refit(&v->sm, &v->posed, NULL);
@@ -148,8 +150,8 @@ void viewer_key(struct viewer *v, int key, int mods)
     case GLFW_KEY_DOWN: p->light_dy -= light_step, v->pose_dirty = true; break;
     case GLFW_KEY_A: p->yaw -= turn_step, v->pose_dirty = true; break;
     case GLFW_KEY_D: p->yaw += turn_step, v->pose_dirty = true; break;
-    case GLFW_KEY_W: p->pitch = fminf(p->pitch + turn_step, VIEWER_PITCH_MAX), v->pose_dirty = true; break;
-    case GLFW_KEY_S: p->pitch = fmaxf(p->pitch - turn_step, -VIEWER_PITCH_MAX), v->pose_dirty = true; break;
+    case GLFW_KEY_W: p->pitch += turn_step, v->pose_dirty = true; break;
+    case GLFW_KEY_S: p->pitch -= turn_step, v->pose_dirty = true; break;
     case GLFW_KEY_Q: p->dolly -= 0.1f, v->pose_dirty = true; break;
     case GLFW_KEY_E: p->dolly += 0.1f, v->pose_dirty = true; break;
     case GLFW_KEY_R: *p = (struct scene_orbit){0}, v->pose_dirty = true; break;
@@ -174,7 +176,7 @@ void viewer_drag(struct viewer *v, float dx, float dy, bool left, bool right, in
 {
     struct scene_orbit *p = &v->pose;
     if (left) {
-        p->yaw -= 0.005f * dx, p->pitch = fminf(fmaxf(p->pitch - 0.005f * dy, -VIEWER_PITCH_MAX), VIEWER_PITCH_MAX);
+        p->yaw -= 0.005f * dx, p->pitch -= 0.005f * dy;
         v->pose_dirty = true;
     } else if (right) {
         const float per_pixel = v->extent / (float)(window_width > 0 ? window_width : 1);  /* across the window:

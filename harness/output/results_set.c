@@ -1,0 +1,186 @@
+#include "results_set.h"
+#include "out_dir.h"
+#include "base/log.h"
+#include "base/util.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* Removes path and, if it is a folder (not a link), all below it. */
+static void remove_tree(const char *path)
+{
+    struct stat st;
+    if (lstat(path, &st) != 0)
+        return;
+    if (!S_ISDIR(st.st_mode)) {
+        unlink(path);
+        return;
+    }
+    DIR *d = opendir(path);
+    for (struct dirent *e; d && (e = readdir(d));)
+        if (strcmp(e->d_name, ".") != 0 && strcmp(e->d_name, "..") != 0) {
+            char *child = util_printf("%s/%s", path, e->d_name);
+            remove_tree(child);
+            free(child);
+        }
+    if (d)
+        closedir(d);
+    rmdir(path);
+}
+
+/* Whether a name in a set is the writer's own: its lock, a temporary. */
+static bool not_results(const char *name)
+{
+    return !strcmp(name, ".") || !strcmp(name, "..") || !strcmp(name, ".lock") || strstr(name, UTIL_TEMP_SUFFIX);
+}
+
+/* to made as a copy of folder from: its folders made, its files linked
+ * (copied where the filesystem has no hard links). Anything else (a link,
+ * a FIFO) is refused: a results folder holds only its own files. Returns 0
+ * or -1 (logged). */
+static int mirror(const char *from, const char *to)
+{
+    struct stat st;
+    if (stat(from, &st) != 0 || mkdir(to, st.st_mode & 07777) != 0) {
+        log_error("%s: cannot create folder: %s", to, strerror(errno));
+        return -1;
+    }
+    DIR *d = opendir(from);
+    int rc = d ? 0 : -1;
+    if (!d)
+        log_error("%s: cannot read: %s", from, strerror(errno));
+    for (struct dirent *e; !rc && (e = readdir(d));) {
+        if (not_results(e->d_name))
+            continue;
+        char *src = util_printf("%s/%s", from, e->d_name), *dst = util_printf("%s/%s", to, e->d_name);
+        if (lstat(src, &st) != 0) {
+            log_error("%s: %s", src, strerror(errno));
+            rc = -1;
+        } else if (S_ISDIR(st.st_mode)) {
+            rc = mirror(src, dst);
+        } else if (!S_ISREG(st.st_mode)) {
+            log_error("%s: not a file or a folder (a link?): a results folder holds only its own files", src);
+            rc = -1;
+        } else if (link(src, dst) != 0) {
+            char *data = NULL;
+            size_t size = 0;
+            int err = util_read_file(src, &data, &size);
+            if (err)
+                log_error("%s: cannot read: %s", src, util_read_error(err));
+            rc = err || util_write_file_atomic(dst, data, size) ? -1 : 0;
+            free(data);
+        }
+        free(src), free(dst);
+    }
+    if (d)
+        closedir(d);
+    return rc;
+}
+
+/* Removes the next sets that killed writers left beside real: folders
+ * "<name>.tmp.<pid>" whose process is gone. */
+static void remove_dead_sets(const char *real)
+{
+    const char *slash = strrchr(real, '/');
+    char *parent = slash == real ? xstrdup("/") : util_printf("%.*s", (int)(slash - real), real);
+    char *prefix = util_printf("%s" UTIL_TEMP_SUFFIX, slash + 1);
+    DIR *d = opendir(parent);
+    for (struct dirent *e; d && (e = readdir(d));) {
+        char *end = NULL;
+        const long pid = strncmp(e->d_name, prefix, strlen(prefix)) == 0
+                             ? strtol(e->d_name + strlen(prefix), &end, 10) : 0;
+        if (pid > 0 && end && !*end && kill((pid_t)pid, 0) != 0 && errno == ESRCH) {
+            char *path = util_printf("%s/%s", parent, e->d_name);
+            remove_tree(path);
+            free(path);
+        }
+    }
+    if (d)
+        closedir(d);
+    free(parent), free(prefix);
+}
+
+int results_set_open(struct results_set *rs, const char *dir, int depth)
+{
+    *rs = (struct results_set){.dir = xstrdup(dir)};
+    if (out_dir_prepare(dir) != 0 || util_lock_dir(dir) != 0)
+        return -1;
+    /* The real folder's name: its sibling is the next set (dir may end in
+     * '/', be "." or reach it through a link). */
+    char *real = realpath(dir, NULL);
+    if (!real) {
+        log_error("%s: %s", dir, strerror(errno));
+        return -1;
+    }
+    util_remove_stale_temps(real, depth);
+    remove_dead_sets(real);
+    char *next = util_printf("%s" UTIL_TEMP_SUFFIX "%ld", real, (long)getpid());
+    free(real);
+    remove_tree(next);  /* this process's own, from a set it dropped */
+    if (mirror(dir, next) != 0 || util_lock_dir(next) != 0) {  /* locked: in dir's place it keeps dir locked */
+        remove_tree(next);
+        free(next);
+        return -1;
+    }
+    rs->next = next;
+    return 0;
+}
+
+/* Moves every file of folder from over its namesake under to (each move
+ * atomic, the whole not). Returns 0 or -1 (logged). */
+static int move_over(const char *from, const char *to)
+{
+    DIR *d = opendir(from);
+    int rc = d ? 0 : -1;
+    for (struct dirent *e; d && !rc && (e = readdir(d));) {
+        if (not_results(e->d_name))
+            continue;
+        char *src = util_printf("%s/%s", from, e->d_name), *dst = util_printf("%s/%s", to, e->d_name);
+        struct stat st;
+        if (lstat(src, &st) == 0 && S_ISDIR(st.st_mode))
+            rc = (mkdir(dst, st.st_mode & 07777) != 0 && errno != EEXIST) || move_over(src, dst) ? -1 : 0;
+        else
+            rc = rename(src, dst);
+        if (rc)
+            log_error("%s: cannot move it to %s: %s", src, dst, strerror(errno));
+        free(src), free(dst);
+    }
+    if (d)
+        closedir(d);
+    return rc;
+}
+
+int results_set_commit(struct results_set *rs)
+{
+    char *real = realpath(rs->dir, NULL);
+    int rc = real ? renameat2(AT_FDCWD, rs->next, AT_FDCWD, real, RENAME_EXCHANGE) : -1;
+    if (rc != 0 && real && (errno == EINVAL || errno == ENOSYS || errno == ENOTSUP)) {
+        log_warn("%s: this filesystem cannot swap two folders at once (%s): its files are replaced one by one, "
+                 "so a writer stopped now would leave a mix", rs->dir, strerror(errno));
+        rc = move_over(rs->next, real);
+    } else if (rc != 0) {
+        log_error("%s: cannot put the new set in its place: %s", rs->dir, strerror(errno));
+    }
+    free(real);
+    if (rc == 0) {  /* rs->next now holds the previous set (or what is left of it) */
+        remove_tree(rs->next);
+        free(rs->next);
+        rs->next = NULL;
+    }
+    return rc ? -1 : 0;
+}
+
+void results_set_free(struct results_set *rs)
+{
+    if (rs->next)
+        remove_tree(rs->next);
+    free(rs->next), free(rs->dir);
+    *rs = (struct results_set){0};
+}
