@@ -13,6 +13,7 @@
 # Usage: test_data_safety.sh <shadowbench> <source root>
 set -u
 sb=$1 root=$2
+case $sb in /*) ;; *) sb=$PWD/$sb ;; esac  # some cases run from another folder
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 failed=0
@@ -31,6 +32,18 @@ rc=$?
     ok "a second run on the same folder: exit 2, '$out'" || fail "second run: exit $rc: $out"
 wait $first && grep -q '"complete":	true' "$tmp/a/run.json" && ok "the first run completes" ||
     fail "the first run did not complete"
+
+# gt into a folder a run is writing is refused too (it wrote its ground
+# truth beside the run's cells).
+"$sb" run --scene parallel_planes --scene stanford_bunny --scene thin_features $small --out "$tmp/a2" >/dev/null 2>&1 &
+first=$!
+i=0
+while [ ! -f "$tmp/a2/.lock" ] && [ $i -lt 100 ]; do sleep 0.05; i=$((i + 1)); done
+out=$("$sb" gt --scene parallel_planes --width 32 --height 32 --gt-samples 4 --no-cache -q --out "$tmp/a2" 2>&1)
+rc=$?
+[ $rc = 2 ] && printf '%s' "$out" | grep -q "another shadowbench is writing there" &&
+    ok "gt into a running run's folder: exit 2" || fail "gt into a running run's folder: exit $rc: $out"
+wait $first
 
 # Killed: 143 on SIGTERM, 130 on SIGINT; no temporary left; run.json says
 # incomplete; the previous report is gone, not left to pass for this run's.
@@ -186,7 +199,7 @@ fi
 
 # Standard output: a reader that closes the pipe stops nothing (the status
 # is the command's own), a full device is one line and exit 1.
-status=$( { "$sb" list 2>"$tmp/list.err"; echo $? > "$tmp/list.rc"; } | head -c 0; cat "$tmp/list.rc")
+status=$( { sleep 0.2; "$sb" list 2>"$tmp/list.err"; echo $? > "$tmp/list.rc"; } | head -c 0; cat "$tmp/list.rc")
 [ "$status" = 0 ] && [ ! -s "$tmp/list.err" ] && ok "list | head -c 0: exit 0, nothing said" ||
     fail "list | head -c 0: exit $status: $(cat "$tmp/list.err")"
 for args in list --help "help run"; do
@@ -230,15 +243,27 @@ done
 [ $landed -ge 1 ] || fail "SIGTERM after 'run finished': no kill landed in 5 tries"
 
 # A folder inside --out that is a link would take the run's files out of
-# it: refused in one line, nothing written through it.
+# it: refused in one line, nothing written through it. A scene's folder is
+# looked at before any work (exit 2), a cell's when it is written (exit 1).
 mkdir -p "$tmp/linked/out" "$tmp/linked/elsewhere"
-"$sb" run --scene parallel_planes --technique hard $small --out "$tmp/linked/out" >/dev/null 2>&1
-rm -rf "$tmp/linked/out/parallel_planes" && ln -s "$tmp/linked/elsewhere" "$tmp/linked/out/parallel_planes"
-out=$("$sb" run --scene parallel_planes --technique hard $small --out "$tmp/linked/out" 2>&1)
-rc=$?
-[ $rc = 1 ] && [ "$(printf '%s\n' "$out" | wc -l)" = 1 ] && printf '%s' "$out" | grep -q "parallel_planes: a link" &&
-    [ -z "$(ls -A "$tmp/linked/elsewhere")" ] && ok "a scene folder that is a link: '$out'" ||
-    fail "a scene folder that is a link: exit $rc: $out; elsewhere holds $(ls -A "$tmp/linked/elsewhere")"
+for link in parallel_planes parallel_planes/hard; do
+    "$sb" run --scene parallel_planes --technique hard $small --out "$tmp/linked/out" >/dev/null 2>&1
+    rm -rf "$tmp/linked/out/$link" && ln -s "$tmp/linked/elsewhere" "$tmp/linked/out/$link"
+    out=$("$sb" run --scene parallel_planes --technique hard $small --out "$tmp/linked/out" 2>&1)
+    rc=$?
+    want=$([ $link = parallel_planes ] && echo 2 || echo 1)
+    [ $rc = "$want" ] && [ "$(printf '%s\n' "$out" | wc -l)" = 1 ] && printf '%s' "$out" | grep -q "$link: a link" &&
+        [ -z "$(ls -A "$tmp/linked/elsewhere")" ] && ok "$link as a link: exit $rc, '$out'" ||
+        fail "$link as a link: exit $rc: $out; elsewhere holds $(ls -A "$tmp/linked/elsewhere")"
+    rm "$tmp/linked/out/$link"
+done
+for pair in "tuned tuned/out" "out/tuned out"; do  # --out inside --tuned, --tuned inside --out
+    out=$("$sb" tune --scene parallel_planes --scene thin_features --technique hard --write-tuned --allow-uncommitted \
+              --tuned "$tmp/nest/${pair% *}" --out "$tmp/nest/${pair#* }" $small 2>&1)
+    rc=$?
+    [ $rc = 2 ] && printf '%s' "$out" | grep -q "one inside the other" && [ ! -e "$tmp/nest" ] &&
+        ok "tune with one of --out and --tuned inside the other: '$out'" || fail "nested --out and --tuned: exit $rc: $out"
+done
 
 # An interrupted tune leaves the tuned folder as it was (every file, byte
 # for byte) and its next set for the next tune to remove; a whole tune
@@ -251,7 +276,8 @@ before=$(cd "$tmp/tuned" && md5sum hard.json pcf.json)
 "$sb" $tune --technique hard,pcf --width 40 --tuned "$tmp/tuned" --out "$tmp/tune2" >/dev/null 2>&1 &
 pid=$!
 i=0
-while [ ! -f "$tmp/tune2/hard.json" ] && [ $i -lt 200 ]; do sleep 0.05; i=$((i + 1)); done
+while [ ! -f "$tmp/tune2/hard.json" ] && [ $i -lt 600 ]; do sleep 0.05; i=$((i + 1)); done
+[ -f "$tmp/tune2/hard.json" ] || fail "the second tune's hard.json never came (30 s)"
 kill -TERM $pid
 wait $pid
 rc=$?
@@ -266,6 +292,13 @@ after=$(cd "$tmp/tuned" && md5sum hard.json pcf.json)
     ok "a whole tune: hard.json new, pcf.json kept, the dead tune's set removed" ||
     fail "after a whole tune: $(ls -a "$tmp") / $after"
 
+# A tuned folder holding the current one would be swapped out from under
+# the process (and its user's shell): refused.
+out=$(cd "$tmp/tuned" && "$sb" $tune --technique hard --tuned . --out "$tmp/tune5" 2>&1)
+rc=$?
+[ $rc = 2 ] && printf '%s' "$out" | grep -q "holds the current folder" && [ -f "$tmp/tuned/pcf.json" ] &&
+    ok "--tuned .: refused, '$out'" || fail "--tuned .: exit $rc: $out"
+
 # --write-tuned into a folder that cannot be made is refused before --out
 # is made.
 : > "$tmp/plain"
@@ -273,6 +306,44 @@ out=$("$sb" $tune --technique hard --tuned "$tmp/plain/tuned" --out "$tmp/tune4"
 rc=$?
 [ $rc = 2 ] && [ "$(printf '%s\n' "$out" | wc -l)" = 1 ] && [ ! -e "$tmp/tune4" ] &&
     ok "an unmakeable --tuned: refused before --out, '$out'" || fail "an unmakeable --tuned: exit $rc: $out"
+
+# A temporary's name taken by a link (planted for the next writer's pid,
+# here a process stopped before it starts): removed and made anew, never
+# written through.
+"$sb" run --scene parallel_planes --technique hard $small --out "$tmp/planted" >/dev/null 2>&1
+echo precious > "$tmp/victim"
+sh -c 'kill -STOP $$; exec "$0" "$@"' "$sb" run --scene parallel_planes --technique hard $small \
+    --out "$tmp/planted" >/dev/null 2>&1 &
+pid=$!
+sleep 0.3
+ln -s "$tmp/victim" "$tmp/planted/run.json.tmp.$pid"
+ln -s "$tmp/victim" "$tmp/planted/parallel_planes/hard/visibility.exr.tmp.$pid"
+kill -CONT $pid
+wait $pid
+rc=$?
+[ $rc = 0 ] && [ "$(cat "$tmp/victim")" = precious ] && [ ! -L "$tmp/planted/run.json" ] &&
+    [ ! -L "$tmp/planted/parallel_planes/hard/visibility.exr" ] && ok "temporaries planted as links: not followed" ||
+    fail "planted temporaries: exit $rc, victim '$(cat "$tmp/victim")'"
+
+# A standard stream closed at the start is not the next file opened (the
+# report's lines went into .lock): stdout closed is one line, exit 1, as a
+# full one; stderr closed, the run goes on.
+"$sb" run --scene parallel_planes --technique hard $small --out "$tmp/closed1" >&- 2>"$tmp/closed1.err"
+rc=$?
+[ $rc = 1 ] && [ "$(cat "$tmp/closed1.err")" = "shadowbench: error: standard output: cannot write: it is closed" ] &&
+    [ ! -s "$tmp/closed1/.lock" ] && ok "stdout closed: exit 1, one line" || fail "stdout closed: exit $rc: $(cat "$tmp/closed1.err")"
+"$sb" run --scene parallel_planes --technique hard $small --out "$tmp/closed2" >/dev/null 2>&-
+rc=$?
+[ $rc = 0 ] && [ ! -s "$tmp/closed2/.lock" ] && ok "stderr closed: exit 0, nothing in .lock" || fail "stderr closed: exit $rc"
+
+# git that fails (no descriptors left for it) is not "not a git checkout":
+# said, and recorded as unknown.
+out=$( (ulimit -n 10; "$sb" run --scene parallel_planes --technique hard --width 32 --height 32 --gt-samples 4 \
+           --frames 1 --warmup 0 --no-cache --out "$tmp/nofd") 2>&1 >/dev/null)
+rc=$?
+[ $rc = 0 ] && printf '%s' "$out" | grep -q "warning: git failed on the source tree" &&
+    grep -q '"source_tree":	"unknown: git failed"' "$tmp/nofd/run.json" && ok "git failing: said, recorded unknown" ||
+    fail "git failing: exit $rc: $out"
 
 [ "$failed" = 0 ] && echo "all passed" || echo "$failed failed"
 [ "$failed" = 0 ]

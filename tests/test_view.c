@@ -382,11 +382,11 @@ int main(int argc, char **argv)
           pitch.data);
     strbuf_free(&pitch), strbuf_free(&pitch_script);
     /* A screenshot waits for its pose's whole ground truth, and shows the
-     * wait on a terminal (script(1) gives it one): the bunny at 1024
-     * samples per pixel takes about a second here. */
+     * wait on a terminal (script(1) gives it one): the bunny at 4096
+     * samples per pixel takes about 4 s here, 16 polls of the wait. */
     struct strbuf waited = {0};
     char *wait_cmd = util_printf("script -qec \"xvfb-run -a %s view --scene stanford_bunny --width %d --height %d "
-                                 "--gt-samples 1024 --frames 1 --screenshot %s/wait.png\" /dev/null", sb, W, H, dir);
+                                 "--gt-samples 4096 --frames 1 --screenshot %s/wait.png\" /dev/null", sb, W, H, dir);
     CHECK(run_cmd(wait_cmd, NULL, &waited) == 0 && waited.data &&
               strstr(waited.data, "the screenshot waits for its ground truth: "),
           "no progress while the screenshot waits: %s", waited.data);

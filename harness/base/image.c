@@ -29,16 +29,36 @@ static void exr_quiet(exr_const_context_t ctx, exr_result_t code, const char *ms
     (void)ctx, (void)code, (void)msg;
 }
 
-/* Writes the EXR into file; messages name path. */
-static int write_exr_to(const char *path, const char *file, int width, int height,
-                        const struct exr_channel *channels, int channel_count, const char *comments)
+/* The library's writes, into our descriptor (user data): it opens no file. */
+static int64_t exr_pwrite(exr_const_context_t ctx, void *user, const void *buffer, uint64_t size, uint64_t offset,
+                          exr_stream_error_func_ptr_t error_cb)
+{
+    const int fd = *(const int *)user;
+    for (uint64_t done = 0; done < size;) {
+        const ssize_t n = pwrite(fd, (const char *)buffer + done, size - done, (off_t)(offset + done));
+        if (n < 0 && errno == EINTR)
+            continue;
+        if (n <= 0) {
+            error_cb(ctx, EXR_ERR_WRITE_IO, "write failed");
+            return -1;
+        }
+        done += (uint64_t)n;
+    }
+    return (int64_t)size;
+}
+
+/* Writes the EXR into descriptor fd; messages name path. */
+static int write_exr_to(const char *path, int fd, int width, int height, const struct exr_channel *channels,
+                        int channel_count, const char *comments)
 {
     exr_context_t ctx = NULL;
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
     init.error_handler_fn = exr_quiet;
+    init.user_data = &fd;
+    init.write_fn = exr_pwrite;
     int part = 0;
     errno = 0;
-    exr_result_t rc = exr_start_write(&ctx, file, EXR_WRITE_FILE_DIRECTLY, &init);
+    exr_result_t rc = exr_start_write(&ctx, path, EXR_WRITE_FILE_DIRECTLY, &init);
     if (rc != EXR_ERR_SUCCESS)
         return exr_failed(NULL, path, "cannot write", rc);
     if ((rc = exr_add_part(ctx, "visibility", EXR_STORAGE_SCANLINE, &part)) ||
@@ -98,8 +118,15 @@ int image_write_exr(const char *path, int width, int height, const struct exr_ch
 {
     /* Our own temporary and rename (not the library's), so that a signal
      * removes it and a later run knows its name (util.h). */
-    char *tmp = util_temp_begin(path);
-    int rc = write_exr_to(path, tmp, width, height, channels, channel_count, comments);
+    char *tmp;
+    const int fd = util_temp_create(path, &tmp);
+    if (fd < 0)
+        return -1;
+    int rc = write_exr_to(path, fd, width, height, channels, channel_count, comments);
+    if (close(fd) != 0 && rc == 0) {
+        log_error("%s: cannot write: %s", path, strerror(errno));
+        rc = -1;
+    }
     if (rc == 0 && rename(tmp, path) != 0) {
         log_error("%s: cannot write: %s", path, strerror(errno));
         rc = -1;

@@ -9,7 +9,12 @@
 static enum log_level max_level = LOG_INFO;
 static const char *context;
 
-void log_set_context(const char *c) { context = c; }
+const char *log_set_context(const char *c)
+{
+    const char *was = context;
+    context = c;
+    return was;
+}
 
 void log_set_level(enum log_level level) { max_level = level; }
 
@@ -42,21 +47,7 @@ void log_msg(enum log_level level, const char *fmt, ...)
     va_start(ap, fmt);
     strbuf_vprintf(&text, fmt, ap);
     va_end(ap);
-    char *line = text.data;
-    /* One line, shown in the order it is stored, whatever a file name or a
-     * file's text quoted in it holds: control characters (a newline, a
-     * terminal escape) and bidirectional formatting characters print as '?'. */
-    char *out = line;
-    unsigned cp;
-    for (const char *in = line; *in;) {
-        int n = util_utf8_next(in, &cp);
-        if (cp < 32 || cp == 127 || util_bidi_control(cp))
-            *out++ = '?';
-        else
-            memmove(out, in, (size_t)n), out += n;
-        in += n;
-    }
-    *out = '\0';
+    util_printable(text.data);
     /* One fprintf per message so lines from OpenMP threads never interleave. */
     end_progress_line();
     fprintf(stderr, "shadowbench: %s%s%s%s\n", prefix[level], context ? context : "", context ? ": " : "",

@@ -18,8 +18,9 @@ void log_errors_as_warnings(bool on);
 
 /* While context is not NULL, every message starts with "<context>: " (e.g.
  * the file whose contents are being checked by code that does not know
- * it). The string must outlive its use; NULL ends it. */
-void log_set_context(const char *context);
+ * it). The string must outlive its use; NULL ends it. Returns the context
+ * it replaces (to put back). */
+const char *log_set_context(const char *context);
 
 /* Progress on long work (DESIGN.md §6, the CLI standards), one printer for
  * every command: on a terminal, one line rewritten in place, ended by

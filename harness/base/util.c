@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <signal.h>
+#include <stdatomic.h>
 #include <sys/file.h>
 #include <sys/stat.h>
 #include <time.h>
@@ -89,19 +90,35 @@ const char *util_read_error(int err)
 static char temp_path[4096];
 static volatile sig_atomic_t temp_active;
 
-char *util_temp_begin(const char *path)
+int util_temp_create(const char *path, char **tmp)
 {
-    char *tmp = util_printf("%s" UTIL_TEMP_SUFFIX "%ld", path, (long)getpid());
+    *tmp = util_printf("%s" UTIL_TEMP_SUFFIX "%ld", path, (long)getpid());
     temp_active = 0;
-    snprintf(temp_path, sizeof temp_path, "%s", tmp);
-    temp_active = strlen(tmp) < sizeof temp_path;
-    return tmp;
+    snprintf(temp_path, sizeof temp_path, "%s", *tmp);
+    temp_active = strlen(*tmp) < sizeof temp_path;
+    /* what is there (a dead process's of the same pid, a planted link) is
+     * removed, never written through: the file made here is new */
+    unlink(*tmp);
+    const int fd = open(*tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+    if (fd < 0) {
+        const int err = -errno;
+        log_error("%s: cannot write: %s", path, strerror(errno));
+        util_temp_end();
+        free(*tmp);
+        *tmp = NULL;
+        return err;
+    }
+    return fd;
 }
 
 void util_temp_end(void) { temp_active = 0; }
 
-/* Set once a command has begun its last writes (util_signals_defer). */
-static volatile sig_atomic_t finishing;
+/* What a signal does now: while a command writes the record that says it
+ * is complete, it is held (util_signals_defer); once that is written, it
+ * ends the process with the command's own status (util_signals_finished).
+ * Lock-free atomics: any thread may take the signal. */
+enum { SIGNALS_KILL, SIGNALS_HELD, SIGNALS_FINISHED };
+static atomic_int signal_mode, signal_held, finished_status;
 
 /* The process's last act on a signal or a failed allocation: the temporary
  * being written removed (unlink and _exit are async-signal-safe). */
@@ -115,13 +132,16 @@ static void leave(int status)
 
 static void on_signal(int sig)
 {
-    if (!finishing)  /* once finishing, the signal is let go: the command ends by itself */
-        leave(128 + sig);
+    const int mode = atomic_load(&signal_mode);
+    if (mode == SIGNALS_HELD)
+        atomic_store(&signal_held, 1);
+    else
+        leave(mode == SIGNALS_FINISHED ? atomic_load(&finished_status) : 128 + sig);
 }
 
 void util_exit_cleanly_on_signals(void)
 {
-    /* SA_RESTART: a signal let go while finishing interrupts no write */
+    /* SA_RESTART: a signal held while finishing interrupts no write */
     struct sigaction sa = {.sa_handler = on_signal, .sa_flags = SA_RESTART};
     sigemptyset(&sa.sa_mask);
     sigaction(SIGINT, &sa, NULL);
@@ -129,12 +149,23 @@ void util_exit_cleanly_on_signals(void)
     sigaction(SIGHUP, &sa, NULL);
     /* A write past the file-size limit or into a pipe nobody reads fails
      * (EFBIG, EPIPE) and is reported by its writer, rather than killing the
-     * process without a word and leaving its temporary. */
+     * process without a word and leaving its temporary. (Children started
+     * by popen inherit it: git, whose output is read whole.) */
     signal(SIGXFSZ, SIG_IGN);
     signal(SIGPIPE, SIG_IGN);
 }
 
-void util_signals_defer(void) { finishing = 1; }
+void util_signals_defer(void) { atomic_store(&signal_mode, SIGNALS_HELD); }
+
+void util_signals_finished(int status)
+{
+    atomic_store(&finished_status, status);
+    atomic_store(&signal_mode, SIGNALS_FINISHED);
+    if (atomic_load(&signal_held)) {  /* asked to stop while finishing: now */
+        fflush(stdout);
+        leave(status);
+    }
+}
 
 void util_out_of_memory(size_t size)
 {
@@ -190,15 +221,10 @@ int util_lock_dir(const char *dir)
 
 int util_write_file_atomic(const char *path, const void *data, size_t size)
 {
-    char *tmp = util_temp_begin(path);
-    int fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (fd < 0) {
-        int err = -errno;
-        log_error("%s: cannot write: %s", path, strerror(errno));
-        util_temp_end();
-        free(tmp);
-        return err;
-    }
+    char *tmp;
+    const int fd = util_temp_create(path, &tmp);
+    if (fd < 0)
+        return fd;
     const char *p = data;
     size_t left = size;
     while (left > 0) {
@@ -261,21 +287,41 @@ int util_mkdirs(const char *path)
     return 0;
 }
 
+/* One of util_mkdirs_own's own parts, p: not a link, then made. */
+static int mkdir_own(const char *p)
+{
+    struct stat st;
+    if (lstat(p, &st) == 0 && S_ISLNK(st.st_mode)) {
+        log_error("%s: a link: shadowbench writes inside its output folder, never through a link out of it "
+                  "(remove the link)", p);
+        return -ELOOP;
+    }
+    if (mkdir(p, 0755) != 0 && errno != EEXIST) {
+        const int err = -errno;
+        log_error("%s: cannot create folder: %s", p, strerror(errno));
+        return err;
+    }
+    if (stat(p, &st) != 0 || !S_ISDIR(st.st_mode)) {
+        log_error("%s: not a folder", p);
+        return -ENOTDIR;
+    }
+    return 0;
+}
+
 int util_mkdirs_own(const char *path, int own)
 {
-    int rc = util_mkdirs(path);
+    /* the folders above the last `own` parts as mkdir -p makes them; each
+     * of those parts looked at before it is made or gone into */
     char *p = xstrdup(path);
-    for (int k = 0; k < own && !rc; k++) {
-        struct stat st;
-        if (lstat(p, &st) == 0 && S_ISLNK(st.st_mode)) {
-            log_error("%s: a link: shadowbench writes inside its output folder, never through a link out of it "
-                      "(remove the link)", p);
-            rc = -ELOOP;
-        }
-        char *slash = strrchr(p, '/');
-        if (!slash)
-            break;
-        *slash = '\0';
+    char *part[UTIL_MKDIRS_OWN_MAX];
+    int n = 0;
+    for (char *slash; n < own && n < UTIL_MKDIRS_OWN_MAX && (slash = strrchr(p, '/')) && slash != p; n++)
+        *slash = '\0', part[n] = slash + 1;
+    /* p: the folder above them, or (a path of no more parts) the first of them */
+    int rc = n < own ? mkdir_own(p) : util_mkdirs(p);
+    for (int k = n - 1; k >= 0 && !rc; k--) {
+        part[k][-1] = '/';
+        rc = mkdir_own(p);
     }
     free(p);
     return rc;
@@ -324,6 +370,21 @@ bool util_valid_utf8(const char *s)
     return cp != UTIL_NOT_UTF8;
 }
 
+void util_printable(char *s)
+{
+    char *out = s;
+    unsigned cp;
+    for (const char *in = s; *in;) {
+        const int n = util_utf8_next(in, &cp);
+        if (cp < 32 || cp == 127 || util_bidi_control(cp))
+            *out++ = '?';
+        else
+            memmove(out, in, (size_t)n), out += n;
+        in += n;
+    }
+    *out = '\0';
+}
+
 bool util_bidi_control(unsigned cp)
 {
     return cp == 0x061c || cp == 0x200e || cp == 0x200f || (cp >= 0x202a && cp <= 0x202e) ||
@@ -354,6 +415,35 @@ const char *util_json_duplicate_key(const cJSON *v)
             twice = keys[i];
     free(keys);
     return twice;
+}
+
+/* path made absolute with its links resolved, as far as it exists (the rest
+ * appended as written); malloc'ed. */
+static char *absolute(const char *path)
+{
+    char *real = realpath(path, NULL);
+    if (real)
+        return real;
+    const char *slash = strrchr(path, '/');
+    if (!slash) {
+        char *cwd = realpath(".", NULL), *joined = util_printf("%s/%s", cwd ? cwd : ".", path);
+        free(cwd);
+        return joined;
+    }
+    char *parent = slash == path ? xstrdup("/") : util_printf("%.*s", (int)(slash - path), path);
+    char *head = absolute(parent);
+    char *joined = util_printf("%s%s%s", head, head[strlen(head) - 1] == '/' ? "" : "/", slash + 1);
+    free(parent), free(head);
+    return joined;
+}
+
+bool util_path_within(const char *path, const char *dir)
+{
+    char *p = absolute(path), *d = absolute(dir);
+    const size_t n = strlen(d);
+    const bool within = strncmp(p, d, n) == 0 && (p[n] == '\0' || p[n] == '/' || (n && d[n - 1] == '/'));
+    free(p), free(d);
+    return within;
 }
 
 bool util_is_dir(const char *path)

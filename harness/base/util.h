@@ -23,12 +23,14 @@ int util_read_file(const char *path, char **data, size_t *size);
 /* What util_read_file's error means, in words. */
 const char *util_read_error(int err);
 
-/* Temporary files are "<path>.tmp.<pid>". util_temp_begin names one and
- * registers it as the one being written (the signal handler removes it);
- * util_temp_end after it is renamed or removed. Returns the name,
- * malloc'ed. */
+/* Temporary files are "<path>.tmp.<pid>". util_temp_create names one
+ * (*tmp, malloc'ed), registers it as the one being written (the signal
+ * handler removes it) and creates it anew, removing whatever had the name
+ * (O_EXCL | O_NOFOLLOW: never written through a link); util_temp_end after
+ * it is renamed or removed. Returns its descriptor, or -errno (logged,
+ * *tmp NULL). */
 #define UTIL_TEMP_SUFFIX ".tmp."
-char *util_temp_begin(const char *path);
+int util_temp_create(const char *path, char **tmp);
 void util_temp_end(void);
 
 /* SIGINT, SIGTERM and SIGHUP remove the temporary being written, then exit
@@ -37,11 +39,14 @@ void util_temp_end(void);
  * and its writer says so. */
 void util_exit_cleanly_on_signals(void);
 
-/* From now on the process finishes by itself: a signal is let go (any
- * thread may take it), so a command that has begun writing the record that
- * says it is complete ends with its own status, never killed after saying
- * "complete". */
+/* A command's last writes (its outputs, then the record that says they are
+ * complete) as one step for signals: util_signals_defer holds a signal
+ * until util_signals_finished(status), after which a held or a new signal
+ * ends the process at once with that status. So a command is either
+ * killed before it says "complete" (128 + the signal) or ends with its own
+ * status, and never ignores a signal for longer than its last writes. */
 void util_signals_defer(void);
+void util_signals_finished(int status);
 
 /* One line on stderr ("out of memory: N more bytes were needed ..."), the
  * temporary being written removed, exit 1 (a runtime error). What xmalloc
@@ -69,6 +74,7 @@ int util_mkdirs(const char *path);
  * own: one that is a link (<out>/<scene> leading elsewhere) would take the
  * files written into it out of the folder the command owns. Returns 0 or
  * -errno (logged). */
+#define UTIL_MKDIRS_OWN_MAX 8
 int util_mkdirs_own(const char *path, int own);
 
 /* True when a file can be created in dir (it is probed, then removed). */
@@ -85,6 +91,11 @@ int util_utf8_next(const char *s, unsigned *cp);
 char *util_utf8_copy(const char *s);
 /* Whether s is well-formed UTF-8. */
 bool util_valid_utf8(const char *s);
+/* s made one line shown in the order it is stored, in place: control
+ * characters (a newline, a terminal escape) and bidirectional formatting
+ * characters become '?' (what error lines and names printed from files
+ * show). */
+void util_printable(char *s);
 /* Whether cp is a bidirectional formatting character (U+061C, U+200E/F,
  * U+202A-E, U+2066-9): text that shows in another order than it is stored. */
 bool util_bidi_control(unsigned cp);
@@ -95,6 +106,10 @@ struct cJSON;
 const char *util_json_duplicate_key(const struct cJSON *v);
 /* Adds a copy of every key of object `from` (may be NULL) to `into`. */
 void util_json_merge(struct cJSON *into, const struct cJSON *from);
+
+/* Whether path is dir or lies inside it, both made absolute with their
+ * links resolved as far as they exist. */
+bool util_path_within(const char *path, const char *dir);
 
 /* Whether path is a folder (following links). */
 bool util_is_dir(const char *path);

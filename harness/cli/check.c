@@ -145,26 +145,6 @@ static int check_scene(struct regression *r, const struct scene *s, const struct
     return failures;
 }
 
-/* path made absolute with its links resolved, as far as it exists (the rest
- * appended as written); malloc'ed. */
-static char *absolute(const char *path)
-{
-    char *real = realpath(path, NULL);
-    if (real)
-        return real;
-    const char *slash = strrchr(path, '/');
-    if (!slash) {
-        char *cwd = realpath(".", NULL), *joined = util_printf("%s/%s", cwd ? cwd : ".", path);
-        free(cwd);
-        return joined;
-    }
-    char *parent = slash == path ? xstrdup("/") : util_printf("%.*s", (int)(slash - path), path);
-    char *head = absolute(parent);
-    char *joined = util_printf("%s%s%s", head, head[strlen(head) - 1] == '/' ? "" : "/", slash + 1);
-    free(parent), free(head);
-    return joined;
-}
-
 /* The baselines folder is a folder (with --update, claimed and its next
  * set opened: the cells are recorded as one set), and --out is not it or
  * inside it: the page's pictures would overwrite the baselines'. Returns 0
@@ -176,13 +156,10 @@ static int check_folders(const struct options *o, struct results_set *record)
         log_error("--baselines %s: not a folder", o->baselines_dir);
         return -1;
     }
-    char *out = absolute(o->out_dir), *base = absolute(o->baselines_dir);
-    const size_t n = strlen(base);
-    const bool inside = strncmp(out, base, n) == 0 && (out[n] == '\0' || out[n] == '/');
+    const bool inside = util_path_within(o->out_dir, o->baselines_dir);
     if (inside)
         log_error("--out %s: inside the baselines folder %s (its pictures would overwrite them)", o->out_dir,
                   o->baselines_dir);
-    free(out), free(base);
     if (inside || (o->update && results_set_open(record, o->baselines_dir, 2) != 0))
         return -1;
     return out_dir_claim(o->out_dir);
@@ -204,8 +181,11 @@ static int orphans(const struct options *o, const struct scene *scenes, int scen
         for (int s = 0; s < scene_count && !known; s++)
             known = strcmp(scenes[s].name, name) == 0;
         if (!known) {
-            printf("  ORPHANED    %s: no shipped scene is called '%s', so none of its baselines is checked "
-                   "(remove the folder, or name its scene with --scene)\n", path, name);
+            char *shown = xstrdup(name);  /* a folder's name may hold a newline or a terminal escape */
+            util_printable(shown);
+            printf("  ORPHANED    %s/%s: no shipped scene is called '%s', so none of its baselines is checked "
+                   "(remove the folder, or name its scene with --scene)\n", o->baselines_dir, shown, shown);
+            free(shown);
             n++;
         }
         free(path);
@@ -270,9 +250,10 @@ int check_main(const struct options *o)
         const int orphaned = orphans(o, scenes, scene_count);
         failures += o->strict ? orphaned : 0;
     }
-    if (failures >= 0 && o->update) {  /* the new baselines as one set, whatever signal comes now */
+    if (failures >= 0 && o->update) {  /* the new baselines as one set, held from signals (run.c) */
         util_signals_defer();
         failures = results_set_commit(&record) != 0 ? -1 : failures;
+        util_signals_finished(failures == 0 ? EXIT_OK : EXIT_CHECK_FAILED);
     }
     if (failures >= 0 && check_page_write(&r, o->out_dir) != 0)
         failures = -1;

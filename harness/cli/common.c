@@ -40,10 +40,13 @@ int cli_require_committed(const struct options *o, const char *what)
         log_error("%s: the source tree has uncommitted changes to code that renders or scores (%s, ...): what "
                   "it records would name a build nobody can reproduce; commit them, or pass --allow-uncommitted "
                   "(recorded in the files it writes)", what, changed);
+    else if (state == SOURCE_NOT_GIT)
+        log_error("%s: the source tree (%s) is not a git checkout, so what it records cannot name the code it came "
+                  "from; pass --allow-uncommitted (recorded in the files it writes)", what, SB_SOURCE_DIR);
     else
-        log_error("%s: the source tree (%s) is not a git checkout (or git is missing), so what it records cannot "
-                  "name the code it came from; pass --allow-uncommitted (recorded in the files it writes)", what,
-                  SB_SOURCE_DIR);
+        log_error("%s: git failed on the source tree %s (%s), so what it records cannot name the code it came "
+                  "from; mend that, or pass --allow-uncommitted (recorded in the files it writes)", what,
+                  SB_SOURCE_DIR, changed);
     return -1;
 }
 

@@ -21,7 +21,9 @@ int gt_main(const struct options *o)
         return EXIT_USAGE;
     }
     char *dir = util_printf("%s/%s", o->out_dir, s.name);
-    if (util_mkdirs_own(dir, 1) != 0 || out_dir_claim(dir) != 0) {  /* <out>/<scene>: not a link out */
+    /* --out itself is claimed (a run writing there holds it), then
+     * <out>/<scene>, which may not be a link out of it */
+    if (out_dir_claim(o->out_dir) != 0 || util_mkdirs_own(dir, 1) != 0) {
         free(dir);
         scene_free(&s);
         return EXIT_USAGE;

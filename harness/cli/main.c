@@ -9,6 +9,7 @@
 #include <cjson/cJSON.h>
 
 #include <errno.h>
+#include <fcntl.h>
 #include <poll.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -41,6 +42,21 @@ static int unknown_command(const char *name)
     return EXIT_USAGE;
 }
 
+/* Whether the command was started with standard output closed. */
+static bool stdout_closed;
+
+/* A standard stream started closed would be the next file opened (.lock
+ * would take the report's lines): each is opened on /dev/null first. */
+static void open_standard_streams(void)
+{
+    for (int fd = 0; fd <= 2; fd++)
+        if (fcntl(fd, F_GETFD) < 0 && errno == EBADF) {
+            stdout_closed |= fd == STDOUT_FILENO;
+            if (open("/dev/null", fd ? O_WRONLY : O_RDONLY) != fd)
+                _exit(EXIT_CHECK_FAILED);  /* no stream left to say it on */
+        }
+}
+
 /* The command's status once standard output is written whole. A reader
  * that closed the pipe early (`| head`) stops nothing: SIGPIPE is ignored,
  * the work is done and its status stands. Any other failure to write it (a
@@ -48,6 +64,10 @@ static int unknown_command(const char *name)
 static int finish_stdout(int status)
 {
     const int flushed = fflush(stdout), err = errno;
+    if (stdout_closed) {  /* what it printed went nowhere, as into a full disk */
+        log_error("standard output: cannot write: it is closed");
+        return status ? status : EXIT_CHECK_FAILED;
+    }
     if (flushed == 0 && !ferror(stdout))
         return status;
     struct pollfd p = {.fd = STDOUT_FILENO, .events = POLLOUT};
@@ -108,6 +128,7 @@ static int run(int argc, char **argv)
 
 int main(int argc, char **argv)
 {
+    open_standard_streams();
     util_exit_cleanly_on_signals();
     /* cJSON reads a failed allocation as malformed JSON: out of memory is
      * said as such instead (util_out_of_memory) */

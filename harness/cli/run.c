@@ -76,7 +76,7 @@ static int run_scene(struct run *r, const struct scene *scene, struct scene_setu
     char *dir = util_printf("%s/%s", o->out_dir, scene->name);
     const struct scene_setup_desc desc = {o->width, o->height, o->shadow_map_size, o->gt_samples, 0, o->cache_dir, 0,
                                           &r->programs};
-    if (util_mkdirs_own(dir, 1) != 0 || scene_setup_open(ss, scene, &desc) != 0) {
+    if (scene_setup_open(ss, scene, &desc) != 0) {
         free(dir);
         return -1;
     }
@@ -157,6 +157,13 @@ int run_main(const struct options *o)
     if (configs_build(&r.configs, &cd) != 0 || cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0 ||
         out_dir_claim(o->out_dir) != 0)
         goto out;
+    for (int s = 0; s < scene_count; s++) {  /* their folders, before any work: none may be a link out of --out */
+        char *dir = util_printf("%s/%s", o->out_dir, scenes[s].name);
+        const int rc = util_mkdirs_own(dir, 1);
+        free(dir);
+        if (rc != 0)
+            goto out;
+    }
     if (begin_run(o) != 0) {  /* a write that fails: a runtime error */
         status = EXIT_CHECK_FAILED;
         goto out;
@@ -193,8 +200,9 @@ int run_main(const struct options *o)
         scene_setup_free(&ss);
     }
     if (!failed) {
-        /* From here the run finishes whatever signal comes: killed after its
-         * folder says complete, it would exit 143 with a whole report. */
+        /* The report, then run.json "complete": a signal waits until they
+         * are written (killed in between, the folder would say complete
+         * with the status of a kill, or hold a report that says nothing) */
         util_signals_defer();
         cJSON *run = cli_run_record(o, true, (util_now_ms() - start) * 1e-3);
         cJSON_AddTrueToObject(run, "complete");
@@ -205,10 +213,11 @@ int run_main(const struct options *o)
         failed = report_write(&rep);
         cJSON_Delete(run);
     }
-    if (!failed) {
+    if (!failed)
         status = judge(&r);
+    util_signals_finished(status);
+    if (!failed)
         cli_done(o, "run", OUTPUT_REPORT, "matrix", OUTPUT_MATRIX_CSV, start);
-    }
     for (int i = 0; i < r.cell_count; i++)
         cell_free(&r.cells[i]);
     free(r.cells);

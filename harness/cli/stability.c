@@ -138,10 +138,11 @@ int stability_main(const struct options *o)
         rc = stability_output_write(&so, run);
         cJSON_Delete(run);
     }
-    if (!rc) {
+    if (!rc)
         status = judge(&st);
+    util_signals_finished(status);
+    if (!rc)
         cli_done(o, "stability", OUTPUT_STABILITY_PAGE, "data", OUTPUT_STABILITY_CSV, start);
-    }
     programs_free(&st.programs);  /* with its context */
     gl_context_destroy();
 out:

@@ -24,7 +24,7 @@ static int tuned_dir_ours(const char *dir)
     const char *stranger = NULL;
     for (struct dirent *e; d && !stranger && (e = readdir(d));) {
         const char *n = e->d_name, *dot = strrchr(n, '.');
-        bool ours = !strcmp(n, ".") || !strcmp(n, "..") || !strcmp(n, ".lock") || strstr(n, UTIL_TEMP_SUFFIX);
+        bool ours = results_set_own_name(n);
         for (int i = 0; technique_list[i] && !ours && dot && !strcmp(dot, ".json"); i++)
             ours = strlen(technique_list[i]->name) == (size_t)(dot - n) &&
                    !strncmp(n, technique_list[i]->name, (size_t)(dot - n));
@@ -117,7 +117,14 @@ int tune_main(const struct options *o)
                   TUNE_MAX_SCENES, scene_count);
         goto out;
     }
-    /* the tuned folder first: one it cannot write is refused before --out is made */
+    /* the tuned folder first: one it cannot write is refused before --out is
+     * made; neither inside the other (the swapped set would take --out
+     * with it, or --out would hold a folder it did not make) */
+    if (o->write_tuned &&
+        (util_path_within(o->out_dir, o->tuned_dir) || util_path_within(o->tuned_dir, o->out_dir))) {
+        log_error("--out %s and --tuned %s: one inside the other; name two folders apart", o->out_dir, o->tuned_dir);
+        goto out;
+    }
     if ((o->write_tuned && (tuned_dir_ours(o->tuned_dir) != 0 || results_set_open(&tuned, o->tuned_dir, 1) != 0)) ||
         out_dir_claim(o->out_dir) != 0)
         goto out;
@@ -140,11 +147,12 @@ int tune_main(const struct options *o)
         }
     status = tune_all(o, tuned.next, scenes, setups, scene_count, &programs);
     if (status == EXIT_OK) {
-        util_signals_defer();  /* the tuned set and tune.json say complete: then the status (run.c) */
+        util_signals_defer();  /* the tuned set, then tune.json "complete": as one step (run.c) */
         const double seconds = (util_now_ms() - start) * 1e-3;
-        if ((o->write_tuned && results_set_commit(&tuned) != 0) || tune_state(o, true, seconds) != 0) {
+        if ((o->write_tuned && results_set_commit(&tuned) != 0) || tune_state(o, true, seconds) != 0)
             status = EXIT_CHECK_FAILED;
-        } else {
+        util_signals_finished(status);
+        if (status == EXIT_OK) {
             printf("tuned: %s/<technique>.json%s%s\n", o->out_dir, o->write_tuned ? " and " : "",
                    o->write_tuned ? o->tuned_dir : "");
             log_info("tune finished in %.0f s", seconds);

@@ -1,10 +1,12 @@
 #include "provenance.h"
+#include "base/log.h"
 #include "base/util.h"
 #include "gl/gl_context.h"
 
 #include <OpenEXR/openexr.h>
 #include <embree3/rtcore.h>
 
+#include <errno.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -35,33 +37,41 @@ static const char source_paths[] = "harness techniques shaders scenes CMakeLists
 
 enum source_state provenance_source_state(char *what, size_t size)
 {
-    char *cmd = util_printf("git -C '%s' status --porcelain --untracked-files=all -- %s 2>/dev/null && echo ok",
+    /* git's own words on failure (2>&1), its status last */
+    char *cmd = util_printf("git -C '%s' status --porcelain --untracked-files=all -- %s 2>&1; echo \"rc=$?\"",
                             SB_SOURCE_DIR, source_paths);
     FILE *p = popen(cmd, "r");
     free(cmd);
-    char line[1024];
-    bool ok = false, changed = false;
-    snprintf(what, size, "%s", "");
+    snprintf(what, size, "%s", p ? "" : strerror(errno));
+    char line[1024], first[512] = "";
+    int rc = -1;
+    bool changed = false;
     while (p && fgets(line, sizeof line, p)) {
         line[strcspn(line, "\n")] = '\0';
-        if (strcmp(line, "ok") == 0) {
-            ok = true;
-        } else if (strlen(line) > 3) {
-            if (!changed)
-                snprintf(what, size, "%s", line + 3);
-            changed = true;
+        if (strncmp(line, "rc=", 3) == 0) {
+            rc = atoi(line + 3);
+        } else {
+            if (!first[0])
+                snprintf(first, sizeof first, "%.*s", (int)sizeof first - 1, line);
+            changed = changed || strlen(line) > 3;
         }
     }
     if (p)
         pclose(p);
-    return !ok ? SOURCE_UNKNOWN : changed ? SOURCE_CHANGED : SOURCE_CLEAN;
+    if (rc == 0 && changed)
+        snprintf(what, size, "%s", first + 3);  /* "XY path": the first path changed */
+    else if (rc != 0 && p)
+        snprintf(what, size, "%s", rc == 127 ? "git is not installed" : first[0] ? first : "git failed");
+    return rc == 0 ? (changed ? SOURCE_CHANGED : SOURCE_CLEAN)
+           : rc == 128 && strstr(first, "not a git repository") ? SOURCE_NOT_GIT : SOURCE_UNKNOWN;
 }
 
 const char *provenance_source_text(enum source_state s)
 {
     return s == SOURCE_CLEAN     ? "committed"
            : s == SOURCE_CHANGED ? "uncommitted changes to code that renders or scores"
-                                 : "not a git checkout";
+           : s == SOURCE_NOT_GIT ? "not a git checkout"
+                                 : "unknown: git failed";
 }
 
 /* `git describe --always` of the source tree, "-dirty" where its code
@@ -103,6 +113,11 @@ cJSON *provenance_json(int argc, char **argv, bool timed, enum stage_timing timi
     cJSON *r = cJSON_CreateObject();
     char changed[512];
     const enum source_state state = provenance_source_state(changed, sizeof changed);
+    static bool warned;
+    if (state == SOURCE_UNKNOWN && !warned)  /* said once: every record of the process would say it */
+        log_warn("git failed on the source tree %s (%s): what is recorded cannot name the code it came from",
+                 SB_SOURCE_DIR, changed);
+    warned = warned || state == SOURCE_UNKNOWN;
     char *cmd = command_line(argc, argv), *git = git_describe(state), *cpu = cpu_model(), *date = utc_date();
     cJSON_AddStringToObject(r, "command_line", cmd);
     cJSON_AddStringToObject(r, "shadowbench_version", SB_VERSION);

@@ -20,9 +20,11 @@ cJSON *provenance_json(int argc, char **argv, bool timed, enum stage_timing timi
  * harness/, techniques/, shaders/, scenes/ and CMakeLists.txt): committed,
  * or with changes git has not committed (edited or new files), or no git
  * checkout to tell. */
-enum source_state { SOURCE_CLEAN, SOURCE_CHANGED, SOURCE_UNKNOWN };
+/* UNKNOWN: git failed (a repository it refuses, no file descriptors left). */
+enum source_state { SOURCE_CLEAN, SOURCE_CHANGED, SOURCE_NOT_GIT, SOURCE_UNKNOWN };
 
-/* The state, and (SOURCE_CHANGED) the first path changed into what. */
+/* The state, and into what the first path changed (SOURCE_CHANGED) or why
+ * git failed (SOURCE_UNKNOWN). */
 enum source_state provenance_source_state(char *what, size_t size);
 
 /* The state in words, as the record's "source_tree" says it. */

@@ -35,8 +35,7 @@ static void remove_tree(const char *path)
     rmdir(path);
 }
 
-/* Whether a name in a set is the writer's own: its lock, a temporary. */
-static bool not_results(const char *name)
+bool results_set_own_name(const char *name)
 {
     return !strcmp(name, ".") || !strcmp(name, "..") || !strcmp(name, ".lock") || strstr(name, UTIL_TEMP_SUFFIX);
 }
@@ -57,7 +56,7 @@ static int mirror(const char *from, const char *to)
     if (!d)
         log_error("%s: cannot read: %s", from, strerror(errno));
     for (struct dirent *e; !rc && (e = readdir(d));) {
-        if (not_results(e->d_name))
+        if (results_set_own_name(e->d_name))
             continue;
         char *src = util_printf("%s/%s", from, e->d_name), *dst = util_printf("%s/%s", to, e->d_name);
         if (lstat(src, &st) != 0) {
@@ -107,23 +106,51 @@ static void remove_dead_sets(const char *real)
     free(parent), free(prefix);
 }
 
+/* Whether path is real or lies below it. */
+static bool below(const char *path, const char *real)
+{
+    const size_t n = strlen(real);
+    return strncmp(path, real, n) == 0 && (path[n] == '\0' || path[n] == '/' || !strcmp(real, "/"));
+}
+
+/* A folder its set can be swapped into: not a mount point (the sibling
+ * would be on another filesystem) and not holding the current folder (the
+ * process, and its user's shell, would be left in the removed set).
+ * Returns 0 or -1 (logged). */
+static int swappable(const char *dir, const char *real)
+{
+    char *parent = util_printf("%s/..", real), *cwd = realpath(".", NULL);
+    struct stat self, up;
+    int rc = 0;
+    if (stat(real, &self) != 0 || stat(parent, &up) != 0 || self.st_dev != up.st_dev) {
+        log_error("%s: a mount point (or beside one): its set cannot be swapped in whole; name a folder inside it",
+                  dir);
+        rc = -1;
+    } else if (cwd && below(cwd, real)) {
+        log_error("%s: holds the current folder, which swapping its set in would remove: run from outside it", dir);
+        rc = -1;
+    }
+    free(parent), free(cwd);
+    return rc;
+}
+
 int results_set_open(struct results_set *rs, const char *dir, int depth)
 {
     *rs = (struct results_set){.dir = xstrdup(dir)};
     if (out_dir_prepare(dir) != 0 || util_lock_dir(dir) != 0)
         return -1;
-    /* The real folder's name: its sibling is the next set (dir may end in
-     * '/', be "." or reach it through a link). */
-    char *real = realpath(dir, NULL);
-    if (!real) {
+    /* The real folder: its sibling is the next set (dir may end in '/', be
+     * ".." or reach it through a link), and commit swaps that same one. */
+    if (!(rs->real = realpath(dir, NULL))) {
         log_error("%s: %s", dir, strerror(errno));
         return -1;
     }
-    util_remove_stale_temps(real, depth);
-    remove_dead_sets(real);
-    char *next = util_printf("%s" UTIL_TEMP_SUFFIX "%ld", real, (long)getpid());
-    free(real);
-    remove_tree(next);  /* this process's own, from a set it dropped */
+    if (swappable(dir, rs->real) != 0)
+        return -1;
+    util_remove_stale_temps(rs->real, depth);
+    remove_dead_sets(rs->real);
+    char *next = util_printf("%s" UTIL_TEMP_SUFFIX "%ld", rs->real, (long)getpid());
+    remove_tree(next);  /* a dead process's of the same pid (pids are reused) */
     if (mirror(dir, next) != 0 || util_lock_dir(next) != 0) {  /* locked: in dir's place it keeps dir locked */
         remove_tree(next);
         free(next);
@@ -134,22 +161,29 @@ int results_set_open(struct results_set *rs, const char *dir, int depth)
 }
 
 /* Moves every file of folder from over its namesake under to (each move
- * atomic, the whole not). Returns 0 or -1 (logged). */
+ * atomic, the whole not). Returns 0 or -1 (the failing move logged). */
 static int move_over(const char *from, const char *to)
 {
     DIR *d = opendir(from);
     int rc = d ? 0 : -1;
-    for (struct dirent *e; d && !rc && (e = readdir(d));) {
-        if (not_results(e->d_name))
+    if (!d)
+        log_error("%s: cannot read: %s", from, strerror(errno));
+    for (struct dirent *e; !rc && (e = readdir(d));) {
+        if (results_set_own_name(e->d_name))
             continue;
         char *src = util_printf("%s/%s", from, e->d_name), *dst = util_printf("%s/%s", to, e->d_name);
         struct stat st;
-        if (lstat(src, &st) == 0 && S_ISDIR(st.st_mode))
-            rc = (mkdir(dst, st.st_mode & 07777) != 0 && errno != EEXIST) || move_over(src, dst) ? -1 : 0;
-        else
-            rc = rename(src, dst);
-        if (rc)
+        if (lstat(src, &st) == 0 && S_ISDIR(st.st_mode)) {
+            if (mkdir(dst, st.st_mode & 07777) != 0 && errno != EEXIST) {
+                log_error("%s: cannot create folder: %s", dst, strerror(errno));
+                rc = -1;
+            } else {
+                rc = move_over(src, dst);
+            }
+        } else if (rename(src, dst) != 0) {
             log_error("%s: cannot move it to %s: %s", src, dst, strerror(errno));
+            rc = -1;
+        }
         free(src), free(dst);
     }
     if (d)
@@ -159,28 +193,28 @@ static int move_over(const char *from, const char *to)
 
 int results_set_commit(struct results_set *rs)
 {
-    char *real = realpath(rs->dir, NULL);
-    int rc = real ? renameat2(AT_FDCWD, rs->next, AT_FDCWD, real, RENAME_EXCHANGE) : -1;
-    if (rc != 0 && real && (errno == EINVAL || errno == ENOSYS || errno == ENOTSUP)) {
+    int rc = 0;
+    if (renameat2(AT_FDCWD, rs->next, AT_FDCWD, rs->real, RENAME_EXCHANGE) == 0) {
+        remove_tree(rs->next);  /* now the previous set */
+    } else if (errno == EINVAL || errno == ENOSYS || errno == ENOTSUP) {
         log_warn("%s: this filesystem cannot swap two folders at once (%s): its files are replaced one by one, "
                  "so a writer stopped now would leave a mix", rs->dir, strerror(errno));
-        rc = move_over(rs->next, real);
-    } else if (rc != 0) {
+        if ((rc = move_over(rs->next, rs->real)) != 0)
+            log_error("%s: holds part of the new set and part of the previous one: record it again", rs->dir);
+        remove_tree(rs->next);  /* either way no longer a whole set */
+    } else {
         log_error("%s: cannot put the new set in its place: %s", rs->dir, strerror(errno));
+        return -1;  /* dir as it was; the next set is dropped by results_set_free */
     }
-    free(real);
-    if (rc == 0) {  /* rs->next now holds the previous set (or what is left of it) */
-        remove_tree(rs->next);
-        free(rs->next);
-        rs->next = NULL;
-    }
-    return rc ? -1 : 0;
+    free(rs->next);
+    rs->next = NULL;
+    return rc;
 }
 
 void results_set_free(struct results_set *rs)
 {
     if (rs->next)
         remove_tree(rs->next);
-    free(rs->next), free(rs->dir);
+    free(rs->next), free(rs->dir), free(rs->real);
     *rs = (struct results_set){0};
 }

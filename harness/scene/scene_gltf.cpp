@@ -1090,6 +1090,14 @@ void load(const char *path, const char *bytes, size_t size, struct scene *s)
         s->nodes[s->node_count++] = scene_node{xstrdup(r.name.c_str()), r.first_vertex, r.vertex_count};
 }
 
+// The file named in what stops the program while it is read (memory that
+// ran out: util_out_of_memory), the caller's context put back after.
+struct context_guard {
+    const char *outer;
+    explicit context_guard(const char *path) : outer(log_set_context(path)) {}
+    ~context_guard() { log_set_context(outer); }
+};
+
 }  // namespace
 
 extern "C" int scene_load(const char *path, struct scene *s)
@@ -1097,32 +1105,30 @@ extern "C" int scene_load(const char *path, struct scene *s)
     *s = scene{};
     char *bytes = nullptr;
     size_t size = 0;
-    log_set_context(path);  // for what stops the program inside (memory that ran out: util.h)
-    int err = util_read_file(path, &bytes, &size);
-    log_set_context(nullptr);
+    int err;
+    {
+        context_guard named(path);
+        err = util_read_file(path, &bytes, &size);
+    }
     if (err) {
         log_error("%s: cannot open: %s", path, util_read_error(err));
         return err;
     }
     try {
-        log_set_context(path);
+        context_guard named(path);
         load(path, bytes, size, s);
-        log_set_context(nullptr);
     } catch (const load_error &e) {
-        log_set_context(nullptr);
         log_error("%s: %s", path, e.what.c_str());
         free(bytes);
         scene_free(s);
         return -EINVAL;
     } catch (const std::bad_alloc &) {
-        log_set_context(nullptr);
         log_error("%s: out of memory loading it: %zu more bytes were needed and could not be had", path,
                   failed_allocation);
         free(bytes);
         scene_free(s);
         return -ENOMEM;
     } catch (const std::exception &e) {  // tinygltf/json internals
-        log_set_context(nullptr);
         log_error("%s: malformed glTF: %s", path, e.what());
         free(bytes);
         scene_free(s);

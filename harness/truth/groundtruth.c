@@ -573,8 +573,11 @@ int gt_obtain(const struct scene *s, const struct light_frustum *f, const struct
         path = util_printf("%s/%s-%016llx.exr", cache_dir, s->name,
                            (unsigned long long)util_hash(UTIL_HASH_INIT, key, strlen(key)));
     memset(out, 0, sizeof *out);
-    if (cache_dir)  /* what writers killed before their rename left */
+    static char swept[4096];  /* what writers killed before their rename left, once per cache */
+    if (cache_dir && strcmp(swept, cache_dir) != 0) {
         util_remove_stale_temps(cache_dir, 0);
+        snprintf(swept, sizeof swept, "%s", cache_dir);
+    }
     log_errors_as_warnings(true);  /* an unusable entry is rendered again: not an error of the run */
     int rc = path ? cache_read(path, key, &d, out) : -ENOENT;
     log_errors_as_warnings(false);

@@ -94,9 +94,9 @@ bool gt_worker_wait(struct gt_worker *w, unsigned pose, int ms, int *level)
     until.tv_nsec %= 1000000000L;
     pthread_mutex_lock(&w->lock);
     int rc = 0;
-    while (rc == 0 && w->asked == pose && !(w->done_pose == pose && w->finished))
+    while (rc == 0 && pose && w->asked == pose && !(w->done_pose == pose && w->finished))
         rc = pthread_cond_timedwait(&w->done_cond, &w->lock, &until);
-    const bool done = w->asked != pose || (w->done_pose == pose && w->finished);
+    const bool done = !pose || w->asked != pose || (w->done_pose == pose && w->finished);  /* 0: none asked for */
     *level = w->done_pose == pose && w->done_samples > 0 ? w->done_samples : 0;
     pthread_mutex_unlock(&w->lock);
     return done;

@@ -35,8 +35,8 @@ int gt_worker_start(struct gt_worker *w, int width, int height, int max_samples)
  * frustum. */
 void gt_worker_ask(struct gt_worker *w, unsigned pose, const struct scene *s, const struct light_frustum *f);
 
-/* Waits up to ms for the last level of pose (asked for) to be done, or to
- * fail. Returns whether it is; *level: the samples per pixel of the newest
+/* Waits up to ms for the last level of pose to be done, or to fail.
+ * Returns whether it is (at once for a pose not asked for, or 0); *level: the samples per pixel of the newest
  * level done so far (0: none yet). */
 bool gt_worker_wait(struct gt_worker *w, unsigned pose, int ms, int *level);
 
