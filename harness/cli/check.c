@@ -270,9 +270,7 @@ int check_main(const struct options *o)
     programs_free(&programs);
     gl_context_destroy();
 out:
-    if (record.next && status != EXIT_USAGE)
-        log_info("%s: left as it was (the recording did not finish)", o->baselines_dir);
-    results_set_free(&record);
+    results_set_free(&record, status != EXIT_USAGE);  /* after a usage error: nothing to say of it */
     cJSON_Delete(provenance);
     regression_free(&r);
     for (int s = 0; s < scene_count; s++)

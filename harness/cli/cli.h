@@ -142,10 +142,12 @@ int cli_gl_open(const struct options *o, enum gl_backend backend);
  * changed, unless --allow-uncommitted (which the files record). */
 int cli_require_committed(const struct options *o, const char *what);
 
-/* A command's last words: where its page and its data are (stdout) and how
- * long it took (the log), for what ("run", "stability"). */
-void cli_done(const struct options *o, const char *what, enum output_file page, const char *data_name,
-              enum output_file data, double start_ms);
+/* The end of a command whose last writes held signals (util.h), with its
+ * status: signals end it from now on with that status; and, written (its
+ * outputs are), its last words: where its page and its data are (stdout)
+ * and how long it took (the log), for what ("run", "stability"). */
+void cli_done(const struct options *o, int status, bool written, const char *what, enum output_file page,
+              const char *data_name, enum output_file data, double start_ms);
 
 /* run.json's record of o (run.c): the provenance (timed: whether the
  * command times stages), the sizes and frames, and the seconds it took. */

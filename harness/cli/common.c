@@ -50,9 +50,12 @@ int cli_require_committed(const struct options *o, const char *what)
     return -1;
 }
 
-void cli_done(const struct options *o, const char *what, enum output_file page, const char *data_name,
-              enum output_file data, double start_ms)
+void cli_done(const struct options *o, int status, bool written, const char *what, enum output_file page,
+              const char *data_name, enum output_file data, double start_ms)
 {
+    util_signals_finished(status);
+    if (!written)
+        return;
     printf("report: %s/%s\n%s: %s/%s\n", o->out_dir, output_files[page], data_name, o->out_dir, output_files[data]);
     log_info("%s finished in %.1f s", what, (util_now_ms() - start_ms) * 1e-3);
 }

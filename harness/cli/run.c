@@ -215,9 +215,7 @@ int run_main(const struct options *o)
     }
     if (!failed)
         status = judge(&r);
-    util_signals_finished(status);
-    if (!failed)
-        cli_done(o, "run", OUTPUT_REPORT, "matrix", OUTPUT_MATRIX_CSV, start);
+    cli_done(o, status, !failed, "run", OUTPUT_REPORT, "matrix", OUTPUT_MATRIX_CSV, start);
     for (int i = 0; i < r.cell_count; i++)
         cell_free(&r.cells[i]);
     free(r.cells);

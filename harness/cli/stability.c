@@ -140,9 +140,7 @@ int stability_main(const struct options *o)
     }
     if (!rc)
         status = judge(&st);
-    util_signals_finished(status);
-    if (!rc)
-        cli_done(o, "stability", OUTPUT_STABILITY_PAGE, "data", OUTPUT_STABILITY_CSV, start);
+    cli_done(o, status, !rc, "stability", OUTPUT_STABILITY_PAGE, "data", OUTPUT_STABILITY_CSV, start);
     programs_free(&st.programs);  /* with its context */
     gl_context_destroy();
 out:

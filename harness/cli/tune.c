@@ -164,9 +164,7 @@ out_gl:
     programs_free(&programs);
     gl_context_destroy();
 out:
-    if (tuned.next && status != EXIT_USAGE)
-        log_info("%s: left as it was (the tuning did not finish)", o->tuned_dir);
-    results_set_free(&tuned);
+    results_set_free(&tuned, status != EXIT_USAGE);  /* after a usage error: nothing to say of it */
     for (int s = 0; s < scene_count; s++)
         scene_free(&scenes[s]);
     return status;

@@ -40,17 +40,12 @@ bool results_set_own_name(const char *name)
     return !strcmp(name, ".") || !strcmp(name, "..") || !strcmp(name, ".lock") || strstr(name, UTIL_TEMP_SUFFIX);
 }
 
-/* to made as a copy of folder from: its folders made, its files linked
- * (copied where the filesystem has no hard links). Anything else (a link,
- * a FIFO) is refused: a results folder holds only its own files. Returns 0
- * or -1 (logged). */
-static int mirror(const char *from, const char *to)
+/* Calls visit(src, dst, st) for each result in folder from (its writer's
+ * own names left out): src its path, dst the same name under to, st its
+ * lstat; until one fails. Returns 0 or -1 (logged). */
+static int each_result(const char *from, const char *to,
+                       int (*visit)(const char *src, const char *dst, const struct stat *st))
 {
-    struct stat st;
-    if (stat(from, &st) != 0 || mkdir(to, st.st_mode & 07777) != 0) {
-        log_error("%s: cannot create folder: %s", to, strerror(errno));
-        return -1;
-    }
     DIR *d = opendir(from);
     int rc = d ? 0 : -1;
     if (!d)
@@ -59,28 +54,54 @@ static int mirror(const char *from, const char *to)
         if (results_set_own_name(e->d_name))
             continue;
         char *src = util_printf("%s/%s", from, e->d_name), *dst = util_printf("%s/%s", to, e->d_name);
+        struct stat st;
         if (lstat(src, &st) != 0) {
             log_error("%s: %s", src, strerror(errno));
             rc = -1;
-        } else if (S_ISDIR(st.st_mode)) {
-            rc = mirror(src, dst);
-        } else if (!S_ISREG(st.st_mode)) {
-            log_error("%s: not a file or a folder (a link?): a results folder holds only its own files", src);
-            rc = -1;
-        } else if (link(src, dst) != 0) {
-            char *data = NULL;
-            size_t size = 0;
-            int err = util_read_file(src, &data, &size);
-            if (err)
-                log_error("%s: cannot read: %s", src, util_read_error(err));
-            rc = err || util_write_file_atomic(dst, data, size) ? -1 : 0;
-            free(data);
+        } else {
+            rc = visit(src, dst, &st);
         }
         free(src), free(dst);
     }
     if (d)
         closedir(d);
     return rc;
+}
+
+static int mirror(const char *from, const char *to);
+
+/* One result of mirror: a folder copied, a file linked (copied where the
+ * filesystem has no hard links); anything else (a link, a FIFO) refused. */
+static int mirror_one(const char *src, const char *dst, const struct stat *st)
+{
+    if (S_ISDIR(st->st_mode))
+        return mirror(src, dst);
+    if (!S_ISREG(st->st_mode)) {
+        log_error("%s: not a file or a folder (a link?): a results folder holds only its own files", src);
+        return -1;
+    }
+    if (link(src, dst) == 0)
+        return 0;
+    char *data = NULL;
+    size_t size = 0;
+    const int err = util_read_file(src, &data, &size);
+    if (err)
+        log_error("%s: cannot read: %s", src, util_read_error(err));
+    const int rc = err || util_write_file_atomic(dst, data, size) ? -1 : 0;
+    free(data);
+    return rc;
+}
+
+/* to made as a copy of folder from (a results folder holds only its own
+ * files and folders). Returns 0 or -1 (logged). */
+static int mirror(const char *from, const char *to)
+{
+    struct stat st;
+    if (stat(from, &st) != 0 || mkdir(to, st.st_mode & 07777) != 0) {
+        log_error("%s: cannot create folder: %s", to, strerror(errno));
+        return -1;
+    }
+    return each_result(from, to, mirror_one);
 }
 
 /* Removes the next sets that killed writers left beside real: folders
@@ -160,35 +181,28 @@ int results_set_open(struct results_set *rs, const char *dir, int depth)
     return 0;
 }
 
+/* One result of move_over: a folder made (if need be) and moved into, a
+ * file renamed over its namesake. */
+static int move_one(const char *src, const char *dst, const struct stat *st)
+{
+    if (!S_ISDIR(st->st_mode)) {
+        if (rename(src, dst) == 0)
+            return 0;
+        log_error("%s: cannot move it to %s: %s", src, dst, strerror(errno));
+        return -1;
+    }
+    if (mkdir(dst, st->st_mode & 07777) != 0 && errno != EEXIST) {
+        log_error("%s: cannot create folder: %s", dst, strerror(errno));
+        return -1;
+    }
+    return each_result(src, dst, move_one);
+}
+
 /* Moves every file of folder from over its namesake under to (each move
  * atomic, the whole not). Returns 0 or -1 (the failing move logged). */
 static int move_over(const char *from, const char *to)
 {
-    DIR *d = opendir(from);
-    int rc = d ? 0 : -1;
-    if (!d)
-        log_error("%s: cannot read: %s", from, strerror(errno));
-    for (struct dirent *e; !rc && (e = readdir(d));) {
-        if (results_set_own_name(e->d_name))
-            continue;
-        char *src = util_printf("%s/%s", from, e->d_name), *dst = util_printf("%s/%s", to, e->d_name);
-        struct stat st;
-        if (lstat(src, &st) == 0 && S_ISDIR(st.st_mode)) {
-            if (mkdir(dst, st.st_mode & 07777) != 0 && errno != EEXIST) {
-                log_error("%s: cannot create folder: %s", dst, strerror(errno));
-                rc = -1;
-            } else {
-                rc = move_over(src, dst);
-            }
-        } else if (rename(src, dst) != 0) {
-            log_error("%s: cannot move it to %s: %s", src, dst, strerror(errno));
-            rc = -1;
-        }
-        free(src), free(dst);
-    }
-    if (d)
-        closedir(d);
-    return rc;
+    return each_result(from, to, move_one);
 }
 
 int results_set_commit(struct results_set *rs)
@@ -211,8 +225,10 @@ int results_set_commit(struct results_set *rs)
     return rc;
 }
 
-void results_set_free(struct results_set *rs)
+void results_set_free(struct results_set *rs, bool say)
 {
+    if (rs->next && say)
+        log_info("%s: left as it was (the command did not finish)", rs->dir);
     if (rs->next)
         remove_tree(rs->next);
     free(rs->next), free(rs->dir), free(rs->real);

@@ -39,7 +39,8 @@ int results_set_commit(struct results_set *rs);
  * .lock, a temporary), not a result. */
 bool results_set_own_name(const char *name);
 
-/* Drops the next set (if still open) and frees rs: dir stays as it was. */
-void results_set_free(struct results_set *rs);
+/* Drops the next set (if still open; say: and says that dir is as it was)
+ * and frees rs. */
+void results_set_free(struct results_set *rs, bool say);
 
 #endif
