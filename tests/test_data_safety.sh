@@ -292,6 +292,13 @@ after=$(cd "$tmp/tuned" && md5sum hard.json pcf.json)
     ok "a whole tune: hard.json new, pcf.json kept, the dead tune's set removed" ||
     fail "after a whole tune: $(ls -a "$tmp") / $after"
 
+# A run's folder inside the tuned folder it reads would put its report
+# among the tuned files: refused.
+out=$("$sb" run --scene parallel_planes --technique hard $small --tuned "$tmp/tuned" --out "$tmp/tuned/run" 2>&1)
+rc=$?
+[ $rc = 2 ] && printf '%s' "$out" | grep -q "inside the tuned folder" && [ ! -e "$tmp/tuned/run" ] &&
+    ok "run --out inside --tuned: refused" || fail "run --out inside --tuned: exit $rc: $out"
+
 # A tuned folder holding the current one would be swapped out from under
 # the process (and its user's shell): refused.
 out=$(cd "$tmp/tuned" && "$sb" $tune --technique hard --tuned . --out "$tmp/tune5" 2>&1)

@@ -284,7 +284,8 @@ const struct option_row option_rows[] = {
     {"baselines", 0, "DIR", ON(CHECK), OPTION_FOLDER, FIELD(baselines_dir), 0, 0, NULL,
      "the baselines (default {D})"},
     {"update", 0, NULL, ON(CHECK), OPTION_FLAG, FIELD(update), 0, 0, NULL,
-     "record the selected cells anew, as one set (stopped before the end, none is), printing what moved; tolerances from the metrics' spread over "
+     "record the selected cells anew, as one set (stopped before the end, none is), printing what moved; "
+     "tolerances from the metrics' spread over "
      UTIL_STR(BASELINE_SEEDS) " ground-truth seeds. Commit them with the change that moved them, after looking at "
      "the page"},
     {"strict", 0, NULL, ON(CHECK), OPTION_FLAG, FIELD(strict), 0, 0, NULL,

@@ -154,6 +154,10 @@ int run_main(const struct options *o)
     struct report_scene rs[CLI_MAX_SCENES] = {0};
     const struct config_desc cd = {o->techniques, o->technique_count, o->settings, o->sweeps, o->sweep_count,
                                    o->set_count, o->settings_mode, o->tuned_dir};
+    if (o->tuned_dir && util_path_within(o->out_dir, o->tuned_dir)) {  /* a report among the tuned files */
+        log_error("--out %s: inside the tuned folder %s; name a folder apart", o->out_dir, o->tuned_dir);
+        goto out;
+    }
     if (configs_build(&r.configs, &cd) != 0 || cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0 ||
         out_dir_claim(o->out_dir) != 0)
         goto out;

@@ -321,7 +321,8 @@ int baseline_write(const char *json_path, const char *png_path, const struct bas
     char *slash = strrchr(dir, '/');
     if (slash)
         *slash = '\0';
-    int rc = (slash && util_mkdirs_own(dir, 1)) || image_write_png16(png_path, r->setup.width, r->setup.height, pixels) ||
+    int rc = (slash && util_mkdirs_own(dir, 1)) ||
+             image_write_png16(png_path, r->setup.width, r->setup.height, pixels) ||
              util_write_file_atomic(json_path, text, strlen(text));
     free(pixels);
     free(dir);

@@ -295,7 +295,8 @@ struct cull *cull_build(RTCDevice dev, const struct scene *s)
     }
     build_patches(s, c);
     if (count && build_bvh(dev, c, count) != 0) {
-        log_error("ground truth: Embree cannot build the culling BVH: %s", cull_embree_error_text(rtcGetDeviceError(dev)));
+        log_error("ground truth: Embree cannot build the culling BVH: %s",
+                  cull_embree_error_text(rtcGetDeviceError(dev)));
         cull_free(c);
         return NULL;
     }
