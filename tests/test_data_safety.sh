@@ -322,7 +322,8 @@ echo precious > "$tmp/victim"
 sh -c 'kill -STOP $$; exec "$0" "$@"' "$sb" run --scene parallel_planes --technique hard $small \
     --out "$tmp/planted" >/dev/null 2>&1 &
 pid=$!
-sleep 0.3
+i=0  # until it has stopped itself: a CONT sent before its STOP would leave it stopped for good
+while [ "$(cut -d' ' -f3 /proc/$pid/stat 2>/dev/null)" != T ] && [ $i -lt 200 ]; do sleep 0.05; i=$((i + 1)); done
 ln -s "$tmp/victim" "$tmp/planted/run.json.tmp.$pid"
 ln -s "$tmp/victim" "$tmp/planted/parallel_planes/hard/visibility.exr.tmp.$pid"
 kill -CONT $pid
