@@ -270,6 +270,8 @@ int gltf_write(const char *path, const struct mesh_builder *m, const struct gltf
     cJSON *v0 = cJSON_CreateObject(), *v1 = cJSON_CreateObject();
     cJSON_AddNumberToObject(v0, "buffer", 0);
     cJSON_AddNumberToObject(v0, "byteLength", (double)pos_bytes);
+    if (n > 1)  /* glTF 2.0: a vertex view that two accessors share must state its stride */
+        cJSON_AddNumberToObject(v0, "byteStride", 12);
     cJSON_AddNumberToObject(v0, "target", 34962);
     cJSON_AddNumberToObject(v1, "buffer", 0);
     cJSON_AddNumberToObject(v1, "byteOffset", (double)pos_bytes);
