@@ -10,6 +10,7 @@
 #include "output/chart.h"
 
 #include <cjson/cJSON.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -48,7 +49,7 @@ static char *dump_dom(const char *path, const char *suffix)
 /* The rmse column (the third) of the matrix rows, in DOM order. */
 static int rmse_column(const char *dom, double *v, int max)
 {
-    const char *body = strstr(dom, "<tbody>");
+    const char *matrix = strstr(dom, "<table id=\"matrix\""), *body = matrix ? strstr(matrix, "<tbody>") : NULL;
     int n = 0;
     for (const char *row = body; row && (row = strstr(row, "<tr")) && n < max; row++) {
         const char *td = row;
@@ -59,6 +60,39 @@ static int rmse_column(const char *dom, double *v, int max)
             v[n++] = atof(dv + 8);
     }
     return n;
+}
+
+/* The data-style of each legend entry of an SVG, checked distinct: two
+ * series of one chart never look alike (colour, dash and marker). Returns
+ * the number of entries. */
+static int distinct_legend(const char *svg, const char *name)
+{
+    char styles[64][96];
+    int n = 0;
+    for (const char *p = svg; (p = strstr(p, "class=\"legend-entry\" data-style=\"")) && n < 64; n++) {
+        p += strlen("class=\"legend-entry\" data-style=\"");
+        const char *end = strchr(p, '"');
+        snprintf(styles[n], sizeof styles[n], "%.*s", end ? (int)(end - p) : 0, p);
+        for (int j = 0; j < n; j++)
+            CHECK(strcmp(styles[j], styles[n]) != 0, "%s: two legend entries share the style %s", name, styles[n]);
+    }
+    return n;
+}
+
+/* The palette: the first CHART_DISTINCT_STYLES techniques each have a
+ * style of their own; those a palette round apart (8: pcf and vssm) differ
+ * in marker too. */
+static void palette(void)
+{
+    for (int a = 0; a < CHART_DISTINCT_STYLES; a++)
+        for (int b = a + 1; b < CHART_DISTINCT_STYLES; b++) {
+            const struct chart_style x = chart_style(a), y = chart_style(b);
+            CHECK(strcmp(x.colour, y.colour) || strcmp(x.dash, y.dash) || x.marker != y.marker,
+                  "techniques %d and %d share colour %s, dash %s and marker %s", a, b, x.colour, x.dash,
+                  x.marker_name);
+            if (b == a + 8)
+                CHECK(x.marker != y.marker, "techniques %d and %d: one colour and one marker", a, b);
+        }
 }
 
 /* A scene whose file name and description are HTML: the report shows them
@@ -111,6 +145,7 @@ int main(int argc, char **argv)
     if (!(sb = test_begin(argc, argv, dir)))
         return 1;
     hostile_names();
+    palette();
 
     char *out = util_printf("%s/run", dir);
     char *cmd = util_printf("%s run --scene parallel_planes --scene contact_hardening --technique hard,pcss "
@@ -140,7 +175,7 @@ int main(int argc, char **argv)
             if (tradeoff)
                 CHECK(strstr(svg, "ms_total (ms per frame, median; bar: quartiles)") &&
                           strstr(svg, "rmse (visibility, lower is better)") &&
-                          count(svg, "class=\"pareto\"") == 2 && count(svg, "<circle") >= 2 * CONFIGS &&
+                          count(svg, "class=\"pareto\"") == 2 && count(svg, "class=\"point\"") == 2 * CONFIGS &&
                           count(svg, "class=\"spread\"") == 2 * CONFIGS,
                       "%s: axes with units, two panels with a front, a point and a time spread per "
                       "cell", charts[i]);
@@ -150,6 +185,7 @@ int main(int argc, char **argv)
                       "%s: five metrics, a bar per cell", charts[i]);
             CHECK(strstr(svg, "CPU rasteriser: ranks techniques for this device only"),
                   "%s: says what llvmpipe times are worth", charts[i]);
+            CHECK(distinct_legend(svg, charts[i]) == 2, "%s: a legend entry per technique", charts[i]);
         }
         free(svg), free(path);
     }
@@ -174,7 +210,51 @@ int main(int argc, char **argv)
         CHECK(rmse_column(raw, u, 64) == rows && u[0] > u[1], "run order is not rmse order");
     }
     free(raw);
-    int images = SCENES * (1 + 2 * CONFIGS);  /* ground truth, and per cell visibility + heatmap */
+    /* The summary first: the budget table, the overall chart and the worst
+     * cells before the scenes, the matrix last. */
+    const char *summary = strstr(dom, "id=\"summary\""), *budgets = strstr(dom, "<table id=\"budgets\""),
+               *overall = strstr(dom, "id=\"chart-overall_tradeoff\""), *worst = strstr(dom, "id=\"worst\""),
+               *scene = strstr(dom, "id=\"scene-parallel_planes\""), *matrix = strstr(dom, "<table id=\"matrix\"");
+    CHECK(summary && budgets && overall && worst && scene && matrix && summary < budgets && budgets < overall &&
+              overall < worst && worst < scene && scene < matrix,
+          "the report's order: summary, budgets, overall chart, worst failures, scenes, matrix");
+    /* Budget rows: budgets rising, the least error falling, the last row's
+     * the least mean penumbra_rmse of any configuration (from matrix.json). */
+    double budget[CONFIGS + 1], pen[CONFIGS + 1];
+    int budget_rows = 0;
+    const char *budget_end = budgets ? strstr(budgets, "</table>") : NULL;
+    for (const char *p = budgets; p && budget_end && (p = strstr(p + 1, "<tr><td class=\"l\">\xe2\x89\xa4 ")) &&
+                                  p < budget_end && budget_rows <= CONFIGS;) {
+        const char *e = strstr(p, "</b></td><td>");
+        budget[budget_rows] = atof(p + strlen("<tr><td class=\"l\">\xe2\x89\xa4 "));
+        pen[budget_rows++] = e ? atof(e + strlen("</b></td><td>")) : NAN;
+    }
+    CHECK(budget_rows >= 1 && budget_rows <= CONFIGS, "budget rows: %d", budget_rows);
+    for (int i = 1; i < budget_rows && i <= CONFIGS; i++)
+        CHECK(budget[i] > budget[i - 1] && pen[i] < pen[i - 1], "budget row %d: %g ms, %g after %g ms, %g", i,
+              budget[i], pen[i], budget[i - 1], pen[i - 1]);
+    char *matrix_path = util_printf("%s/matrix.json", out), *matrix_text = NULL;
+    double least = INFINITY;
+    if (util_read_file(matrix_path, &matrix_text, &size) == 0) {
+        cJSON *mj = cJSON_Parse(matrix_text), *cells = cJSON_GetObjectItem(mj, "cells"), *c;
+        const char *labels[] = {"hard", "pcss@blocker_samples=16", "pcss@blocker_samples=64"};
+        for (size_t k = 0; k < ARRAY_SIZE(labels); k++) {
+            double sum = 0;
+            cJSON_ArrayForEach(c, cells)
+                if (strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(c, "cell")), labels[k]) == 0)
+                    sum += cJSON_GetNumberValue(cJSON_GetObjectItem(c, "penumbra_rmse"));
+            least = fmin(least, sum / SCENES);
+        }
+        cJSON_Delete(mj);
+    }
+    CHECK(budget_rows >= 1 && fabs(pen[budget_rows - 1] - least) < 5e-5,
+          "the last budget's answer has the least mean penumbra_rmse, %.4f (the table's: %.4f, rounded to 4 digits)",
+          least, budget_rows ? pen[budget_rows - 1] : NAN);
+    free(matrix_text), free(matrix_path);
+    const int failures = count(dom, "class=\"failure\"");
+    CHECK(failures >= 1, "the worst cells are shown (hard leaks and darkens)");
+    int images = SCENES * (1 + 2 * CONFIGS) + 2 * failures;  /* ground truth, per cell and per failure
+                                                                visibility + heatmap */
     CHECK(count(dom, "<img ") == images, "%d pictures, wanted %d", count(dom, "<img "), images);
     CHECK(count(dom, "class=\"missing\"") == 0, "every picture loads");
     CHECK(count(dom, "<figure class=\"chart\"") == (int)ARRAY_SIZE(charts), "inline charts");
@@ -182,12 +262,24 @@ int main(int argc, char **argv)
     CHECK(strstr(dom, "Environment (run.json)") && strstr(dom, "gl_renderer"), "the run's environment");
     free(dom);
 
-    /* The same check sees a picture that does not load. */
+    /* Filtered from the address: only pcss's rows of one scene. */
+    dom = dump_dom(report, "#scene=contact_hardening&technique=pcss");
+    CHECK(count(dom, "data-technique=\"pcss\"><td") == CONFIGS - 1 &&
+              count(dom, "hidden=\"\"><td") == SCENES * CONFIGS - (CONFIGS - 1) && strstr(dom, ">2 of 6 cells<"),
+          "the matrix filtered to a scene and a technique: %d shown, %d hidden",
+          count(dom, "data-technique=\"pcss\"><td"), count(dom, "hidden=\"\"><td"));
+    free(dom);
+
+    /* The same check sees a picture that does not load (each place it is shown). */
     char *gone = util_printf("%s/contact_hardening/hard/heatmap.png", out);
+    char *page = NULL;
+    CHECK(util_read_file(report, &page, &size) == 0, "%s cannot be read", report);
+    const int shown = page ? count(page, "contact_hardening/hard/heatmap.png") : 0;
+    free(page);
     CHECK(remove(gone) == 0, "removing %s", gone);
     dom = dump_dom(report, "");
-    CHECK(count(dom, "class=\"missing\"") == 1, "a missing picture is marked: %d",
-          count(dom, "class=\"missing\""));
+    CHECK(shown >= 1 && count(dom, "class=\"missing\"") == shown, "a missing picture is marked: %d of %d",
+          count(dom, "class=\"missing\""), shown);
     free(dom), free(gone), free(report), free(out);
     strbuf_free(&err);
     remove_tree(dir);

@@ -72,8 +72,8 @@ const struct command_def commands[COMMAND_COUNT] = {
             "time with the Pareto front, per scene and over all scenes; failure metrics per\n"
             "technique) and per scene/cell visibility.exr, error.exr, visibility.png,\n"
             "heatmap.png, metrics.json (README, Outputs). With no options: every shipped\n"
-            "scene x every technique, at its defaults and at its tuned settings. The total\n"
-            "time is printed at the end.\n",
+            "scene x every technique at its tuned settings (--settings both adds each one's\n"
+            "defaults, twice the cells). The total time is printed at the end.\n",
         .notes = NOTES({"warmup", "untimed frames per cell before them, 0.." UTIL_STR(CLI_MAX_WARMUP)
                                   " (default {D}: the render that scores each cell comes first and warms it)"},
                        {"gl", "the GL context: osmesa (default: llvmpipe, the CPU) or egl (headless: a GPU "

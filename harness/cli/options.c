@@ -199,7 +199,7 @@ static int set_tuned(struct options *o, const char *arg)
 
 static int set_settings_mode(struct options *o, const char *arg)
 {
-    static const char *const modes[] = {"both", "default", "tuned", NULL};  /* enum config_mode's order */
+    static const char *const modes[] = {"auto", "both", "default", "tuned", NULL};  /* enum config_mode's order */
     int mode;
     const int rc = options_choice("settings", arg, modes, &mode);
     o->settings_mode = rc ? o->settings_mode : (enum config_mode)mode;
@@ -247,10 +247,11 @@ const struct option_row option_rows[] = {
      "one cell per value of parameter P of technique T, on every scene, instead of T's single cell (repeatable; "
      "sweeps of one technique give every combination; a swept value overrides --set), e.g. --sweep "
      "pcss.blocker_samples=16,32,64. Each cell is named T@P=V,... (its folder under each scene)"},
-    {"settings", 0, "default|tuned|both", ON(RUN), OPTION_NONE, 0, 0, 0, set_settings_mode,
-     "which cells of each technique (default both): T at its defaults (with --set, --sweep), and T@tuned, the "
-     "settings --tuned DIR/T.json holds for each scene, chosen by 'shadowbench tune' on the other scenes (a "
-     "scene it did not see gets the setting chosen on all)"},
+    {"settings", 0, "auto|tuned|default|both", ON(RUN), OPTION_NONE, 0, 0, 0, set_settings_mode,
+     "which cells of each technique: T@tuned, the settings --tuned DIR/T.json holds for each scene, chosen by "
+     "'shadowbench tune' on the other scenes (a scene it did not see gets the setting chosen on all); T at its "
+     "defaults (with --set, --sweep); or both. auto (default): T@tuned, or T's default cells when --set or "
+     "--sweep is given or T has no tuned file"},
     {"tuned", 0, "DIR", ON(RUN) | ON(CHECK) | ON(TUNE), OPTION_FOLDER, FIELD(tuned_dir), 0, 0, set_tuned,
      "where the tuned settings are (default {D})"},
     {"width", 0, "W", (RENDERING & ~ON(CHECK)) | ON(GT), OPTION_INT, FIELD(width), RECEIVER_MIN_SIZE, RECEIVER_MAX_SIZE, NULL,

@@ -6,13 +6,81 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Okabe & Ito's colour-blind-safe palette, by technique index. */
+/* A series' style, by technique index: Okabe & Ito's colour-blind-safe
+ * palette (8 colours), with a dash for each round of it (solid, dashed,
+ * dotted) and a marker that changes with the index, so the first
+ * CHART_DISTINCT_STYLES techniques differ in colour or dash, and
+ * techniques a palette apart (pcf and vssm) also in their marker. */
 static const char *const palette[] = {"#0072B2", "#E69F00", "#009E73", "#CC79A7",
                                       "#56B4E9", "#D55E00", "#000000", "#F0E442"};
-#define PALETTE_SIZE (int)(sizeof palette / sizeof palette[0])
+static const char *const dashes[] = {"none", "7 3", "2 2"};
+static const char *const marker_names[] = {"circle", "square", "triangle", "diamond", "cross"};
+#define COUNT(a) (int)(sizeof (a) / sizeof (a)[0])
 static const char font[] = "font-family=\"sans-serif\"";
 
-static const char *colour(int group) { return palette[((group % PALETTE_SIZE) + PALETTE_SIZE) % PALETTE_SIZE]; }
+struct chart_style chart_style(int group)
+{
+    const int g = group < 0 ? 0 : group, rounds = g / COUNT(palette);
+    return (struct chart_style){palette[g % COUNT(palette)], dashes[rounds % COUNT(dashes)],
+                                marker_names[g % COUNT(marker_names)], g % COUNT(marker_names)};
+}
+
+static const char *colour(int group) { return chart_style(group).colour; }
+
+/* The group's marker at (x, y), radius r, filled with fill (NULL: its
+ * colour), outlined in stroke; title_open leaves the element open for a
+ * <title> (closed by marker_end). */
+static void marker_begin(struct strbuf *o, int group, double x, double y, double r, const char *fill,
+                         const char *stroke, const char *class_name)
+{
+    const struct chart_style st = chart_style(group);
+    fill = fill ? fill : st.colour;
+    strbuf_printf(o, "<path class=\"%s\" data-marker=\"%s\" d=\"", class_name, st.marker_name);
+    switch (st.marker) {
+    case 0:  /* circle, as two arcs */
+        strbuf_printf(o, "M%.1f %.1f a%.1f %.1f 0 1 0 %.1f 0 a%.1f %.1f 0 1 0 %.1f 0Z", x - r, y, r, r, 2 * r, r,
+                      r, -2 * r);
+        break;
+    case 1:
+        r *= 0.9;
+        strbuf_printf(o, "M%.1f %.1f h%.1f v%.1f h%.1f Z", x - r, y - r, 2 * r, 2 * r, -2 * r);
+        break;
+    case 2:
+        r *= 1.15;
+        strbuf_printf(o, "M%.1f %.1f L%.1f %.1f L%.1f %.1f Z", x, y - r, x + 0.87 * r, y + 0.5 * r, x - 0.87 * r,
+                      y + 0.5 * r);
+        break;
+    case 3:
+        r *= 1.2;
+        strbuf_printf(o, "M%.1f %.1f L%.1f %.1f L%.1f %.1f L%.1f %.1f Z", x, y - r, x + r, y, x, y + r, x - r, y);
+        break;
+    default: {  /* a plus of bars r/2.5 wide */
+        const double t = r / 2.5;
+        strbuf_printf(o, "M%.1f %.1f h%.1f v%.1f h%.1f v%.1f h%.1f v%.1f h%.1f v%.1f h%.1f v%.1f h%.1f Z", x - t,
+                      y - r, 2 * t, r - t, r - t, 2 * t, t - r, r - t, -2 * t, t - r, t - r, -2 * t, r - t);
+    }
+    }
+    strbuf_printf(o, "\" fill=\"%s\" stroke=\"%s\">", fill, stroke);
+}
+
+static void marker_end(struct strbuf *o) { strbuf_printf(o, "</path>\n"); }
+
+/* One legend entry at (x, y): the group's line sample (its dash) and
+ * marker, then its name; the entry carries the style it shows, so a test
+ * can tell that no two entries of a chart share one. Returns the next x. */
+static int legend_entry(struct strbuf *o, int group, const char *name, int x, int y)
+{
+    const struct chart_style st = chart_style(group);
+    strbuf_printf(o, "<g class=\"legend-entry\" data-style=\"%s %s %s\"><line x1=\"%d\" x2=\"%d\" y1=\"%d\" "
+                     "y2=\"%d\" stroke=\"%s\" stroke-width=\"2\" stroke-dasharray=\"%s\"/>",
+                  st.colour, st.dash, st.marker_name, x, x + 22, y - 4, y - 4, st.colour, st.dash);
+    marker_begin(o, group, x + 11, y - 4, 4.5, NULL, "white", "legend-marker");
+    marker_end(o);
+    strbuf_printf(o, "<text x=\"%d\" y=\"%d\">", x + 27, y);
+    strbuf_xml(o, name);
+    strbuf_printf(o, "</text></g>\n");
+    return x + 40 + 7 * (int)strlen(name);
+}
 
 /* 0 for what cannot be drawn (NaN, Inf, negative). */
 static double drawable(double v) { return isfinite(v) && v > 0 ? v : 0; }
@@ -50,11 +118,7 @@ static void legend(struct strbuf *o, const struct chart_item *items, int n, int 
         if (g < 0 || g >= 64 || seen[g])
             continue;
         seen[g] = true;
-        strbuf_printf(o, "<circle cx=\"%d\" cy=\"%d\" r=\"5\" fill=\"%s\"/><text x=\"%d\" y=\"%d\">",
-                      x, y - 4, colour(g), x + 9, y);
-        strbuf_xml(o, items[i].group_name);
-        strbuf_printf(o, "</text>\n");
-        x += 22 + 7 * (int)strlen(items[i].group_name);
+        x = legend_entry(o, g, items[i].group_name, x, y);
     }
 }
 
@@ -141,13 +205,14 @@ static void tradeoff_panel(struct strbuf *o, int left, const struct chart_item *
                           SX(drawable(time->lo[k])), PY(i), SX(drawable(time->hi[k])),
                           SX(drawable(time->lo[k])), PY(i) - 4, PY(i) + 4, SX(drawable(time->hi[k])),
                           PY(i) - 4, PY(i) + 4, c);
-        strbuf_printf(o, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"5\" fill=\"%s\" fill-opacity=\"0.85\" "
-                         "stroke=\"white\"><title>", PX(i), PY(i), c);
+        marker_begin(o, all_items[k].group, PX(i), PY(i), 5, NULL, "white", "point");
+        strbuf_printf(o, "<title>");
         strbuf_xml(o, all_items[k].label);
         strbuf_printf(o, ": %s %.4g, %.3g %s", err->name, err->values[k], time->values[k], time->unit);
         if (time->lo && time->hi)
             strbuf_printf(o, " (quartiles %.3g-%.3g)", time->lo[k], time->hi[k]);
-        strbuf_printf(o, "</title></circle>\n");
+        strbuf_printf(o, "</title>");
+        marker_end(o);
     }
     for (int j = 0; j < m; j++) {  /* name the front, alternately above and below */
         int i = front[j];
@@ -214,6 +279,10 @@ void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
                           colour(items[i].group));
             strbuf_xml(out, items[i].label);
             strbuf_printf(out, ": %s %.4g</title></rect>\n", s->name, s->values[i]);
+            if (!isnan(s->values[i])) {  /* its technique's marker at the bar's foot: colours repeat */
+                marker_begin(out, items[i].group, cx, y0 + h - 6, 3.5, "white", colour(items[i].group), "bar-marker");
+                marker_end(out);
+            }
             if (slot >= 48 && !isnan(s->values[i]))  /* values over the bars while they fit */
                 strbuf_printf(out, "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\" "
                                    "font-size=\"10\">%.3g</text>\n", cx, y0 + h - bh - 3, s->values[i]);
@@ -299,17 +368,21 @@ void chart_lines_svg(struct strbuf *out, const char *title, const char *subtitle
                 strbuf_printf(out, "%s%.1f %.1f ", pen ? "L" : "M", LX(l->x[i]), LY(l->y[i]));
                 pen = true;
             }
-            strbuf_printf(out, "\" fill=\"none\" stroke=\"%s\" stroke-width=\"2\"/>\n", col);
+            strbuf_printf(out, "\" fill=\"none\" stroke=\"%s\" stroke-width=\"2\" stroke-dasharray=\"%s\"/>\n",
+                          col, chart_style(l->item.group).dash);
             for (int i = 0; i < l->n; i++) {
                 if (!isfinite(l->y[i]) || !isfinite(l->x[i]) || (log_x && !(l->x[i] > 0)))
                     continue;
                 const bool ring = l->marked && l->marked[i];
-                strbuf_printf(out, "<circle%s cx=\"%.1f\" cy=\"%.1f\" r=\"%d\" fill=\"%s\" stroke=\"%s\" "
-                                   "stroke-width=\"2\"><title>", ring ? " class=\"marked\"" : "", LX(l->x[i]),
-                              LY(l->y[i]), ring ? 6 : 3, ring ? "white" : col, col);
+                if (ring)
+                    strbuf_printf(out, "<circle class=\"marked\" cx=\"%.1f\" cy=\"%.1f\" r=\"8\" fill=\"none\" "
+                                       "stroke=\"%s\" stroke-width=\"2\"/>", LX(l->x[i]), LY(l->y[i]), col);
+                marker_begin(out, l->item.group, LX(l->x[i]), LY(l->y[i]), 4, ring ? "white" : NULL, col, "point");
+                strbuf_printf(out, "<title>");
                 strbuf_xml(out, l->item.label);
-                strbuf_printf(out, " at %g: %s %.4g%s%s</title></circle>\n", l->x[i], p->name, l->y[i],
-                              ring ? ", " : "", ring ? marked_text : "");
+                strbuf_printf(out, " at %g: %s %.4g%s%s</title>", l->x[i], p->name, l->y[i], ring ? ", " : "",
+                              ring ? marked_text : "");
+                marker_end(out);
             }
         }
 #undef LX
@@ -317,13 +390,8 @@ void chart_lines_svg(struct strbuf *out, const char *title, const char *subtitle
     }
     int lx = 20;
     const struct chart_panel *p0 = panel_count ? &panels[0] : NULL;
-    for (int c = 0; p0 && c < p0->n; c++) {
-        strbuf_printf(out, "<rect x=\"%d\" y=\"%d\" width=\"14\" height=\"3\" fill=\"%s\"/><text x=\"%d\" "
-                           "y=\"%d\">", lx, height - 17, colour(p0->lines[c].item.group), lx + 18, height - 12);
-        strbuf_xml(out, p0->lines[c].item.label);
-        strbuf_printf(out, "</text>\n");
-        lx += 30 + 7 * (int)strlen(p0->lines[c].item.label);
-    }
+    for (int c = 0; p0 && c < p0->n; c++)
+        lx = legend_entry(out, p0->lines[c].item.group, p0->lines[c].item.label, lx, height - 12);
     strbuf_printf(out, "<text x=\"%d\" y=\"%d\" text-anchor=\"end\" fill=\"#555\">ringed: ", width - 10,
                   height - 12);
     strbuf_xml(out, marked_text);
@@ -379,28 +447,32 @@ void chart_frontier_svg(struct strbuf *out, const char *title, const char *subti
         strbuf_printf(out, "<path class=\"frontier\" d=\"");
         for (int i = 0; i < k->n; i++)
             strbuf_printf(out, i ? " H%.1f V%.1f" : "M%.1f %.1f", FX(k->x[i]), FY(k->y[i]));
-        strbuf_printf(out, "\" fill=\"none\" stroke=\"%s\" stroke-width=\"2\"/>\n", col);
+        strbuf_printf(out, "\" fill=\"none\" stroke=\"%s\" stroke-width=\"2\" stroke-dasharray=\"%s\"/>\n", col,
+                      chart_style(k->item.group).dash);
         for (int i = 0; i < k->n; i++) {
             if (k->lo && k->hi)
                 strbuf_printf(out, "<path class=\"spread\" d=\"M%.1f %.1f H%.1f\" stroke=\"%s\" "
                                    "stroke-width=\"1\"/>", FX(k->lo[i]), FY(k->y[i]), FX(k->hi[i]), col);
-            strbuf_printf(out, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3\" fill=\"%s\"><title>", FX(k->x[i]),
-                          FY(k->y[i]), col);
+            marker_begin(out, k->item.group, FX(k->x[i]), FY(k->y[i]), 3.5, NULL, col, "point");
+            strbuf_printf(out, "<title>");
             strbuf_xml(out, k->item.label);
-            strbuf_printf(out, ": %.4g at %.3g ms</title></circle>\n", k->y[i], k->x[i]);
+            strbuf_printf(out, ": %.4g at %.3g ms</title>", k->y[i], k->x[i]);
+            marker_end(out);
         }
-        if (isfinite(k->default_x) && k->default_x > 0 && isfinite(k->default_y)) {
-            strbuf_printf(out, "<rect class=\"default\" x=\"%.1f\" y=\"%.1f\" width=\"10\" height=\"10\" "
-                               "fill=\"white\" stroke=\"%s\" stroke-width=\"2\"><title>",
-                          FX(k->default_x) - 5, FY(k->default_y) - 5, col);
+        if (isfinite(k->default_x) && k->default_x > 0 && isfinite(k->default_y)) {  /* a ring: no marker's shape */
+            strbuf_printf(out, "<circle class=\"default\" cx=\"%.1f\" cy=\"%.1f\" r=\"8\" fill=\"none\" "
+                               "stroke=\"%s\" stroke-width=\"2\"><title>", FX(k->default_x), FY(k->default_y), col);
             strbuf_xml(out, k->item.label);
-            strbuf_printf(out, " at its defaults: %.4g at %.3g ms</title></rect>\n", k->default_y, k->default_x);
+            strbuf_printf(out, " at its defaults: %.4g at %.3g ms</title></circle>\n", k->default_y, k->default_x);
         }
-        if (isfinite(k->tuned_x) && k->tuned_x > 0 && isfinite(k->tuned_y)) {
+        if (isfinite(k->tuned_x) && k->tuned_x > 0 && isfinite(k->tuned_y)) {  /* a five-point star */
             const double cx = FX(k->tuned_x), cy = FY(k->tuned_y);
-            strbuf_printf(out, "<path class=\"tuned\" d=\"M%.1f %.1f L%.1f %.1f L%.1f %.1f L%.1f %.1f Z\" "
-                               "fill=\"%s\" stroke=\"black\"><title>", cx, cy - 7, cx + 7, cy, cx, cy + 7,
-                          cx - 7, cy, col);
+            strbuf_printf(out, "<path class=\"tuned\" d=\"");
+            for (int p = 0; p < 10; p++) {
+                const double r = p % 2 ? 4 : 10, a = M_PI * p / 5;
+                strbuf_printf(out, "%c%.1f %.1f ", p ? 'L' : 'M', cx + r * sin(a), cy - r * cos(a));
+            }
+            strbuf_printf(out, "Z\" fill=\"%s\" stroke=\"black\"><title>", col);
             strbuf_xml(out, k->item.label);
             strbuf_printf(out, " tuned: %.4g at %.3g ms</title></path>\n", k->tuned_y, k->tuned_x);
         }
@@ -408,14 +480,9 @@ void chart_frontier_svg(struct strbuf *out, const char *title, const char *subti
 #undef FX
 #undef FY
     int lx = 20;
-    for (int c = 0; c < n; c++) {
-        strbuf_printf(out, "<rect x=\"%d\" y=\"%d\" width=\"14\" height=\"3\" fill=\"%s\"/><text x=\"%d\" "
-                           "y=\"%d\">", lx, FRONT_H - 40, colour(curves[c].item.group), lx + 18, FRONT_H - 35);
-        strbuf_xml(out, curves[c].item.label);
-        strbuf_printf(out, "</text>\n");
-        lx += 30 + 7 * (int)strlen(curves[c].item.label);
-    }
+    for (int c = 0; c < n; c++)
+        lx = legend_entry(out, curves[c].item.group, curves[c].item.label, lx, FRONT_H - 35);
     strbuf_printf(out, "<text x=\"%d\" y=\"%d\" text-anchor=\"end\" fill=\"#555\">line: frontier (no "
-                       "setting tried is faster and better); &#9633; defaults; &#9670; tuned</text>\n</svg>\n",
+                       "setting tried is faster and better); &#9711; defaults; &#9733; tuned</text>\n</svg>\n",
                   FRONT_W - 10, FRONT_H - 12);
 }

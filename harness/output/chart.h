@@ -1,14 +1,24 @@
 /* SVG charts for the report: error against time with its Pareto front, and
  * bars of several metrics per technique configuration. Every chart has a
  * title, a subtitle (the device the timings come from), labelled axes with
- * units and a legend; colours follow the technique, so a technique has one
- * colour in every chart. */
+ * units and a legend; styles (colour, dash, marker) follow the technique, so a
+ * technique looks the same in every chart. */
 #ifndef SB_CHART_H
 #define SB_CHART_H
 
 #include "base/util.h"
 
 #include <stdbool.h>
+
+/* How a technique's series is drawn in every chart: colour, line dash
+ * (SVG stroke-dasharray, "none": solid) and marker. The first
+ * CHART_DISTINCT_STYLES techniques each get a style no other has. */
+struct chart_style {
+    const char *colour, *dash, *marker_name;
+    int marker;  /* 0 circle, 1 square, 2 triangle, 3 diamond, 4 cross */
+};
+#define CHART_DISTINCT_STYLES 24
+struct chart_style chart_style(int group);
 
 /* One point or bar: a technique configuration. */
 struct chart_item {
@@ -56,8 +66,8 @@ struct chart_curve {
 
 /* Error (y, linear from 0) against time (x, logarithmic: times span
  * decades): each curve a staircase through its points, each point with its
- * time's quartiles, the default a hollow square and the tuned setting a
- * filled diamond. */
+ * time's quartiles, the default a ring and the tuned setting a
+ * filled star (shapes no marker has). */
 void chart_frontier_svg(struct strbuf *out, const char *title, const char *subtitle,
                         const struct chart_curve *curves, int n, const char *x_label, const char *y_label);
 

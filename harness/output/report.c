@@ -274,8 +274,9 @@ const char report_style[] =
     ".chart svg{max-width:100%;height:auto}figure.chart{margin:8px 0}\n"
     "pre{background:#f6f6f6;padding:8px;overflow:auto}\n";
 
-/* Sorts the matrix by a clicked column (again: descending); #sort=KEY or
- * #sort=-KEY in the address sorts on opening. */
+/* Sorts the matrix by a clicked column (again: descending) and shows only
+ * the rows of the scene and technique chosen; in the address, #sort=KEY (or
+ * -KEY), &scene=S and &technique=T do the same on opening. */
 static const char script[] =
     "(function(){\n"
     "const t=document.getElementById('matrix'),b=t.tBodies[0],hs=[...t.tHead.rows[0].cells];\n"
@@ -287,7 +288,15 @@ static const char script[] =
     " rows.forEach(r=>b.appendChild(r));hs.forEach(h=>h.classList.remove('asc','desc'));\n"
     " hs[i].classList.add(desc?'desc':'asc');t.dataset.sortedBy=(desc?'-':'')+k;}\n"
     "hs.forEach(h=>h.addEventListener('click',()=>sort(h.dataset.k,h.classList.contains('asc'))));\n"
-    "const m=location.hash.match(/^#sort=(-?)([a-z_]+)$/);if(m)sort(m[2],m[1]==='-');\n"
+    "const q=new URLSearchParams(location.hash.slice(1)),m=(q.get('sort')||'').match(/^(-?)([a-z_]+)$/);\n"
+    "if(m)sort(m[2],m[1]==='-');\n"
+    "const fs=document.getElementById('filter-scene'),ft=document.getElementById('filter-technique');\n"
+    "fs.value=q.get('scene')||'';ft.value=q.get('technique')||'';\n"
+    "function filter(){let n=0;for(const r of b.rows){\n"
+    " const show=(!fs.value||r.dataset.scene===fs.value)&&(!ft.value||r.dataset.technique===ft.value);\n"
+    " r.hidden=!show;n+=show;}\n"
+    " document.getElementById('filter-count').textContent=n+' of '+b.rows.length+' cells';}\n"
+    "fs.addEventListener('change',filter);ft.addEventListener('change',filter);filter();\n"
     "})();\n";
 
 /* A path segment or fragment of a URL: anything but unreserved characters
@@ -347,6 +356,21 @@ static void matrix_table(const struct report *r, struct strbuf *h)
 {
     bool *front = xcalloc((size_t)r->cell_count, sizeof *front);
     pareto_flags(r, front);
+    strbuf_printf(h, "<p>Show <select id=\"filter-scene\"><option value=\"\">every scene</option>");
+    for (int s = 0; s < r->scene_count; s++) {
+        strbuf_printf(h, "<option>");
+        strbuf_xml(h, r->scenes[s].name);
+        strbuf_printf(h, "</option>");
+    }
+    strbuf_printf(h, "</select> <select id=\"filter-technique\"><option value=\"\">every technique</option>");
+    for (int i = 0; i < r->cell_count; i++) {  /* each technique once, in run order */
+        int j = 0;
+        while (j < i && r->cells[j].technique != r->cells[i].technique)
+            j++;
+        if (j == i)
+            strbuf_printf(h, "<option>%s</option>", r->cells[i].technique->name);
+    }
+    strbuf_printf(h, "</select> <span id=\"filter-count\"></span></p>\n");
     strbuf_printf(h, "<div class=\"scroll\"><table id=\"matrix\"><thead><tr>"
                      "<th data-k=\"scene\">scene</th><th data-k=\"cell\">cell</th>");
     for (int k = 0; k < METRIC_COUNT; k++)
@@ -358,8 +382,10 @@ static void matrix_table(const struct report *r, struct strbuf *h)
     strbuf_printf(h, "<th data-k=\"params\">params</th></tr></thead>\n<tbody>\n");
     for (int i = 0; i < r->cell_count; i++) {
         const struct cell *c = &r->cells[i];
-        strbuf_printf(h, "<tr class=\"%s%s%s\"><td class=\"l\">", c->m.nonfinite ? "fail" : "",
+        strbuf_printf(h, "<tr class=\"%s%s%s\" data-scene=\"", c->m.nonfinite ? "fail" : "",
                       front[i] ? " front" : "", metrics_scored(&c->m) ? "" : " unscored");
+        strbuf_xml(h, c->scene);
+        strbuf_printf(h, "\" data-technique=\"%s\"><td class=\"l\">", c->technique->name);
         strbuf_xml(h, c->scene);
         strbuf_printf(h, "</td><td class=\"l c\"><a href=\"#");
         scene_anchor(h, c->scene);
@@ -397,7 +423,7 @@ static void heatmap_legend(struct strbuf *h, int id)
         strbuf_printf(h, "<stop offset=\"%d%%\" stop-color=\"rgb(%d,%d,%d)\"/>", 10 * k, c[0], c[1], c[2]);
     }
     strbuf_printf(h, "</linearGradient></defs><rect x=\"10\" y=\"4\" width=\"200\" height=\"12\" "
-                     "fill=\"report_url(#diverging%d)\"/>"
+                     "fill=\"url(#diverging%d)\"/>"
                      "<text x=\"10\" y=\"29\">-%.2g too dark</text><text x=\"110\" y=\"29\" "
                      "text-anchor=\"middle\">0</text><text x=\"210\" y=\"29\" text-anchor=\"end\">"
                      "+%.2g too bright</text><text x=\"10\" y=\"46\">e = V_tech &#8722; V_gt; grey: "
@@ -433,6 +459,153 @@ static void scene_grid(const struct report *r, const struct report_scene *sc, st
                           c->m.ms_total);
     }
     strbuf_printf(h, "</div>\n");
+}
+
+/* ---- the summary: what a reader takes in first ------------------------- */
+
+/* A configuration (a cell label) over every scene of the run: its mean
+ * penumbra_rmse, rmse and ms_total; complete when every scene scored it. */
+struct config_mean {
+    const struct cell *first;
+    double ms, q1, q3, pen, rmse;
+    int n;
+    bool complete;
+};
+
+static int config_means(const struct report *r, struct config_mean *out)
+{
+    int n = 0;
+    for (int i = 0; i < r->cell_count; i++) {
+        const struct cell *c = &r->cells[i];
+        int k = 0;
+        while (k < n && strcmp(out[k].first->label, c->label) != 0)
+            k++;
+        if (k == n)
+            out[n++] = (struct config_mean){.first = c, .complete = true};
+        struct config_mean *m = &out[k];
+        m->complete &= metrics_scored(&c->m) && !c->m.nonfinite;
+        m->ms += c->m.ms_total, m->q1 += c->m.ms_total_q1, m->q3 += c->m.ms_total_q3;
+        m->pen += c->m.penumbra_rmse, m->rmse += c->m.rmse;
+        m->n++;
+    }
+    for (int k = 0; k < n; k++) {
+        struct config_mean *m = &out[k];
+        m->complete &= m->n == r->scene_count;
+        m->ms /= m->n, m->q1 /= m->n, m->q3 /= m->n, m->pen /= m->n, m->rmse /= m->n;
+    }
+    return n;
+}
+
+/* For each budget of a 1-2-5 series (ms per frame) from the fastest
+ * configuration's mean time to the slowest's, the configuration with the
+ * least mean penumbra_rmse among those within it; a row where the answer
+ * changes. */
+static void budget_table(const struct report *r, const char *device, struct strbuf *h)
+{
+    struct config_mean *m = xcalloc((size_t)r->cell_count + 1, sizeof *m);
+    const int n = config_means(r, m);
+    double lo = INFINITY, hi = 0;
+    int left_out = 0;
+    for (int k = 0; k < n; k++)
+        if (m[k].complete && isfinite(m[k].ms) && isfinite(m[k].pen))
+            lo = fmin(lo, m[k].ms), hi = fmax(hi, m[k].ms);
+        else
+            left_out++;
+    strbuf_printf(h, "<table id=\"budgets\"><thead><tr><th>time budget per frame</th><th>least wrong</th>"
+                     "<th>mean penumbra_rmse</th><th>mean rmse</th><th>mean ms_total (quartiles)</th>"
+                     "</tr></thead><tbody>\n");
+    int last = -1;
+    for (double decade = pow(10, floor(log10(lo > 0 && isfinite(lo) ? lo : 1))); isfinite(lo) && decade <= 10 * hi;
+         decade *= 10)
+        for (int step = 0; step < 3; step++) {
+            const double budget = decade * (double[]){1, 2, 5}[step];
+            int best = -1;
+            for (int k = 0; k < n; k++)
+                if (m[k].complete && m[k].ms <= budget && (best < 0 || m[k].pen < m[best].pen))
+                    best = k;
+            if (best < 0 || best == last)
+                continue;
+            last = best;
+            strbuf_printf(h, "<tr><td class=\"l\">&le; %g ms</td><td class=\"l\"><b>", budget);
+            strbuf_xml(h, m[best].first->label);
+            strbuf_printf(h, "</b></td><td>%.4f</td><td>%.4f</td><td>%.2f (%.2f&ndash;%.2f)</td></tr>\n", m[best].pen,
+                          m[best].rmse, m[best].ms, m[best].q1, m[best].q3);
+        }
+    strbuf_printf(h, "</tbody></table>\n<p>Means over the %d scene(s); times on ", r->scene_count);
+    strbuf_xml(h, device ? device : "an unknown device");
+    strbuf_printf(h, "%s.", device && strstr(device, "llvmpipe") ? ", which rank techniques for this device only "
+                                                                   "(fetches, not llvmpipe's milliseconds, carry "
+                                                                   "to a GPU)"
+                                                                 : "");
+    if (left_out)
+        strbuf_printf(h, " %d configuration(s) with an unscored or non-finite cell are left out (see the matrix).",
+                      left_out);
+    strbuf_printf(h, "</p>\n");
+    free(m);
+}
+
+/* The WORST_SHOWN cells with the largest value of a failure metric (above
+ * 0), each its visibility and heatmap. */
+#define WORST_SHOWN 3
+static void worst_cells(const struct report *r, int metric, const char *what, struct strbuf *h)
+{
+    int shown[WORST_SHOWN], n = 0;
+    for (; n < WORST_SHOWN; n++) {
+        int best = -1;
+        for (int i = 0; i < r->cell_count; i++) {
+            const double v = metrics_value(&r->cells[i].m, metric);
+            bool taken = false;
+            for (int j = 0; j < n; j++)
+                taken |= shown[j] == i;
+            if (!taken && isfinite(v) && v > 0 && (best < 0 || v > metrics_value(&r->cells[best].m, metric)))
+                best = i;
+        }
+        if (best < 0)
+            break;
+        shown[n] = best;
+    }
+    strbuf_printf(h, "<h3>Largest %s (%s)</h3>\n", metric_info[metric].key, what);
+    if (!n) {
+        strbuf_printf(h, "<p>None: no cell has a pixel of it.</p>\n");
+        return;
+    }
+    strbuf_printf(h, "<div class=\"grid\">\n");
+    for (int j = 0; j < n; j++) {
+        const struct cell *c = &r->cells[shown[j]];
+        strbuf_printf(h, "<figure class=\"failure\">");
+        picture(h, c->scene, c->label, cell_files[CELL_VISIBILITY_PNG], "visibility");
+        strbuf_printf(h, "<div class=\"crop\" style=\"aspect-ratio:%d/%d\">", r->width, r->height);
+        picture(h, c->scene, c->label, cell_files[CELL_HEATMAP_PNG], "error heatmap");
+        strbuf_printf(h, "</div><figcaption><a href=\"#");
+        scene_anchor(h, c->scene);
+        strbuf_printf(h, "\">");
+        strbuf_xml(h, c->scene);
+        strbuf_printf(h, "</a> <b>");
+        strbuf_xml(h, c->label);
+        strbuf_printf(h, "</b><br>%s ", metric_info[metric].key);
+        strbuf_printf(h, metric_info[metric].format, metrics_value(&c->m, metric));
+        strbuf_printf(h, ", rmse %.4f</figcaption></figure>\n", c->m.rmse);
+    }
+    strbuf_printf(h, "</div>\n");
+}
+
+/* The cells that failed outright: non-finite output, or nothing scored. */
+static void failed_cells(const struct report *r, struct strbuf *h)
+{
+    int n = 0;
+    for (int i = 0; i < r->cell_count; i++)
+        n += r->cells[i].m.nonfinite || !metrics_scored(&r->cells[i].m);
+    if (!n)
+        return;
+    strbuf_printf(h, "<p class=\"warn\"><b>%d cell(s) failed</b> (NaN/Inf output, or no pixel to score):", n);
+    for (int i = 0; i < r->cell_count; i++)
+        if (r->cells[i].m.nonfinite || !metrics_scored(&r->cells[i].m)) {
+            strbuf_printf(h, " ");
+            strbuf_xml(h, r->cells[i].scene);
+            strbuf_printf(h, "/");
+            strbuf_xml(h, r->cells[i].label);
+        }
+    strbuf_printf(h, ".</p>\n");
 }
 
 void report_html_end(struct strbuf *h, const char *heading, const cJSON *run, const char *script)
@@ -488,20 +661,21 @@ static int write_html(const struct report *r)
         strbuf_xml(&h, r->scenes[s].name);
         strbuf_printf(&h, "</a>");
     }
-    strbuf_printf(&h, ".</p>\n<h2 id=\"matrix-title\">Matrix</h2>\n<p>Click a column to sort it (again: "
-                      "descending). Bold cells are on their scene's Pareto front of rmse against "
-                      "ms_total. A red row is a failed cell: NaN/Inf output, or <i>unscored</i> (no "
-                      "pixel to score: its metrics are null, not 0).</p>\n");
-    matrix_table(r, &h);
-
-    int rc = 0;
-    strbuf_printf(&h, "<h2 id=\"overall\">Speed against accuracy, all scenes</h2>\n");
-    rc |= overall_chart(r, device, &h);
+    strbuf_printf(&h, ". The full matrix is <a href=\"#matrix-title\">last</a>.</p>\n"
+                      "<h2 id=\"summary\">Summary: for a time budget, the least wrong</h2>\n");
+    failed_cells(r, &h);
+    budget_table(r, device, &h);
+    int rc = overall_chart(r, device, &h);
+    strbuf_printf(&h, "<h2 id=\"worst\">Worst failures</h2>\n<p>Heatmaps share one scale: blue too dark, red "
+                      "too bright, grey not scored.</p>\n");
+    heatmap_legend(&h, -1);
+    worst_cells(r, METRIC_leak_fraction, "light through a true umbra", &h);
+    worst_cells(r, METRIC_dark_fraction, "acne, over-darkening of lit surfaces", &h);
     if (r->frontier_count) {
         strbuf_printf(&h, "<h2 id=\"frontier\">Frontier: for a time budget, the least error</h2>\n<p>Each "
                           "technique's line joins the settings that <code>shadowbench tune</code> tried where "
-                          "no other of its settings is both faster and better. The square is its defaults, "
-                          "the diamond its tuned setting: on each scene, the setting chosen on the other "
+                          "no other of its settings is both faster and better. The ring is its defaults, "
+                          "the star its tuned setting: on each scene, the setting chosen on the other "
                           "scenes, scored on that scene. Measured by the tuning, not by this run: ");
         strbuf_xml(&h, r->frontier_source);
         strbuf_printf(&h, ".</p>\n");
@@ -524,6 +698,12 @@ static int write_html(const struct report *r)
         rc |= scene_charts(r, sc->name, device, &h);
         rc |= frontier_chart(r, sc->name, sc->frontier, sc->frontier_count, &h);
     }
+    strbuf_printf(&h, "<h2 id=\"matrix-title\">Matrix</h2>\n<p>Every cell. Click a column to sort it "
+                      "(again: descending); choose a scene or a technique to show only its rows. Bold cells "
+                      "are on their scene's Pareto front of rmse against ms_total. A red row is a failed "
+                      "cell: NaN/Inf output, or <i>unscored</i> (no pixel to score: its metrics are null, not "
+                      "0).</p>\n");
+    matrix_table(r, &h);
     /* Stability (motion, sensitivity) is its own page: linked where it lies
      * beside this one in the default layout (results/runs/latest and
      * results/stability/latest). */

@@ -113,8 +113,8 @@ static int add_configs(struct config_set *out, const struct config_desc *o, int 
 }
 
 /* Appends t's tuned cell, <t>@tuned, from o->tuned_dir. A technique with no
- * tuned file is listed in out->untuned with --settings both, an error with
- * tuned. */
+ * tuned file is listed in out->untuned with --settings both or auto (which
+ * then runs its default cell), an error with tuned. */
 static int add_tuned(struct config_set *out, const struct config_desc *o, const struct technique *t)
 {
     struct tuned *tu = xcalloc(1, sizeof *tu);
@@ -145,6 +145,10 @@ static int add_tuned(struct config_set *out, const struct config_desc *o, const 
 int configs_build(struct config_set *out, const struct config_desc *o)
 {
     memset(out, 0, sizeof *out);
+    struct config_desc d = *o;
+    if (d.mode == CONFIG_AUTO && (o->sweep_count || o->set_count))
+        d.mode = CONFIG_DEFAULT;  /* the cells they change */
+    o = &d;
     if (o->mode == CONFIG_TUNED && (o->sweep_count || o->set_count)) {
         log_error("--settings tuned: --set and --sweep change default cells, and this run has none");
         return -1;
@@ -161,10 +165,13 @@ int configs_build(struct config_set *out, const struct config_desc *o)
         int ti = 0;
         while (technique_list[ti] != o->techniques[i])
             ti++;
-        if (o->mode != CONFIG_TUNED)
+        const int before = out->count;
+        if (o->mode != CONFIG_TUNED && o->mode != CONFIG_AUTO)
             rc = add_configs(out, o, ti, sweeps, count);
         if (!rc && o->mode != CONFIG_DEFAULT)
             rc = add_tuned(out, o, o->techniques[i]);
+        if (!rc && o->mode == CONFIG_AUTO && out->count == before)  /* no tuned file */
+            rc = add_configs(out, o, ti, sweeps, count);
     }
     for (int i = 0; i < count; i++)
         sweep_clear(&sweeps[i]);

@@ -22,8 +22,10 @@ struct run_config {
     struct tuned *tuned;  /* owned; a tuned cell: its settings differ by scene */
 };
 
-/* Which cells of each technique a run makes (--settings). */
-enum config_mode { CONFIG_BOTH, CONFIG_DEFAULT, CONFIG_TUNED };
+/* Which cells of each technique a run makes (--settings). CONFIG_AUTO, the
+ * default: the tuned cell, or the default cells when --set or --sweep
+ * changes them or the technique has no tuned file. */
+enum config_mode { CONFIG_AUTO, CONFIG_BOTH, CONFIG_DEFAULT, CONFIG_TUNED };
 
 struct config_desc {
     const struct technique *const *techniques;  /* selected, at least one */
@@ -39,7 +41,7 @@ struct config_desc {
 struct config_set {
     struct run_config *configs;
     int count;
-    struct strbuf untuned;  /* techniques without a tuned file ("a, b") */
+    struct strbuf untuned;  /* techniques without a tuned file ("a, b"), run at their defaults */
 };
 
 /* Fills out from d. Returns 0, or -1 after logging one line (unknown
