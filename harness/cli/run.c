@@ -13,6 +13,7 @@
 #include "pipeline/cell.h"
 #include "pipeline/configs.h"
 
+#include <cjson/cJSON.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -144,6 +145,41 @@ static int judge(const struct run *r)
     return bad || unscored ? EXIT_CHECK_FAILED : EXIT_OK;
 }
 
+/* A run larger than the main job says, before it starts, how long it will
+ * take at the pace of the committed benchmark (tools/bench-main:
+ * results/bench/main_job.json, and results/main/run.json for the settings
+ * it ran at), when this run's settings are the same: cells x the main
+ * job's warm seconds per cell. Nothing when either file is missing. */
+#define MAIN_JOB_BENCH "results/bench/main_job.json"
+#define MAIN_JOB_RUN "results/main/run.json"
+static void say_estimate(const struct options *o, int cells)
+{
+    char *bench_text = NULL, *run_text = NULL;
+    size_t size;
+    if (util_read_file(MAIN_JOB_BENCH, &bench_text, &size) != 0 || util_read_file(MAIN_JOB_RUN, &run_text, &size) != 0) {
+        free(bench_text);
+        return;
+    }
+    cJSON *bench = cJSON_Parse(bench_text), *run = cJSON_Parse(run_text);
+    const cJSON *main_job = cJSON_GetObjectItem(bench, "main_job"), *device = cJSON_GetObjectItem(bench, "device");
+    const double main_cells = cJSON_GetNumberValue(cJSON_GetObjectItem(main_job, "cells")),
+                 seconds = cJSON_GetNumberValue(cJSON_GetObjectItem(main_job, "warm_median_seconds"));
+    const struct { const char *key; int value; } same[] = {
+        {"width", o->width}, {"height", o->height}, {"gt_samples", o->gt_samples},
+        {"shadow_map_size", o->shadow_map_size}, {"frames", o->frames}, {"warmup_frames", o->warmup}};
+    bool comparable = main_cells >= 1 && seconds > 0 && cells > main_cells;
+    for (size_t i = 0; i < ARRAY_SIZE(same) && comparable; i++)
+        comparable = cJSON_GetNumberValue(cJSON_GetObjectItem(run, same[i].key)) == same[i].value;
+    const char *cpu = cJSON_GetStringValue(cJSON_GetObjectItem(device, "cpu"));
+    if (comparable)
+        log_info("run: %d cells, %.1fx the main job's %.0f: about %.0f s on %s with %d cores (%s: the main job's "
+                 "median, %.1f s warm), and more for ground truth not yet cached",
+                 cells, cells / main_cells, main_cells, seconds * cells / main_cells, cpu ? cpu : "its machine",
+                 (int)cJSON_GetNumberValue(cJSON_GetObjectItem(device, "cores")), MAIN_JOB_BENCH, seconds);
+    cJSON_Delete(bench), cJSON_Delete(run);
+    free(bench_text), free(run_text);
+}
+
 int run_main(const struct options *o)
 {
     const double start = util_now_ms();
@@ -182,6 +218,7 @@ int run_main(const struct options *o)
                 goto out_gl;
         }
     r.cells_total = scene_count * r.configs.count;
+    say_estimate(o, r.cells_total);
     for (int i = 0; i < r.configs.count; i++)
         if ((int)strlen(r.configs.configs[i].label) > r.label_width)
             r.label_width = (int)strlen(r.configs.configs[i].label);
