@@ -1,4 +1,4 @@
-// Depth conversions of DESIGN.md §5, shared by the receiver pass and the
+// Depth conversions of docs/design.md §5, shared by the receiver pass and the
 // products' compute passes. Linear depth d is planar depth rescaled to [0, 1]
 // between the frustum's near and far planes; hardware depth is reversed Z
 // (1 at near, 0 at far).

@@ -1,5 +1,5 @@
 // Shared by every technique: the shadow-map products, the receiver's
-// description (ShadowInput) and the depth conventions of DESIGN.md §5. The
+// description (ShadowInput) and the depth conventions of docs/design.md §5. The
 // PCF family's tap machinery is shadow_taps.glsl, the PCSS geometry
 // pcss_geometry.glsl: a technique includes what it uses.
 //
@@ -51,7 +51,7 @@ vec2 sm_depth_gradient(vec2 uv, float depth_hw)
 }
 
 // The surface's geometric normal at p, flipped to face the camera: the
-// ground truth's convention (DESIGN.md §6), so both shade the same side. A
+// ground truth's convention (docs/design.md §6), so both shade the same side. A
 // triangle too small for screen-space derivatives falls back to the vertex
 // normal rather than giving NaN.
 vec3 sm_facing_normal(vec3 p, vec3 vertex_normal, vec3 camera_pos)

@@ -1,5 +1,5 @@
 #version 450 core
-// Depth product: the scene from the light centre (DESIGN.md §5).
+// Depth product: the scene from the light centre (docs/design.md §5).
 #include "shadow_block.glsl"
 
 layout(location = SM_ATTRIB_POSITION) in vec3 a_position;

@@ -1,11 +1,11 @@
-/* The shared shadow-map layer (DESIGN.md §5): the products techniques sample,
+/* The shared shadow-map layer (docs/design.md §5): the products techniques sample,
  * keyed by product, not by technique (STYLE.md item 5). A product is a row
  * of the table in shadowmap.c (its texture format or buffer, its binding,
  * its passes, its GLSL sampler) plus its shaders; the layer renders each
  * requested product once per light pose and set of options for the cells
  * that score it, and afresh for every timed frame.
  *
- * Edge policy, one for every product and every read (DESIGN.md §5):
+ * Edge policy, one for every product and every read (docs/design.md §5):
  * clamp-to-edge, i.e. past the map's edge the map continues as its edge
  * texels. The light frustum is fitted to all the geometry with a 1% margin
  * (scene/light_frustum.c), so where everything fits the edge texels are

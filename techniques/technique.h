@@ -11,7 +11,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-/* Shadow-map products (DESIGN.md §1, §5): X(ID, name). Each is a row of the
+/* Shadow-map products (docs/design.md §1, §5): X(ID, name). Each is a row of the
  * shared layer's table (techniques/shadowmap.c: its storage, its sampler,
  * its passes; bindings and GLSL declarations follow from the row) plus its
  * shaders. For scoring, the layer renders each requested product once per

@@ -30,7 +30,7 @@
  * up to a power of two, at most 3 levels); a part trusted on the way is
  * estimated whole. At the default run's 512² it draws lower
  * penumbra_rmse than uniform at N = 4 and 8 but leaks more on
- * overlapping_occluders at N = 4 (README, vssm), and on llvmpipe it is
+ * overlapping_occluders at N = 4 (docs/techniques.md, vssm), and on llvmpipe it is
  * not cheaper: the reads it saves where parts are trusted it spends on
  * the intermediate levels and a divergent loop.
  * The second trigger is ours: on overlapping_occluders the leak comes from
@@ -85,7 +85,7 @@ static const struct technique_param vssm_params[] = {
     {"subdivisions", "sub-boxes per axis where a box's Chebyshev estimate is not to be trusted (1 = none)",
      offsetof(struct vssm_settings, subdivisions), PARAM_INT, 2, 1, 8, NULL, TUNE(2, 4)},
     /* Not tuned: it would double vssm's tune, already past its budget;
-     * its effect is measured by a sweep (README, vssm). */
+     * its effect is measured by a sweep (docs/techniques.md, vssm). */
     {"adaptive", "split 2 x 2, and again where a part is still not to be trusted, down to 1/N of the box "
      "(N rounded up to a power of two); else N x N at once", offsetof(struct vssm_settings, adaptive),
      PARAM_BOOL, 0, 0, 1, NULL, NULL},

@@ -1,6 +1,6 @@
 #!/bin/sh
-# A technique is two files and one registry line (README, Adding
-# a technique): in a scratch copy of the tree, pcf is copied as pcf_copy --
+# A technique is two files and one registry line (docs/techniques.md,
+# Adding a technique): in a scratch copy of the tree, pcf is copied as pcf_copy --
 # techniques/pcf_copy.c, shaders/pcf_copy.glsl and X(pcf_copy) in
 # techniques/registry.c, nothing else -- and the copy is built. Then list
 # shows it with its parameters, run renders it exactly as pcf (the same

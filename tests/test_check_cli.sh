@@ -1,5 +1,5 @@
 #!/bin/sh
-# Protects `shadowbench check` as a user meets it (README, Regression check):
+# Protects `shadowbench check` as a user meets it (docs/regression.md):
 # recording, passing, each kind of failure with its exit status and the line
 # that says it, the page of moved cells, bad baselines refused with one
 # line naming the file, an interrupted --update that changes nothing, a

@@ -1,4 +1,4 @@
-/* Protects the command line's contract (DESIGN.md §10): bad usage or input
+/* Protects the command line's contract (docs/design.md §10): bad usage or input
  * gets one clear line and exit status 2, before any heavy work; --help
  * answers with status 0; list shows every technique's parameters. */
 #include "check.h"

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Protects the output folder's promises (README, Outputs): one shadowbench
+# Protects the output folder's promises (docs/outputs.md): one shadowbench
 # per folder at a time; a run killed by SIGTERM or SIGINT exits 143 or 130,
 # leaves no temporary behind and says it is incomplete; a later run removes
 # the temporaries of dead runs and only those; a write that fails is one

@@ -1,4 +1,4 @@
-/* Protects the output contract (DESIGN.md §8) end to end: `run` on a small
+/* Protects the output contract (docs/design.md §8) end to end: `run` on a small
  * image writes every file with sane values, `hard` produces no NaN/Inf on
  * the shipped scene, and the ground-truth cache is reused only when its key
  * (scene, size, samples, version) matches. */

@@ -1,5 +1,5 @@
 /* Protects the edge policy of the shadow-map layer (techniques/shadowmap.h,
- * DESIGN.md §5): past the map's edge every product continues as its edge
+ * docs/design.md §5): past the map's edge every product continues as its edge
  * texels (clamp-to-edge), for every reader.
  *   - SAT reads (shaders/sat.glsl): over boxes crossing each edge and
  *     corner of a random map, or lying wholly past it, the moments read

@@ -1,4 +1,4 @@
-/* Protects the ground truth (DESIGN.md §6) against closed forms.
+/* Protects the ground truth (docs/design.md §6) against closed forms.
  *
  * Parallel planes: a light of width w at height H faces down onto a receiver
  * at y = 0; an occluder half-plane (x < 0) at y = h_b has its straight edge
@@ -160,7 +160,7 @@ static char *write_scene(const char *name, struct mesh_builder *m, const struct 
 /* A lone convex object under a light wider than itself: nothing can hide
  * any part of the light above a surface point's tangent plane, so V_gt = 1
  * on every scored pixel, terminator included (the horizon is shading's, not
- * shadowing's: DESIGN.md §6). A finely tessellated sphere is a convex
+ * shadowing's: docs/design.md §6). A finely tessellated sphere is a convex
  * polyhedron, and a shadow ray from above a facet's plane to a point above
  * it stays above it. */
 static void check_convex_sphere(void)

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Protects the layout (README, Layout): the folders follow the data flow, and
+# Protects the layout (docs/design.md §3): the folders follow the data flow, and
 # a file includes only its own folder and the folders before it in this
 # order. An include of a later folder is a dependency pointing against the
 # flow (e.g. the report reaching into the command line for a constant).

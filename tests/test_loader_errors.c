@@ -1,4 +1,4 @@
-/* Protects the scene-format errors of DESIGN.md §4: each malformed scene
+/* Protects the scene-format errors of docs/design.md §4: each malformed scene
  * gives exactly one line naming the file and the problem, word for word, and
  * exit status 2 (SQLite's do_catchsql_test style). Each case starts from a
  * valid scene and breaks one thing. */

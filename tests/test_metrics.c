@@ -1,4 +1,4 @@
-/* Protects the metric definitions of DESIGN.md §7 with synthetic images whose
+/* Protects the metric definitions of docs/design.md §7 with synthetic images whose
  * answers are known by hand. Tolerances are float rounding (1e-6): every
  * expected value below is exact arithmetic on a few pixels. */
 #include "check.h"
@@ -212,16 +212,16 @@ static void test_score_mask(void)
           "scored mask %g %g %g %g %g %g", out[0], out[1], out[2], out[3], out[4], out[5]);
 }
 
-/* The README's metric table ("### Metrics", first column, `key`s) names
+/* docs/metrics.md's metric table ("### Metrics", first column, `key`s) names
  * exactly the metrics of METRICS(), the list every output is written from:
  * a metric added to one and not the other fails here. */
-static void test_readme_table(void)
+static void test_docs_table(void)
 {
-    char *path = util_printf("%s/README.md", SB_SOURCE_DIR), *text = NULL;
+    char *path = util_printf("%s/docs/metrics.md", SB_SOURCE_DIR), *text = NULL;
     size_t size;
     CHECK(util_read_file(path, &text, &size) == 0, "cannot read %s", path);
     char *section = text ? strstr(text, "\n### Metrics") : NULL;
-    CHECK(section != NULL, "README.md has no '### Metrics' section");
+    CHECK(section != NULL, "docs/metrics.md has no '### Metrics' section");
     bool listed[METRIC_COUNT] = {false};
     int rows = 0;
     /* Table rows until the next heading or the end of the table. */
@@ -240,15 +240,15 @@ static void test_readme_table(void)
                 if ((size_t)(close - k - 1) == strlen(metric_info[m].key) &&
                     strncmp(k + 1, metric_info[m].key, (size_t)(close - k - 1)) == 0)
                     found = m;
-            CHECK(found >= 0, "README lists `%.*s`, which is not a metric", (int)(close - k - 1), k + 1);
+            CHECK(found >= 0, "docs/metrics.md lists `%.*s`, which is not a metric", (int)(close - k - 1), k + 1);
             if (found >= 0)
                 listed[found] = true;
             k = close;
         }
     }
-    CHECK(rows > 0, "README's metric table has no rows");
+    CHECK(rows > 0, "docs/metrics.md's metric table has no rows");
     for (int m = 0; m < METRIC_COUNT; m++)
-        CHECK(listed[m], "README's metric table lacks `%s`", metric_info[m].key);
+        CHECK(listed[m], "docs/metrics.md's metric table lacks `%s`", metric_info[m].key);
     free(text);
     free(path);
 }
@@ -263,6 +263,6 @@ int main(void)
     test_penumbra_band();
     test_leak_dark_nonfinite();
     test_score_mask();
-    test_readme_table();
+    test_docs_table();
     return check_finish();
 }

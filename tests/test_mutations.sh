@@ -3,7 +3,7 @@
 # in a copy of the shaders, makes `shadowbench check` on the committed
 # baselines exit 1 with a REGRESSED (or IDLE) line naming the technique; the
 # unchanged copy passes. The first five passed every test before the check
-# existed (README, Regression check).
+# existed (docs/regression.md).
 # Usage: test_mutations.sh <shadowbench> <source root> <ground-truth cache>
 set -u
 sb=$1 root=$2 cache=$3

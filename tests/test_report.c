@@ -1,4 +1,4 @@
-/* Protects the run's report (DESIGN.md §8) as a person opens it: a run with
+/* Protects the run's report (docs/design.md §8) as a person opens it: a run with
  * a sweep writes the charts, and report.html, opened from disk in headless
  * Chromium (no server), holds the matrix (sorted by its script when the
  * address asks), every picture (each loads: a broken one is marked

@@ -218,7 +218,7 @@ static void vsm_bleeding(void)
  * wide, and it lights half of the true umbra (leak_fraction 0.52).
  * vssm splits the boxes whose estimate cannot hold two depths, msm_soft
  * places the blockers by four moments: both must leak less (measured 0.41
- * and 0.39; what still leaks is in the README). And on grazing_receiver,
+ * and 0.39; what still leaks is in docs/results.md). And on grazing_receiver,
  * the plane's purpose: tested at the pixel's own depth, the sub-boxes on a
  * sloped receiver's near side read the receiver as a blocker (measured
  * dark_fraction 0.77), at the receiver's plane they do not (0.0008). */
@@ -231,7 +231,7 @@ static void soft_leak(void)
                      vssm = metric(m, "vssm", "leak_fraction"), msm_soft = metric(m, "msm_soft", "leak_fraction");
         printf("overlapping plates, leak_fraction at defaults: pcss_savsm %.4f  vssm %.4f  msm_soft %.4f\n",
                pcss_savsm, vssm, msm_soft);
-        CHECK(pcss_savsm > 0.4, "pcss_savsm's known leak is gone? %.4f (update the README)", pcss_savsm);
+        CHECK(pcss_savsm > 0.4, "pcss_savsm's known leak is gone? %.4f (update docs/results.md)", pcss_savsm);
         CHECK(vssm < pcss_savsm - 0.05, "vssm must leak less than pcss_savsm: %.4f against %.4f", vssm, pcss_savsm);
         CHECK(msm_soft < pcss_savsm - 0.05, "msm_soft must leak less than pcss_savsm: %.4f against %.4f", msm_soft,
               pcss_savsm);

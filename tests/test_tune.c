@@ -1,4 +1,4 @@
-/* Protects `shadowbench tune` (README, Tuning): the search is deterministic;
+/* Protects `shadowbench tune` (docs/tuning.md): the search is deterministic;
  * leave-one-scene-out never looks at the held-out scene; every technique's
  * tune values are in range and hold its default; the frontier it writes is
  * a Pareto front; run's tuned cells use each scene's fold setting; a stale

@@ -9,7 +9,7 @@
 
 #include <stdbool.h>
 
-/* Parallel planes (the closed form of DESIGN.md §6): a light of width
+/* Parallel planes (the closed form of docs/design.md §6): a light of width
  * light_width at height PP_H_LIGHT faces down onto a receiver at y = 0; an
  * occluder half-plane (x < 0) at y = PP_H_BLOCK has its straight edge along
  * z. The camera sits below the occluder, looking at the receiver across the

@@ -1,6 +1,7 @@
 /* Image files: float EXR through the OpenEXR C API, 8-bit PNG through
- * libpng's simplified API, as is 16-bit grey PNG. Rows are top row first (DESIGN.md §8). Every write is
- * atomic: a temporary file renamed into place. */
+ * libpng's simplified API, as is 16-bit grey PNG. Rows are top row first
+ * (docs/design.md §8). Every write is atomic: a temporary file renamed into
+ * place. */
 #ifndef SB_IMAGE_H
 #define SB_IMAGE_H
 

@@ -22,7 +22,7 @@ void log_errors_as_warnings(bool on);
  * it replaces (to put back). */
 const char *log_set_context(const char *context);
 
-/* Progress on long work (DESIGN.md §6, the CLI standards), one printer for
+/* Progress on long work (docs/design.md §6, the CLI standards), one printer for
  * every command: on a terminal, one line rewritten in place, ended by
  * log_progress_done or by the next message; elsewhere (a log file, CI) the
  * line is logged as a message at most every LOG_PROGRESS_EVERY_MS. Shown

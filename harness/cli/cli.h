@@ -1,4 +1,4 @@
-/* The command line (DESIGN.md §10; docs/cli.md). One table of commands
+/* The command line (docs/design.md §10; docs/cli.md). One table of commands
  * (commands.c: name, summary, entry, defaults, help) and one of options
  * (options.c: name, argument, the commands that take it, help), from which
  * parsing, the "not an option of this command" check, --help and
@@ -19,7 +19,7 @@
 #include <cjson/cJSON.h>
 #include <stdbool.h>
 
-/* Exit statuses (DESIGN.md §10). */
+/* Exit statuses (docs/design.md §10). */
 enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_USAGE = 2 };
 
 /* X(ID, name): every command, in the order --help lists them. */

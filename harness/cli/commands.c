@@ -9,6 +9,7 @@
 #include "view/script.h"
 #include "view/viewer.h"
 
+#include <ctype.h>
 #include <stdlib.h>
 
 #define NOTES(...) ((const struct option_note[]){__VA_ARGS__, {NULL, NULL}})
@@ -38,8 +39,9 @@ static void stability_more(struct strbuf *out)
     }
     cli_help_item(out, "T.P", "a parameter of technique T (its values as for --set), e.g. "
                               "pcf.radius_texels=1,2,4,8; reference: its setting");
-    char *rule = util_printf("A value breaks a technique where %s. Its break points: the first broken value "
-                             "below and above the reference.", break_rule_text);
+    char *rule = util_printf("%s. Its break points: the first broken value below and above the reference.",
+                             break_rule_text);
+    rule[0] = (char)toupper((unsigned char)rule[0]);  /* the rule is written to follow "Break rule: " */
     strbuf_printf(out, "\n");
     cli_help_wrap(out, rule, 0, 0);
     free(rule);
@@ -71,7 +73,7 @@ const struct command_def commands[COMMAND_COUNT] = {
             "server needed), matrix.csv, matrix.json, run.json, charts/*.svg (error against\n"
             "time with the Pareto front, per scene and over all scenes; failure metrics per\n"
             "technique) and per scene/cell visibility.exr, error.exr, visibility.png,\n"
-            "heatmap.png, metrics.json (README, Outputs). With no options: every shipped\n"
+            "heatmap.png, metrics.json (docs/outputs.md). With no options: every shipped\n"
             "scene x every technique at its tuned settings (--settings both adds each one's\n"
             "defaults, twice the cells). The total time is printed at the end.\n",
         .notes = NOTES({"warmup", "untimed frames per cell before them, 0.." UTIL_STR(CLI_MAX_WARMUP)

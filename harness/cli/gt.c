@@ -32,7 +32,7 @@ int gt_main(const struct options *o)
     int status = EXIT_CHECK_FAILED;
     if (gt_obtain(&s, &f, &(struct gt_desc){.width = o->width, .height = o->height, .samples = o->gt_samples},
                   o->cache_dir, &gt) == 0) {
-        /* No GL pass here: the mask lacks run's silhouette check (DESIGN.md §6). */
+        /* No GL pass here: the mask lacks run's silhouette check (docs/design.md §6). */
         const size_t pixels = (size_t)o->width * (size_t)o->height;
         size_t scored = 0;
         for (size_t i = 0; i < pixels; i++)

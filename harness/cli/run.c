@@ -1,6 +1,6 @@
 /* shadowbench run: per scene, the ground truth (cached), then every cell
  * rendered and scored and its pictures written, then the cells timed
- * interleaved and their metrics written; the report at the end (DESIGN.md
+ * interleaved and their metrics written; the report at the end (docs/design.md
  * §2, §8). */
 #include "cli.h"
 #include "base/log.h"
@@ -32,7 +32,7 @@ cJSON *cli_run_record(const struct options *o, bool timed, double seconds)
     return r;
 }
 
-/* The folder says what state it is in (DESIGN.md §8): run.json with
+/* The folder says what state it is in (docs/design.md §8): run.json with
  * "complete": false first, the previous run's report and matrix removed
  * (they would describe another run); report_write ends with run.json
  * "complete": true. A run that fails or is killed leaves false. */

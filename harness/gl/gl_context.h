@@ -40,7 +40,7 @@ const char *gl_context_platform(void);
 /* Whether the renderer rasterises on the CPU (llvmpipe, softpipe): there
  * stages are timed by wall clock around glFinish (a query is no measure of
  * a CPU's pipeline, though on llvmpipe reading one waits for the work and
- * gave the same times, README), on a GPU by GL_TIME_ELAPSED queries. */
+ * gave the same times, docs/metrics.md), on a GPU by GL_TIME_ELAPSED queries. */
 bool gl_context_is_cpu(void);
 
 #endif

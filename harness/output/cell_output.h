@@ -1,4 +1,4 @@
-/* The files of one cell and of one scene's ground truth (DESIGN.md §8),
+/* The files of one cell and of one scene's ground truth (docs/design.md §8),
  * each written atomically. Run-level files are report.c's. */
 #ifndef SB_CELL_OUTPUT_H
 #define SB_CELL_OUTPUT_H

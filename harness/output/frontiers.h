@@ -1,4 +1,4 @@
-/* The report's frontier charts (README, Tuning): each tuned technique's
+/* The report's frontier charts (docs/tuning.md): each tuned technique's
  * Pareto front of error against time over its own settings, as its tuning
  * measured it (score/tuned.h), over every scene and per scene. One chart
  * holds one tuning: files tuned at another size, map, objective or set of

@@ -1,4 +1,4 @@
-/* Output folders (DESIGN.md §8): the names of a run's own files, written
+/* Output folders (docs/design.md §8): the names of a run's own files, written
  * once, and how a command takes a folder for itself: one writer at a time
  * (a lock held for the rest of the process), a killed run's temporaries
  * removed, and a folder that shadowbench did not make left alone. */

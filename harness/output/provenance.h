@@ -1,4 +1,4 @@
-/* Where a result came from (DESIGN.md §8): one record, written with the
+/* Where a result came from (docs/design.md §8): one record, written with the
  * same keys into run.json, tuned files and baselines (util_json_merge): the
  * command line (as UTF-8 text), the versions, the device, the CPU, the date
  * (UTC), `git describe` of the source tree ("-dirty" where its code has

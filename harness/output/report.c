@@ -20,7 +20,7 @@ cJSON *report_cell_json(const struct cell *c)
     cJSON_AddBoolToObject(o, "scored", metrics_scored(&c->m));
     for (int k = 0; k < METRIC_COUNT; k++) {
         double v = metrics_value(&c->m, k);
-        if (isnan(v))  /* nothing to score: null, never a perfect 0 (DESIGN.md §7) */
+        if (isnan(v))  /* nothing to score: null, never a perfect 0 (docs/design.md §7) */
             cJSON_AddNullToObject(o, metric_info[k].key);
         else
             cJSON_AddNumberToObject(o, metric_info[k].key, v);

@@ -1,4 +1,4 @@
-/* Run-level outputs of DESIGN.md §8: matrix.csv, matrix.json, run.json and
+/* Run-level outputs of docs/design.md §8: matrix.csv, matrix.json, run.json and
  * report.html. Cell-level files are written by cell_output.c. */
 #ifndef SB_REPORT_H
 #define SB_REPORT_H

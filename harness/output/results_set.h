@@ -1,6 +1,6 @@
 /* A folder of recorded results (tuned settings, baselines) rewritten as one
  * set: a reader sees the previous set or the next, never a mix, whatever
- * stops the writer (README, Outputs).
+ * stops the writer (docs/outputs.md).
  *
  * The next set is a sibling folder, "<dir>.tmp.<pid>", that starts as a
  * copy of dir (hard links: files are only ever replaced by rename, never

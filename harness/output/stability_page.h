@@ -1,4 +1,4 @@
-/* The stability study's outputs (README, Stability), under its output folder:
+/* The stability study's outputs (docs/stability.md), under its output folder:
  * stability.html (tables, charts, each motion's frames with a slider),
  * stability.csv (one row per technique x motion variant or varied value),
  * stability.json (the same, the break points, the rule), charts/<name>.svg, and

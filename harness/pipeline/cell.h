@@ -1,4 +1,4 @@
-/* The cell pipeline (DESIGN.md §2): the library every command calls. A
+/* The cell pipeline (docs/design.md §2): the library every command calls. A
  * scene is opened once for its cells (its mesh, its shadow map, its
  * receiver, its ground truth); a cell (one technique at one parameter set)
  * is rendered on it, its stages untimed, and scored against the truth;

@@ -1,5 +1,5 @@
-/* The regression check's cells (`shadowbench check`; README, Regression
- * check). Its cells: every selected technique at its defaults on every
+/* The regression check's cells (`shadowbench check`; docs/regression.md).
+ * Its cells: every selected technique at its defaults on every
  * selected scene, its tuned cell where it has a tuned file, the cells its
  * descriptor declares (technique.h: .regression, each parameter away from
  * its default at least once, on a scene where it acts), and any other

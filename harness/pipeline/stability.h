@@ -1,4 +1,4 @@
-/* The stability study (`shadowbench stability`; README, Stability): where
+/* The stability study (`shadowbench stability`; docs/stability.md): where
  * methods fail, on purpose.
  *
  * Motions (scene/motion.h): the scene moves for K frames, each frame ray

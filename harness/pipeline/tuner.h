@@ -1,4 +1,4 @@
-/* What `shadowbench tune` does for one technique (README, Tuning): its tuned
+/* What `shadowbench tune` does for one technique (docs/tuning.md): its tuned
  * parameters explored over the scenes by coordinate descent
  * (score/tune_search.h) from the defaults; its frontier (error against
  * time over every setting tried, score/frontier.h), the best setting per

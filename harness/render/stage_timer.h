@@ -1,4 +1,4 @@
-/* Time of the GL stages of a frame (DESIGN.md §7). The cells of a scene are
+/* Time of the GL stages of a frame (docs/design.md §7). The cells of a scene are
  * timed interleaved: warm-up rounds, then K rounds, each round one frame of
  * every cell in turn, so a slow spell of the machine is shared by the cells
  * rather than landing on one. A timed frame is the whole of a cell's work:

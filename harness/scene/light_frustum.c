@@ -1,4 +1,4 @@
-/* The light's frustum (DESIGN.md §5): pure math on the scene, shared by the
+/* The light's frustum (docs/design.md §5): pure math on the scene, shared by the
  * ground truth (its mask) and the shadow-map layer (its projection). */
 #include "light_frustum.h"
 #include "base/log.h"

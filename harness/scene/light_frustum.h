@@ -1,4 +1,4 @@
-/* The light's frustum (DESIGN.md §5): the perspective projection of the
+/* The light's frustum (docs/design.md §5): the perspective projection of the
  * shadow map, fitted to the scene. Pure math, no GL: the ground truth uses it
  * for its mask, the shadow-map layer for its projection, techniques for the
  * sizes they derive from the light. */

@@ -1,4 +1,4 @@
-/* The motions of `shadowbench stability --motion` (README, Stability): a scene
+/* The motions of `shadowbench stability --motion` (docs/stability.md): a scene
  * moved a little every frame, the light shifted by sub-texel steps or
  * turned, the camera shifted, or one caster node moved. A motion is
  * NAME[:NODE][=STEP] (NODE for caster_shift only), given on the command

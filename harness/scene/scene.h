@@ -1,4 +1,4 @@
-/* A scene as the harness sees it (DESIGN.md §4): world-space triangles, one
+/* A scene as the harness sees it (docs/design.md §4): world-space triangles, one
  * perspective camera, one area light. Loaded from glTF by scene_gltf.cpp, the
  * only C++ in the project; everything downstream is C. */
 #ifndef SB_SCENE_H
@@ -13,7 +13,7 @@
 extern "C" {
 #endif
 
-/* X(ID, name): the area light's shapes (DESIGN.md §4); GLSL sees SM_LIGHT_<ID>. */
+/* X(ID, name): the area light's shapes (docs/design.md §4); GLSL sees SM_LIGHT_<ID>. */
 #define LIGHT_SHAPES(X) X(RECT, "rect") X(DISK, "disk")
 
 enum light_shape {
@@ -71,7 +71,7 @@ struct scene {
     uint64_t hash;        /* of the file's bytes and every loaded array */
 };
 
-/* The renderers' range (DESIGN.md §4): every coordinate (vertices, the
+/* The renderers' range (docs/design.md §4): every coordinate (vertices, the
  * camera's and the light's positions) within +-SCENE_MAX_COORD world units,
  * and lengths (the light's size, znear) at least SCENE_MIN_LENGTH, as
  * floats. Beyond them Embree's and GL's float arithmetic fails (Embree

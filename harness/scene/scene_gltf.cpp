@@ -1,4 +1,4 @@
-// glTF 2.0 -> struct scene (DESIGN.md §4), the project's only C++: tinygltf
+// glTF 2.0 -> struct scene (docs/design.md §4), the project's only C++: tinygltf
 // parses, this file validates and flattens into world-space triangles and
 // hands C a plain struct. Every problem is reported once, as
 // "<file>: <problem>", and nothing partially loaded is returned.
@@ -524,7 +524,7 @@ private:
 
 // The files tinygltf may open: the buffers check_buffers resolved, by the
 // path tinygltf's FindFile builds. An image's file is never opened (textures
-// are ignored, DESIGN.md §4): it is not found, which tinygltf only warns of.
+// are ignored, docs/design.md §4): it is not found, which tinygltf only warns of.
 struct buffer_files {
     std::set<std::string> paths;
 };
@@ -561,7 +561,7 @@ bool buffer_file_exists(const std::string &path, void *files)
 bool skip_images(tinygltf::Image *, const int, std::string *, std::string *, int, int,
                  const unsigned char *, int, void *)
 {
-    return true;  // textures are ignored (DESIGN.md §4)
+    return true;  // textures are ignored (docs/design.md §4)
 }
 
 // An escaped NUL (\u0000) in the JSON text: cJSON and tinygltf would cut
@@ -834,7 +834,7 @@ void check_types(const cJSON *doc)
         cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "asset"), "minVersion"));
     if (min_version && strcmp(min_version, "2.0") != 0)
         fail(fmt("the scene needs glTF %.16s or later: shadowbench reads glTF 2.0", min_version));
-    // The scene's own text (DESIGN.md §4): strings when present.
+    // The scene's own text (docs/design.md §4): strings when present.
     const cJSON *meta = cJSON_GetObjectItemCaseSensitive(
         cJSON_GetObjectItemCaseSensitive(
             cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(doc, "scenes"),
@@ -1149,7 +1149,7 @@ extern "C" int scene_load(const char *path, struct scene *s)
         s->bounds_max = v3_max(s->bounds_max, p);
     }
 
-    // The cache key (DESIGN.md §6): the file's bytes plus everything it
+    // The cache key (docs/design.md §6): the file's bytes plus everything it
     // resolved to, so a changed external buffer is noticed too.
     uint64_t h = util_hash(UTIL_HASH_INIT, bytes, size);
     h = util_hash(h, s->positions, s->vertex_count * 3 * sizeof(float));

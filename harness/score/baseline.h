@@ -1,4 +1,4 @@
-/* A regression baseline (DESIGN.md §8; README, Regression check):
+/* A regression baseline (docs/design.md §8; docs/regression.md):
  * results/baselines/<scene>/<cell>.json and <cell>.png, the settings a cell
  * was rendered at, its metrics, a tolerance per metric and why, and its
  * V_tech as a 16-bit PNG. This module owns the format, the tolerance

@@ -1,4 +1,4 @@
-/* Where a technique breaks (`shadowbench stability --vary`; README, Stability):
+/* Where a technique breaks (`shadowbench stability --vary`; docs/stability.md):
  * one thing takes a list of values, and a value breaks a technique when
  * its V has any NaN/Inf or, against the reference value, its rmse is at
  * least BREAK_RULE_RMSE_FACTOR times as large and BREAK_RULE_RMSE_RISE

@@ -1,4 +1,4 @@
-/* The Pareto front of error against time (DESIGN.md §1, frontier): of a set
+/* The Pareto front of error against time (docs/design.md §1, frontier): of a set
  * of settings, those that no other is both faster and more accurate than.
  * The tuning's frontiers, the report's bold cells and the trade-off
  * charts' staircases are all this one rule. */

@@ -130,7 +130,7 @@ void metrics_compute(const float *v_tech, const struct gt_image *gt, const float
     r.leak_fraction = n ? (double)leak / scored_n : none;
     r.dark_fraction = n ? (double)dark / scored_n : none;
     /* (V_tech - V_gt_weighted) E over mean E: the shaded image's error
-     * relative to its mean brightness (DESIGN.md §7). */
+     * relative to its mean brightness (docs/design.md §7). */
     r.shaded_rmse = n && sum_e > 0 ? sqrt(shaded2 / n) / (sum_e / n) : none;
     r.nonfinite = nonfinite;
     r.scored_pixels = scored_n;

@@ -1,4 +1,4 @@
-/* Error metrics of DESIGN.md §7 (contract), over the scored mask, with
+/* Error metrics of docs/design.md §7 (contract), over the scored mask, with
  * e = V_tech - V_gt. A metric with nothing to score (no scored pixel, an
  * empty penumbra band) is NAN, written as null: unscored is not perfect. */
 #ifndef SB_METRICS_H
@@ -21,7 +21,7 @@
 #define METRICS_PENUMBRA_HI 0.98
 #define METRICS_PENUMBRA_DILATE 2
 
-/* leak_fraction's and dark_fraction's thresholds (DESIGN.md §7): light
+/* leak_fraction's and dark_fraction's thresholds (docs/design.md §7): light
  * leaking is V_tech above LEAK_TECH where V_gt is below LEAK_GT (the true
  * umbra); over-darkening (acne) is V_tech below DARK_TECH where V_gt is
  * above DARK_GT. Plain literals: the help text spells them (UTIL_STR). */
@@ -33,7 +33,7 @@
 /* Every metric of a cell, once (STYLE.md item 6a): X(key, C type, printf
  * format for the report, shown in the report's matrix table, help). struct
  * metrics, metrics.json, matrix.csv/json and the report's columns come from
- * this list, in this order; test_metrics checks the README's metric table
+ * this list, in this order; test_metrics checks docs/metrics.md's metric table
  * against it. */
 #define METRICS(X)                                                                              \
     X(rmse, double, "%.4f", true, "root-mean-square error")                                     \

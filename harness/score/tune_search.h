@@ -1,4 +1,4 @@
-/* The search behind `shadowbench tune` (README, Tuning), apart from GL so
+/* The search behind `shadowbench tune` (docs/tuning.md), apart from GL so
  * that it can be tested on a synthetic objective. A point is one value
  * index per tuned parameter; a cell is a point on one scene, evaluated at
  * most once (the memo) and shared by every search that asks for it.

@@ -1,4 +1,4 @@
-/* Tuned settings: results/tuned/<technique>.json (DESIGN.md §8), written by
+/* Tuned settings: results/tuned/<technique>.json (docs/design.md §8), written by
  * `shadowbench tune --write-tuned`, read by run (the <technique>@tuned
  * cells), check (their baselines) and the report (the frontier chart).
  *

@@ -1,6 +1,6 @@
 /* Which geometry can hide the light from a shadow-ray origin, found
  * exactly, so that the ground truth decides most light samples without a
- * ray (DESIGN.md §6: V_gt is the ray-traced answer; this only skips rays
+ * ray (docs/design.md §6: V_gt is the ray-traced answer; this only skips rays
  * whose answer is certain).
  *
  * From an origin o every light sample lies in the pyramid with apex o over

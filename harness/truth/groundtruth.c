@@ -1,4 +1,4 @@
-/* Ground truth with Embree 3 (DESIGN.md §6).
+/* Ground truth with Embree 3 (docs/design.md §6).
  *
  * Primary rays through pixel centres; at the hit p, geometric normal n
  * flipped towards the camera; N = n*n stratified light samples, jittered per
@@ -496,7 +496,7 @@ double gt_noise_floor(const float *noise, const float *mask, size_t count)
     return n ? sqrt(sum / (double)n) : NAN;
 }
 
-/* The cache key (DESIGN.md §6) in words: what the entry's pixels depend
+/* The cache key (docs/design.md §6) in words: what the entry's pixels depend
  * on. Its hash names the file; the entry also records the words, so a file
  * copied over another entry is refused rather than used. */
 static char *cache_key(const struct scene *s, const struct light_frustum *f, const struct gt_desc *d)

@@ -1,4 +1,4 @@
-/* The ground truth (DESIGN.md §6, contract): at each camera-ray hit p, the
+/* The ground truth (docs/design.md §6, contract): at each camera-ray hit p, the
  * fraction of the area light above p's tangent plane that other geometry
  * does not hide, ray traced with Embree 3. The receiver's own horizon is
  * shading's business (N.L, the area-light integral), not shadowing's, so it
@@ -37,7 +37,7 @@ struct gt_desc {
 };
 
 /* A scored pixel sees at least this fraction of the light above its
- * tangent plane: enough samples for a stable ratio (DESIGN.md §6). */
+ * tangent plane: enough samples for a stable ratio (docs/design.md §6). */
 #define GT_MIN_H 0.05f
 
 struct gt_image {
@@ -80,7 +80,7 @@ void gt_image_free(struct gt_image *g);
 /* Releases the process's Embree device (made by the first gt_render). */
 void gt_shutdown(void);
 
-/* The noise floor (DESIGN.md §6): the rms error of V over mask (1 =
+/* The noise floor (docs/design.md §6): the rms error of V over mask (1 =
  * counted), estimated as the rms of gt_image.noise; NAN over an empty mask. */
 double gt_noise_floor(const float *noise, const float *mask, size_t count);
 

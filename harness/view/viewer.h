@@ -1,4 +1,4 @@
-/* The interactive viewer (`shadowbench view`; README, The viewer): one scene
+/* The interactive viewer (`shadowbench view`; docs/viewer.md): one scene
  * in a GLFW window, shaded by a technique's V_tech; keys switch the
  * technique, the view (shaded, V_tech, V_gt, signed error, E) and a split
  * screen of two techniques, move the light and the camera and step the

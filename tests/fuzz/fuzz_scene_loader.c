@@ -1,4 +1,4 @@
-/* libFuzzer target for the scene loader (README, Tests: fuzzing): each
+/* libFuzzer target for the scene loader (docs/tests.md, fuzzing): each
  * input is written to a file (.glb when it starts with "glTF", else
  * .gltf) and loaded; ASan and UBSan watch. The loader must return an error
  * or a scene, never crash, hang or leak. Built only by -DSB_FUZZ=ON with
