@@ -93,6 +93,21 @@ static void palette(void)
             if (b == a + 8)
                 CHECK(x.marker != y.marker, "techniques %d and %d: one colour and one marker", a, b);
         }
+    /* And as drawn: a chart of that many techniques has as many legend
+     * styles, none twice. */
+    struct chart_item items[CHART_DISTINCT_STYLES];
+    double values[CHART_DISTINCT_STYLES];
+    char names[CHART_DISTINCT_STYLES][8];
+    for (int g = 0; g < CHART_DISTINCT_STYLES; g++) {
+        snprintf(names[g], sizeof names[g], "t%d", g);
+        items[g] = (struct chart_item){names[g], names[g], g};
+        values[g] = g + 1;
+    }
+    const struct chart_series bars = {"rmse", "visibility", values, NULL, NULL, NULL, NAN};
+    struct strbuf svg = {0};
+    chart_bars_svg(&svg, "palette", "every style", items, CHART_DISTINCT_STYLES, &bars, 1);
+    CHECK(distinct_legend(svg.data, "the 24-technique chart") == CHART_DISTINCT_STYLES, "a legend entry per technique");
+    strbuf_free(&svg);
 }
 
 /* A scene whose file name and description are HTML: the report shows them

@@ -195,6 +195,59 @@ static void command(void)
     cJSON_Delete(m);
     free(metrics);
 
+    /* --settings auto, run's default: the tuned cell where a technique has a
+     * tuned file (hard), its default cell where it has none (pcf); with a
+     * --set, every technique's default cells. */
+    const char *const auto_cases[][3] = {{"", "hard@tuned", "pcf"}, {"--set pcf.radius_texels=3", "hard", "pcf"}};
+    for (size_t k = 0; k < ARRAY_SIZE(auto_cases); k++) {
+        cmd = util_printf("%s run --technique hard,pcf --scene parallel_planes %s --width 32 --height 32 "
+                          "--gt-samples 4 --frames 1 --no-cache -q --tuned %s/tuned --out %s/auto%zu", sb,
+                          auto_cases[k][0], dir, dir, k);
+        CHECK(run_cmd(cmd, NULL, NULL) == 0, "%s", cmd);
+        free(cmd);
+        char *matrix = util_printf("%s/auto%zu/matrix.json", dir, k);
+        cJSON *mj = read_json(matrix), *cells = mj ? cJSON_GetObjectItem(mj, "cells") : NULL;
+        CHECK(cJSON_GetArraySize(cells) == 2 &&
+                  strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(cJSON_GetArrayItem(cells, 0), "cell")),
+                         auto_cases[k][1]) == 0 &&
+                  strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(cJSON_GetArrayItem(cells, 1), "cell")),
+                         auto_cases[k][2]) == 0,
+              "run %s: the cells are not %s and %s", auto_cases[k][0], auto_cases[k][1], auto_cases[k][2]);
+        cJSON_Delete(mj);
+        free(matrix);
+    }
+
+    /* A run larger than the committed benchmark's main job says how long it
+     * will take before it starts: on the line through the benchmark's two
+     * runs (1 cell in 1 s, 3 in 5 s: 2 cells, 3 s), only at its settings and
+     * on its renderer; a broken file says nothing and changes nothing. */
+    char *run_json = util_printf("%s/auto0/run.json", dir), *est = util_printf("%s/est/results/bench", dir);
+    cJSON *rj = read_json(run_json);
+    const char *renderer = cJSON_GetStringValue(cJSON_GetObjectItem(rj, "gl_renderer"));
+    CHECK(renderer && util_mkdirs(est) == 0, "a renderer in %s", run_json);
+    const char *const benches[] = {"{\"device\": {\"cpu\": \"CPU X\", \"gl_renderer\": \"%s\"}, \"settings\": "
+                                   "{\"width\": 32, \"height\": 32, \"gt_samples\": 4, \"shadow_map_size\": 1024, "
+                                   "\"frames\": 1, \"warmup_frames\": 0}, \"main_job\": {\"cells\": 1, "
+                                   "\"warm_median_seconds\": 1}, \"full_run\": {\"cells\": 3, \"warm_seconds\": 5}}",
+                                   "{\"device\": {\"gl_renderer\": \"%s\"}, \"main_job\": {\"cells\": \"1\"}, [",
+                                   "{\"device\": {\"gl_renderer\": \"%s\"}, \"settings\": {\"width\": 32}, "
+                                   "\"main_job\": {\"cells\": -1e308, \"warm_median_seconds\": 1e308}}"};
+    for (size_t k = 0; k < ARRAY_SIZE(benches) && renderer; k++) {
+        char *file = util_printf("%s/main_job.json", est), *text = util_printf(benches[k], renderer);
+        CHECK(util_write_file_atomic(file, text, strlen(text)) == 0, "writing %s", file);
+        cmd = util_printf("cd %s/est && %s run --technique hard,pcf --scene parallel_planes --settings default "
+                          "--width 32 --height 32 --gt-samples 4 --frames 1 --no-cache --tuned %s/tuned --out "
+                          "%s/est/run", dir, sb, dir, dir);
+        struct strbuf err = {0};
+        CHECK(run_cmd(cmd, &err, NULL) == 0, "%s: %s", cmd, err.data);
+        const bool said = strstr(err.data, "run: 2 cells: about 3 s on CPU X") != NULL;
+        CHECK(k == 0 ? said : !strstr(err.data, "about"), "benchmark %zu: %s", k, err.data);
+        strbuf_free(&err);
+        free(cmd), free(file), free(text);
+    }
+    cJSON_Delete(rj);
+    free(run_json), free(est);
+
     /* Stale and out-of-range files: one line naming the file, exit 2. */
     const cJSON *settings = cJSON_GetObjectItem(j, "settings");
     cJSON *slope = cJSON_DetachItemFromObject((cJSON *)settings, "slope_bias");

@@ -250,8 +250,8 @@ const struct option_row option_rows[] = {
     {"settings", 0, "auto|tuned|default|both", ON(RUN), OPTION_NONE, 0, 0, 0, set_settings_mode,
      "which cells of each technique: T@tuned, the settings --tuned DIR/T.json holds for each scene, chosen by "
      "'shadowbench tune' on the other scenes (a scene it did not see gets the setting chosen on all); T at its "
-     "defaults (with --set, --sweep); or both. auto (default): T@tuned, or T's default cells when --set or "
-     "--sweep is given or T has no tuned file"},
+     "defaults (with --set, --sweep); or both. auto (default): T@tuned, or T's default cells when T has no "
+     "tuned file or when any --set or --sweep is given (then every technique's)"},
     {"tuned", 0, "DIR", ON(RUN) | ON(CHECK) | ON(TUNE), OPTION_FOLDER, FIELD(tuned_dir), 0, 0, set_tuned,
      "where the tuned settings are (default {D})"},
     {"width", 0, "W", (RENDERING & ~ON(CHECK)) | ON(GT), OPTION_INT, FIELD(width), RECEIVER_MIN_SIZE, RECEIVER_MAX_SIZE, NULL,

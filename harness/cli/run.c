@@ -14,6 +14,7 @@
 #include "pipeline/configs.h"
 
 #include <cjson/cJSON.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -147,37 +148,48 @@ static int judge(const struct run *r)
 
 /* A run larger than the main job says, before it starts, how long it will
  * take at the pace of the committed benchmark (tools/bench-main:
- * results/bench/main_job.json, and results/main/run.json for the settings
- * it ran at), when this run's settings are the same: cells x the main
- * job's warm seconds per cell. Nothing when either file is missing. */
+ * results/bench/main_job.json, in the current folder or the source tree),
+ * when it runs at the benchmark's settings on its renderer: the line
+ * through the benchmark's two warm runs (the main job and run --settings
+ * both) at this run's cell count. Nothing when the file is missing or
+ * does not fit. */
 #define MAIN_JOB_BENCH "results/bench/main_job.json"
-#define MAIN_JOB_RUN "results/main/run.json"
 static void say_estimate(const struct options *o, int cells)
 {
-    char *bench_text = NULL, *run_text = NULL;
+    char *text = NULL, *source = xstrdup(MAIN_JOB_BENCH);
     size_t size;
-    if (util_read_file(MAIN_JOB_BENCH, &bench_text, &size) != 0 || util_read_file(MAIN_JOB_RUN, &run_text, &size) != 0) {
-        free(bench_text);
-        return;
+    if (util_read_file(source, &text, &size) != 0) {
+        free(source);
+        source = util_printf("%s/%s", SB_SOURCE_DIR, MAIN_JOB_BENCH);
+        if (util_read_file(source, &text, &size) != 0) {
+            free(source);
+            return;
+        }
     }
-    cJSON *bench = cJSON_Parse(bench_text), *run = cJSON_Parse(run_text);
-    const cJSON *main_job = cJSON_GetObjectItem(bench, "main_job"), *device = cJSON_GetObjectItem(bench, "device");
-    const double main_cells = cJSON_GetNumberValue(cJSON_GetObjectItem(main_job, "cells")),
-                 seconds = cJSON_GetNumberValue(cJSON_GetObjectItem(main_job, "warm_median_seconds"));
+    cJSON *bench = cJSON_Parse(text);
+    const cJSON *main_job = cJSON_GetObjectItem(bench, "main_job"), *full = cJSON_GetObjectItem(bench, "full_run"),
+                *device = cJSON_GetObjectItem(bench, "device"), *settings = cJSON_GetObjectItem(bench, "settings");
+    const double n0 = cJSON_GetNumberValue(cJSON_GetObjectItem(main_job, "cells")),
+                 t0 = cJSON_GetNumberValue(cJSON_GetObjectItem(main_job, "warm_median_seconds")),
+                 n1 = cJSON_GetNumberValue(cJSON_GetObjectItem(full, "cells")),
+                 t1 = cJSON_GetNumberValue(cJSON_GetObjectItem(full, "warm_seconds"));
+    const char *renderer = cJSON_GetStringValue(cJSON_GetObjectItem(device, "gl_renderer"));
+    const char *cpu = cJSON_GetStringValue(cJSON_GetObjectItem(device, "cpu"));
     const struct { const char *key; int value; } same[] = {
         {"width", o->width}, {"height", o->height}, {"gt_samples", o->gt_samples},
         {"shadow_map_size", o->shadow_map_size}, {"frames", o->frames}, {"warmup_frames", o->warmup}};
-    bool comparable = main_cells >= 1 && seconds > 0 && cells > main_cells;
-    for (size_t i = 0; i < ARRAY_SIZE(same) && comparable; i++)
-        comparable = cJSON_GetNumberValue(cJSON_GetObjectItem(run, same[i].key)) == same[i].value;
-    const char *cpu = cJSON_GetStringValue(cJSON_GetObjectItem(device, "cpu"));
-    if (comparable)
-        log_info("run: %d cells, %.1fx the main job's %.0f: about %.0f s on %s with %d cores (%s: the main job's "
-                 "median, %.1f s warm), and more for ground truth not yet cached",
-                 cells, cells / main_cells, main_cells, seconds * cells / main_cells, cpu ? cpu : "its machine",
-                 (int)cJSON_GetNumberValue(cJSON_GetObjectItem(device, "cores")), MAIN_JOB_BENCH, seconds);
-    cJSON_Delete(bench), cJSON_Delete(run);
-    free(bench_text), free(run_text);
+    /* Whole cell counts and times of a benchmark (0.1 s to 11 days): a file
+     * of another shape says nothing; the comparisons also refuse NaN. */
+    bool fits = n0 >= 1 && n1 > n0 && n1 <= 1e6 && n0 == floor(n0) && n1 == floor(n1) && t0 >= 0.1 && t1 >= t0 &&
+                t1 <= 1e6 && cells > n0 && renderer && strcmp(renderer, gl_context_renderer()) == 0;
+    for (size_t i = 0; i < ARRAY_SIZE(same) && fits; i++)
+        fits = cJSON_GetNumberValue(cJSON_GetObjectItem(settings, same[i].key)) == same[i].value;
+    if (fits)
+        log_info("run: %d cells: about %.0f s on %s (%s: the main job's %.0f cells in %.1f s, and %.0f in %.1f s, "
+                 "warm), more for ground truth not yet cached", cells, t0 + (t1 - t0) * (cells - n0) / (n1 - n0),
+                 cpu ? cpu : "its machine", source, n0, t0, n1, t1);
+    cJSON_Delete(bench);
+    free(text), free(source);
 }
 
 int run_main(const struct options *o)

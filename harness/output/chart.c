@@ -27,9 +27,9 @@ struct chart_style chart_style(int group)
 
 static const char *colour(int group) { return chart_style(group).colour; }
 
-/* The group's marker at (x, y), radius r, filled with fill (NULL: its
- * colour), outlined in stroke; title_open leaves the element open for a
- * <title> (closed by marker_end). */
+/* Opens the group's marker at (x, y), radius r, filled with fill (NULL:
+ * its colour), outlined in stroke, of SVG class class_name; the element is
+ * left open for a <title>, closed by marker_end. */
 static void marker_begin(struct strbuf *o, int group, double x, double y, double r, const char *fill,
                          const char *stroke, const char *class_name)
 {
@@ -271,14 +271,17 @@ void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
         const double slot = (double)w / n, bw = fmin(0.7 * slot, 40);
         for (int i = 0; i < n; i++) {
             double v = drawable(s->values[i]), bh = v / max * h, cx = x0 + (i + 0.5) * slot;
-            if (isnan(s->values[i]))  /* nothing scored: say so, never a bar of 0 */
+            if (isnan(s->values[i]))  /* no value (unscored, or no pixel of its kind): said, never a bar of 0 */
                 strbuf_printf(out, "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\" font-size=\"10\" "
-                                   "fill=\"#a00\">unscored</text>\n", cx, y0 + h - 3);
+                                   "fill=\"#a00\">none</text>\n", cx, y0 + h - 3);
             strbuf_printf(out, "<rect class=\"bar\" x=\"%.1f\" y=\"%.1f\" width=\"%.1f\" height=\"%.1f\" "
                                "fill=\"%s\"><title>", cx - bw / 2, y0 + h - bh, bw, bh,
                           colour(items[i].group));
             strbuf_xml(out, items[i].label);
-            strbuf_printf(out, ": %s %.4g</title></rect>\n", s->name, s->values[i]);
+            if (isnan(s->values[i]))
+                strbuf_printf(out, ": no %s (unscored, or no pixel it measures)</title></rect>\n", s->name);
+            else
+                strbuf_printf(out, ": %s %.4g</title></rect>\n", s->name, s->values[i]);
             if (!isnan(s->values[i])) {  /* its technique's marker at the bar's foot: colours repeat */
                 marker_begin(out, items[i].group, cx, y0 + h - 6, 3.5, "white", colour(items[i].group), "bar-marker");
                 marker_end(out);
@@ -459,7 +462,7 @@ void chart_frontier_svg(struct strbuf *out, const char *title, const char *subti
             strbuf_printf(out, ": %.4g at %.3g ms</title>", k->y[i], k->x[i]);
             marker_end(out);
         }
-        if (isfinite(k->default_x) && k->default_x > 0 && isfinite(k->default_y)) {  /* a ring: no marker's shape */
+        if (isfinite(k->default_x) && k->default_x > 0 && isfinite(k->default_y)) {  /* a ring, larger than any marker and hollow */
             strbuf_printf(out, "<circle class=\"default\" cx=\"%.1f\" cy=\"%.1f\" r=\"8\" fill=\"none\" "
                                "stroke=\"%s\" stroke-width=\"2\"><title>", FX(k->default_x), FY(k->default_y), col);
             strbuf_xml(out, k->item.label);

@@ -49,7 +49,8 @@ void chart_tradeoff_svg(struct strbuf *out, const char *title, const char *subti
                         const struct chart_series *errors, int error_count);
 
 /* Bar panels in a grid of two columns, one per series, a bar per item; a
- * NAN value is written "unscored" instead of a bar. */
+ * NAN value (unscored, or no pixel the metric measures) is written "none"
+ * instead of a bar. */
 void chart_bars_svg(struct strbuf *out, const char *title, const char *subtitle,
                     const struct chart_item *items, int n, const struct chart_series *series,
                     int series_count);

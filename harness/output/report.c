@@ -201,6 +201,43 @@ static int scene_charts(const struct report *r, const char *scene, const char *d
     return rc ? -1 : 0;
 }
 
+/* A configuration (a cell label) over every scene of the run: its mean
+ * rmse and ms_total, and its mean penumbra_rmse over the scenes that have
+ * a penumbra band (NAN with none); complete when every scene scored it. */
+struct config_mean {
+    const struct cell *first;
+    double ms, q1, q3, pen, rmse;
+    int n, pen_n;
+    bool complete;
+};
+
+static int config_means(const struct report *r, struct config_mean *out)
+{
+    int n = 0;
+    for (int i = 0; i < r->cell_count; i++) {
+        const struct cell *c = &r->cells[i];
+        int k = 0;
+        while (k < n && strcmp(out[k].first->label, c->label) != 0)
+            k++;
+        if (k == n)
+            out[n++] = (struct config_mean){.first = c, .complete = true};
+        struct config_mean *m = &out[k];
+        m->complete &= metrics_scored(&c->m) && !c->m.nonfinite;
+        m->ms += c->m.ms_total, m->q1 += c->m.ms_total_q1, m->q3 += c->m.ms_total_q3;
+        if (isfinite(c->m.penumbra_rmse))  /* none: the scene has no penumbra band */
+            m->pen += c->m.penumbra_rmse, m->pen_n++;
+        m->rmse += c->m.rmse;
+        m->n++;
+    }
+    for (int k = 0; k < n; k++) {
+        struct config_mean *m = &out[k];
+        m->complete &= m->n == r->scene_count;
+        m->ms /= m->n, m->q1 /= m->n, m->q3 /= m->n, m->rmse /= m->n;
+        m->pen = m->pen_n ? m->pen / m->pen_n : NAN;
+    }
+    return n;
+}
+
 /* Over all scenes: each configuration's (by label, first-seen order) mean
  * error and mean time; a configuration with an unscored cell has no mean
  * error (NAN: left out of the chart). */
@@ -208,21 +245,13 @@ static int overall_chart(const struct report *r, const char *device, struct strb
 {
     struct chart_points p;
     points_alloc(&p, r->cell_count);
-    for (int i = 0; i < r->cell_count; i++) {
-        const struct cell *c = &r->cells[i];
-        int k = 0;
-        while (k < p.n && strcmp(p.items[k].label, c->label) != 0)
-            k++;
-        if (k == p.n)
-            p.items[p.n++] = item_of(c);
-        p.ms[k] += c->m.ms_total, p.q1[k] += c->m.ms_total_q1, p.q3[k] += c->m.ms_total_q3;
-        p.rmse[k] += c->m.rmse, p.pen[k] += c->m.penumbra_rmse;
-        p.count[k]++;
-    }
+    struct config_mean *m = xcalloc((size_t)r->cell_count + 1, sizeof *m);
+    p.n = config_means(r, m);
     for (int k = 0; k < p.n; k++) {
-        p.ms[k] /= p.count[k], p.q1[k] /= p.count[k], p.q3[k] /= p.count[k];
-        p.rmse[k] /= p.count[k], p.pen[k] /= p.count[k];
+        p.items[k] = item_of(m[k].first);
+        p.ms[k] = m[k].ms, p.q1[k] = m[k].q1, p.q3[k] = m[k].q3, p.rmse[k] = m[k].rmse, p.pen[k] = m[k].pen;
     }
+    free(m);
     const struct chart_series time = {"mean ms_total", "ms", p.ms, p.q1, p.q3, NULL, NAN};
     const struct chart_series errors[] = {{"mean rmse", "visibility", p.rmse, NULL, NULL, NULL, NAN},
                                           {"mean penumbra_rmse", "visibility", p.pen, NULL, NULL, NULL, NAN}};
@@ -265,7 +294,8 @@ const char report_style[] =
     "text-align:right;white-space:nowrap}th{background:#eee;cursor:pointer;user-select:none}"
     "th.asc::after{content:' \\25B2'}th.desc::after{content:' \\25BC'}td.l{text-align:left}"
     "td.p{text-align:left;font-size:11px;color:#555}.scroll{overflow-x:auto}\n"
-    "tr.fail td,tr.unscored td{background:#fdd}tr.front td.c{font-weight:bold}td.none{color:#a00}\n"
+    "p.warn{background:#fdd;padding:4px 8px}tr.fail td,tr.unscored td{background:#fdd}"
+    "tr.front td.c{font-weight:bold}td.none{color:#a00}\n"
     ".grid{display:flex;flex-wrap:wrap;gap:10px}.grid figure{margin:0;width:220px}"
     ".grid img{display:block;width:220px;image-rendering:pixelated}"
     ".grid figure>img,.crop{outline:1px solid #bbb;margin-bottom:4px}"
@@ -291,7 +321,9 @@ static const char script[] =
     "const q=new URLSearchParams(location.hash.slice(1)),m=(q.get('sort')||'').match(/^(-?)([a-z_]+)$/);\n"
     "if(m)sort(m[2],m[1]==='-');\n"
     "const fs=document.getElementById('filter-scene'),ft=document.getElementById('filter-technique');\n"
-    "fs.value=q.get('scene')||'';ft.value=q.get('technique')||'';\n"
+    "function pick(sel,v){if(!v)return;\n"  /* a value no cell has stays asked for: no rows, said */
+    " if(![...sel.options].some(o=>o.value===v))sel.add(new Option(v+' (no such cells)',v));sel.value=v;}\n"
+    "pick(fs,q.get('scene'));pick(ft,q.get('technique'));\n"
     "function filter(){let n=0;for(const r of b.rows){\n"
     " const show=(!fs.value||r.dataset.scene===fs.value)&&(!ft.value||r.dataset.technique===ft.value);\n"
     " r.hidden=!show;n+=show;}\n"
@@ -449,11 +481,15 @@ static void scene_grid(const struct report *r, const struct report_scene *sc, st
         picture(h, sc->name, c->label, cell_files[CELL_HEATMAP_PNG], "error heatmap");
         strbuf_printf(h, "</div><figcaption><b>");
         strbuf_xml(h, c->label);
-        if (metrics_scored(&c->m))
-            strbuf_printf(h, "</b><br>rmse %.4f, penumbra %.4f<br>shaded %.4f, leak %.4f, dark %.4f"
-                             "<br>%.2f ms (%.2f&ndash;%.2f)</figcaption></figure>\n", c->m.rmse,
-                          c->m.penumbra_rmse, c->m.shaded_rmse, c->m.leak_fraction, c->m.dark_fraction,
-                          c->m.ms_total, c->m.ms_total_q1, c->m.ms_total_q3);
+        if (metrics_scored(&c->m)) {
+            char pen[16] = "&mdash;";  /* no penumbra band in this scene */
+            if (isfinite(c->m.penumbra_rmse))
+                snprintf(pen, sizeof pen, "%.4f", c->m.penumbra_rmse);
+            strbuf_printf(h, "</b><br>rmse %.4f, penumbra %s<br>shaded %.4f, leak %.4f, dark %.4f"
+                             "<br>%.2f ms (%.2f&ndash;%.2f)</figcaption></figure>\n", c->m.rmse, pen,
+                          c->m.shaded_rmse, c->m.leak_fraction, c->m.dark_fraction, c->m.ms_total, c->m.ms_total_q1,
+                          c->m.ms_total_q3);
+        }
         else
             strbuf_printf(h, "</b><br>unscored: no pixel to score<br>%.2f ms</figcaption></figure>\n",
                           c->m.ms_total);
@@ -463,38 +499,10 @@ static void scene_grid(const struct report *r, const struct report_scene *sc, st
 
 /* ---- the summary: what a reader takes in first ------------------------- */
 
-/* A configuration (a cell label) over every scene of the run: its mean
- * penumbra_rmse, rmse and ms_total; complete when every scene scored it. */
-struct config_mean {
-    const struct cell *first;
-    double ms, q1, q3, pen, rmse;
-    int n;
-    bool complete;
-};
-
-static int config_means(const struct report *r, struct config_mean *out)
-{
-    int n = 0;
-    for (int i = 0; i < r->cell_count; i++) {
-        const struct cell *c = &r->cells[i];
-        int k = 0;
-        while (k < n && strcmp(out[k].first->label, c->label) != 0)
-            k++;
-        if (k == n)
-            out[n++] = (struct config_mean){.first = c, .complete = true};
-        struct config_mean *m = &out[k];
-        m->complete &= metrics_scored(&c->m) && !c->m.nonfinite;
-        m->ms += c->m.ms_total, m->q1 += c->m.ms_total_q1, m->q3 += c->m.ms_total_q3;
-        m->pen += c->m.penumbra_rmse, m->rmse += c->m.rmse;
-        m->n++;
-    }
-    for (int k = 0; k < n; k++) {
-        struct config_mean *m = &out[k];
-        m->complete &= m->n == r->scene_count;
-        m->ms /= m->n, m->q1 /= m->n, m->q3 /= m->n, m->pen /= m->n, m->rmse /= m->n;
-    }
-    return n;
-}
+/* A configuration the budget table can rank: scored on every scene, with
+ * a finite mean time and a mean penumbra_rmse (no scene with a penumbra
+ * band: none). */
+static bool ranked(const struct config_mean *m) { return m->complete && isfinite(m->ms) && isfinite(m->pen); }
 
 /* For each budget of a 1-2-5 series (ms per frame) from the fastest
  * configuration's mean time to the slowest's, the configuration with the
@@ -507,7 +515,7 @@ static void budget_table(const struct report *r, const char *device, struct strb
     double lo = INFINITY, hi = 0;
     int left_out = 0;
     for (int k = 0; k < n; k++)
-        if (m[k].complete && isfinite(m[k].ms) && isfinite(m[k].pen))
+        if (ranked(&m[k]))
             lo = fmin(lo, m[k].ms), hi = fmax(hi, m[k].ms);
         else
             left_out++;
@@ -521,7 +529,7 @@ static void budget_table(const struct report *r, const char *device, struct strb
             const double budget = decade * (double[]){1, 2, 5}[step];
             int best = -1;
             for (int k = 0; k < n; k++)
-                if (m[k].complete && m[k].ms <= budget && (best < 0 || m[k].pen < m[best].pen))
+                if (ranked(&m[k]) && m[k].ms <= budget && (best < 0 || m[k].pen < m[best].pen))
                     best = k;
             if (best < 0 || best == last)
                 continue;
@@ -531,7 +539,8 @@ static void budget_table(const struct report *r, const char *device, struct strb
             strbuf_printf(h, "</b></td><td>%.4f</td><td>%.4f</td><td>%.2f (%.2f&ndash;%.2f)</td></tr>\n", m[best].pen,
                           m[best].rmse, m[best].ms, m[best].q1, m[best].q3);
         }
-    strbuf_printf(h, "</tbody></table>\n<p>Means over the %d scene(s); times on ", r->scene_count);
+    strbuf_printf(h, "</tbody></table>\n<p>Means over the %d scene(s) (penumbra_rmse over those with a penumbra "
+                     "band); times on ", r->scene_count);
     strbuf_xml(h, device ? device : "an unknown device");
     strbuf_printf(h, "%s.", device && strstr(device, "llvmpipe") ? ", which rank techniques for this device only "
                                                                    "(fetches, not llvmpipe's milliseconds, carry "
@@ -661,7 +670,7 @@ static int write_html(const struct report *r)
         strbuf_xml(&h, r->scenes[s].name);
         strbuf_printf(&h, "</a>");
     }
-    strbuf_printf(&h, ". The full matrix is <a href=\"#matrix-title\">last</a>.</p>\n"
+    strbuf_printf(&h, ". The full matrix follows the scenes (<a href=\"#matrix-title\">matrix</a>).</p>\n"
                       "<h2 id=\"summary\">Summary: for a time budget, the least wrong</h2>\n");
     failed_cells(r, &h);
     budget_table(r, device, &h);

@@ -175,6 +175,14 @@ int configs_build(struct config_set *out, const struct config_desc *o)
     }
     for (int i = 0; i < count; i++)
         sweep_clear(&sweeps[i]);
+    bool any_tuned = false;
+    for (int i = 0; i < out->count; i++)
+        any_tuned |= out->configs[i].tuned != NULL;
+    if (!rc && o->mode == CONFIG_BOTH && !any_tuned) {  /* half of what was asked for */
+        log_error("--settings both: none of the techniques has tuned settings in %s (shadowbench tune "
+                  "--write-tuned makes them)", o->tuned_dir);
+        rc = -1;
+    }
     return rc;
 }
 
