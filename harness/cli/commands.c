@@ -65,7 +65,7 @@ const struct command_def commands[COMMAND_COUNT] = {
     [CMD_RUN] = {
         .name = "run", .main = run_main, .synopsis = "run [options]",
         .summary = "every scene x technique: render, score, write the report (the main job)",
-        .size = CLI_DEFAULT_SIZE, .frames = 3, .warmup = 0, .out = "results/runs/latest",
+        .size = CLI_DEFAULT_SIZE, .frames = 2, .warmup = 0, .out = "results/runs/latest",
         .about =
             "Renders every selected technique on every selected scene headless (OSMesa, or\n"
             "EGL with --gl egl), scores its visibility V_tech against the ray-traced ground\n"
