@@ -462,6 +462,16 @@ static void heatmap_legend(struct strbuf *h, int id)
                      "not scored</text></svg>", id, (double)PICTURE_ERROR_SCALE, (double)PICTURE_ERROR_SCALE);
 }
 
+/* A cell's visibility, and its heatmap without its own legend strip (the
+ * page shows one legend for all: they share a scale). */
+static void cell_pictures(const struct report *r, const struct cell *c, struct strbuf *h)
+{
+    picture(h, c->scene, c->label, cell_files[CELL_VISIBILITY_PNG], "visibility");
+    strbuf_printf(h, "<div class=\"crop\" style=\"aspect-ratio:%d/%d\">", r->width, r->height);
+    picture(h, c->scene, c->label, cell_files[CELL_HEATMAP_PNG], "error heatmap");
+    strbuf_printf(h, "</div>");
+}
+
 static void scene_grid(const struct report *r, const struct report_scene *sc, struct strbuf *h)
 {
     strbuf_printf(h, "<div class=\"grid\">\n<figure>");
@@ -475,11 +485,8 @@ static void scene_grid(const struct report *r, const struct report_scene *sc, st
         if (strcmp(c->scene, sc->name) != 0)
             continue;
         strbuf_printf(h, "<figure>");
-        picture(h, sc->name, c->label, cell_files[CELL_VISIBILITY_PNG], "visibility");
-        /* The heatmap without its own legend strip: the grid shares one. */
-        strbuf_printf(h, "<div class=\"crop\" style=\"aspect-ratio:%d/%d\">", r->width, r->height);
-        picture(h, sc->name, c->label, cell_files[CELL_HEATMAP_PNG], "error heatmap");
-        strbuf_printf(h, "</div><figcaption><b>");
+        cell_pictures(r, c, h);
+        strbuf_printf(h, "<figcaption><b>");
         strbuf_xml(h, c->label);
         if (metrics_scored(&c->m)) {
             char pen[16] = "&mdash;";  /* no penumbra band in this scene */
@@ -582,10 +589,8 @@ static void worst_cells(const struct report *r, int metric, const char *what, st
     for (int j = 0; j < n; j++) {
         const struct cell *c = &r->cells[shown[j]];
         strbuf_printf(h, "<figure class=\"failure\">");
-        picture(h, c->scene, c->label, cell_files[CELL_VISIBILITY_PNG], "visibility");
-        strbuf_printf(h, "<div class=\"crop\" style=\"aspect-ratio:%d/%d\">", r->width, r->height);
-        picture(h, c->scene, c->label, cell_files[CELL_HEATMAP_PNG], "error heatmap");
-        strbuf_printf(h, "</div><figcaption><a href=\"#");
+        cell_pictures(r, c, h);
+        strbuf_printf(h, "<figcaption><a href=\"#");
         scene_anchor(h, c->scene);
         strbuf_printf(h, "\">");
         strbuf_xml(h, c->scene);
