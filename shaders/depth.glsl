@@ -4,13 +4,21 @@
 // (1 at near, 0 at far).
 #include "shadow_block.glsl"
 
+// The sun's map is orthographic (light_pos_world.w = 0: a direction): its
+// hardware depth is linear depth reversed, d_hw = 1 - d. An area light's
+// is perspective, d_hw = n (f - z) / (z (f - n)).
+bool sm_sun()
+{
+    return sm.light_pos_world.w == 0.0;
+}
+
 // Hardware depth -> planar depth in world units. `precise` here and below:
 // no fused multiply-adds, so the CPU reproduces it bit for bit
 // (tests/test_sat.c).
 float sm_planar_depth(float d_hw)
 {
     float n = sm.near_world, f = sm.far_world;
-    precise float z = n * f / (d_hw * (f - n) + n);
+    precise float z = sm_sun() ? n + (1.0 - d_hw) * (f - n) : n * f / (d_hw * (f - n) + n);
     return z;
 }
 
@@ -18,7 +26,7 @@ float sm_planar_depth(float d_hw)
 float sm_linear_depth(float d_hw)
 {
     float n = sm.near_world, f = sm.far_world;
-    precise float d = (sm_planar_depth(d_hw) - n) / (f - n);
+    precise float d = sm_sun() ? 1.0 - d_hw : (sm_planar_depth(d_hw) - n) / (f - n);
     return d;
 }
 
@@ -40,7 +48,7 @@ float sm_hw_depth(float d)
 {
     float n = sm.near_world, f = sm.far_world;
     float z = n + d * (f - n);
-    return n * (f - z) / (z * (f - n));
+    return sm_sun() ? 1.0 - d : n * (f - z) / (z * (f - n));
 }
 
 // Linear depth in [0, 1] -> planar depth in world units.

@@ -8,10 +8,19 @@
 // region is exact: the visible fraction is the unblocked share of it.
 #include "shadow_common.glsl"
 
+//
+// The sun (an orthographic map): the segments from the receiver run along
+// the cone of half-angle alpha, so at depth z_b they cover a disk of radius
+// (z_r - z_b) tan alpha round the receiver's uv, in world units: the
+// similar triangles taken in world space (light_size_uv is 2 tan alpha over
+// the window's width).
+
 // Half-extent (uv) of that region for a blocker at world depth z_b.
 vec2 sm_penumbra_half_uv(ShadowInput s, float z_b, float light_scale)
 {
     float z_r = s.depth_world;
+    if (sm_sun())
+        return 0.5 * light_scale * sm.light_size_uv * max(z_r - z_b, 0.0);
     return 0.5 * light_scale * sm.light_size_uv * sm.near_world * max(z_r - z_b, 0.0)
            / (max(z_b, sm.near_world) * z_r);
 }

@@ -14,11 +14,11 @@ struct SmSatTable {
 layout(std140, binding = SM_BINDING_BLOCK) uniform ShadowMapBlock {
     mat4 light_view_proj;     // world -> light clip, reversed Z in [0, 1]
     mat4 light_view;          // world -> light space (light looks along -Z)
-    vec4 light_pos_world;     // xyz: light centre
+    vec4 light_pos_world;     // w 1: xyz the area light's centre; w 0: xyz the direction to the sun
     vec4 light_dir_world;     // xyz: emit direction
-    vec2 light_size_uv;       // light size in shadow-map UV at the near plane
+    vec2 light_size_uv;       // light size in shadow-map UV at the near plane (the sun's: per world unit of depth)
     vec2 texel_size_uv;       // 1 / map size
-    vec2 near_window_world;   // frustum window at the near plane (world units)
+    vec2 near_window_world;   // frustum window at the near plane (world units; the sun's at every depth)
     float near_world;         // planar depth range of the geometry (world units)
     float far_world;
     float map_size_texels;

@@ -72,13 +72,15 @@ ShadowInput sm_make_input(vec3 p, vec3 n)
     s.uv = c.xy / c.w * 0.5 + 0.5;
     s.uv_dx = dFdx(s.uv);
     s.uv_dy = dFdy(s.uv);
-    s.depth_world = c.w;  // planar depth: clip w of a perspective projection
-    s.depth = (c.w - sm.near_world) / (sm.far_world - sm.near_world);
+    // planar depth: clip w of a perspective projection, -z in the sun's view
+    s.depth_world = sm_sun() ? -(sm.light_view * vec4(p, 1.0)).z : c.w;
+    s.depth = (s.depth_world - sm.near_world) / (sm.far_world - sm.near_world);
     s.depth_hw = c.z / c.w;
     s.depth_hw_gradient = sm_depth_gradient(s.uv, s.depth_hw);
-    s.cos_light = dot(n, normalize(sm.light_pos_world.xyz - p));
+    // to the light: homogeneous, the area light's centre or the sun's direction
+    s.cos_light = dot(n, normalize(sm.light_pos_world.xyz - p * sm.light_pos_world.w));
     float texel_world = max(sm.near_window_world.x, sm.near_window_world.y) * sm.texel_size_uv.x
-                        * c.w / sm.near_world;
+                        * (sm_sun() ? 1.0 : c.w / sm.near_world);
     float cos_t = clamp(s.cos_light, 0.0995, 1.0);
     float tan_t = sqrt(1.0 - cos_t * cos_t) / cos_t;
     s.texel_depth_slope = texel_world * tan_t / (sm.far_world - sm.near_world);
@@ -89,11 +91,12 @@ ShadowInput sm_make_input(vec3 p, vec3 n)
 // Inside the light frustum, and so covered by the map?
 bool sm_inside(ShadowInput s)
 {
-    return s.depth_world > 0.0 && all(greaterThanEqual(s.uv, vec2(0.0)))
+    return (s.depth_world > 0.0 || sm_sun()) && all(greaterThanEqual(s.uv, vec2(0.0)))
         && all(lessThanEqual(s.uv, vec2(1.0))) && s.depth >= 0.0 && s.depth <= 1.0;
 }
 
 // The receiver program is compiled per light shape: the harness defines
-// SM_LIGHT_SHAPE (SM_LIGHT_RECT or SM_LIGHT_DISK), so the choice of pattern
-// costs nothing per tap.
+// SM_LIGHT_SHAPE (SM_LIGHT_RECT, SM_LIGHT_DISK or SM_LIGHT_SUN, whose cone
+// crosses a plane in a disk), so the choice of pattern costs nothing per
+// tap.
 const bool SM_RECT_LIGHT = SM_LIGHT_SHAPE == SM_LIGHT_RECT;

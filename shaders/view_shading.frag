@@ -8,7 +8,8 @@
 // to the tangent plane, then Lambert's formula
 //   E = 1/2 sum_i angle(r_i, r_i+1) * dot(n, normalize(cross(r_i, r_i+1)))
 // with r_i the vertices relative to the point, and the normal the ground
-// truth's (the geometric one, facing the camera).
+// truth's (the geometric one, facing the camera). The sun is a disk of
+// radius tan(alpha) at unit distance along its direction: the same cone.
 #include "shadow_common.glsl"
 
 in vec3 v_pos_world;
@@ -18,8 +19,9 @@ uniform vec3 u_camera_pos;
 
 uniform vec3 u_light_pos, u_light_x, u_light_y, u_light_z;
 uniform float u_light_half_width, u_light_half_height;  // rect
-uniform float u_light_radius;                           // disk
-uniform int u_light_disk;
+uniform float u_light_radius;                           // disk; the sun: tan(alpha)
+uniform int u_light_disk;                               // a disk or the sun
+uniform int u_light_sun;
 
 layout(location = 0) out float o_irradiance;
 
@@ -30,7 +32,8 @@ void main()
 {
     vec3 p = v_pos_world;
     vec3 n = sm_facing_normal(p, v_normal_world, u_camera_pos);
-    if (dot(p - u_light_pos, u_light_z) >= 0.0) {  // behind the light
+    vec3 light_pos = u_light_sun != 0 ? p + u_light_z : u_light_pos;
+    if (dot(p - light_pos, u_light_z) >= 0.0) {  // behind the light
         o_irradiance = 0.0;
         return;
     }
@@ -42,15 +45,15 @@ void main()
         float r = u_light_radius * sqrt(6.28318530718 / (DISK_SIDES * sin(6.28318530718 / DISK_SIDES)));
         for (int i = 0; i < DISK_SIDES; i++) {
             float a = 6.28318530718 * float(i) / DISK_SIDES;
-            poly[i] = u_light_pos + r * (cos(a) * u_light_x + sin(a) * u_light_y) - p;
+            poly[i] = light_pos + r * (cos(a) * u_light_x + sin(a) * u_light_y) - p;
         }
     } else {
         count = 4;
         vec3 x = u_light_half_width * u_light_x, y = u_light_half_height * u_light_y;
-        poly[0] = u_light_pos - x - y - p;
-        poly[1] = u_light_pos + x - y - p;
-        poly[2] = u_light_pos + x + y - p;
-        poly[3] = u_light_pos - x + y - p;
+        poly[0] = light_pos - x - y - p;
+        poly[1] = light_pos + x - y - p;
+        poly[2] = light_pos + x + y - p;
+        poly[3] = light_pos - x + y - p;
     }
     // clip to the tangent plane, dot(n, r) >= 0 (Sutherland-Hodgman)
     vec3 clipped[MAX_VERTS];

@@ -88,7 +88,10 @@ static void fill_block(struct shadowmap *sm, const struct scene *s)
     memset(b, 0, sizeof *b);
     memcpy(b->light_view_proj, f->view_proj.m, sizeof b->light_view_proj);
     memcpy(b->light_view, f->view.m, sizeof b->light_view);
-    memcpy(b->light_pos_world, &s->light.pos, sizeof(struct vec3));
+    /* homogeneous: the area light's centre (w 1), the sun's direction (w 0) */
+    const bool sun = s->light.shape == LIGHT_SUN;
+    memcpy(b->light_pos_world, sun ? &s->light.z : &s->light.pos, sizeof(struct vec3));
+    b->light_pos_world[3] = sun ? 0.0f : 1.0f;
     struct vec3 dir = v3_scale(s->light.z, -1.0f);
     memcpy(b->light_dir_world, &dir, sizeof dir);
     memcpy(b->light_size_uv, f->light_size_uv, sizeof b->light_size_uv);
@@ -490,7 +493,8 @@ void shadowmap_shader_defines(struct strbuf *out)
 
 static int fit(struct shadowmap *sm, const struct scene *s, const struct light_frustum *window)
 {
-    if ((window ? light_frustum_fit_window(s, window, &sm->frustum) : light_frustum_fit(s, &sm->frustum)) != 0)
+    if ((window ? light_frustum_fit_window(s, sm->desc.aspect, window, &sm->frustum)
+                : light_frustum_fit(s, sm->desc.aspect, &sm->frustum)) != 0)
         return -1;
     if (sm->desc.near_scale > 1)
         light_frustum_widen(&sm->frustum, s, sm->desc.near_scale);

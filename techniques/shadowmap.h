@@ -46,7 +46,7 @@ struct shadowmap_sat_block {
 struct shadowmap_block {
     float light_view_proj[16];
     float light_view[16];
-    float light_pos_world[4];     /* xyz: light centre */
+    float light_pos_world[4];     /* w 1: xyz the light centre; w 0: xyz the direction to the sun */
     float light_dir_world[4];     /* xyz: emit direction (the light's -Z) */
     float light_size_uv[2];       /* at the near plane */
     float texel_size_uv[2];       /* 1 / map size */
@@ -72,6 +72,8 @@ struct shadowmap_desc {
     int size_texels;   /* square map, [SHADOWMAP_MIN_SIZE, SHADOWMAP_MAX_SIZE] */
     float near_scale;  /* >= 1: the fitted near plane pulled in to near / near_scale
                           (light_frustum_widen); default 1 */
+    float aspect;      /* width / height of the images it serves (the sun's map is fitted to the
+                          camera's view); default 1 */
 };
 
 /* One product's GL objects: the product itself (a texture or a storage

@@ -338,6 +338,55 @@ static void case_text(const char *name, const char *from, const char *to, const 
     free(path);
 }
 
+/* The sun (KHR_lights_punctual, docs/design.md §4) at node `node` in place
+ * of the area light, its light `type` with extras.angular_diameter_deg
+ * `angle` (NULL: none). */
+static void put_sun(cJSON *g, int node, const char *type, cJSON *angle)
+{
+    static const char ext[] = "KHR_lights_punctual";
+    cJSON_DeleteItemFromObject(at(g, "nodes", 2), "extras");
+    if (!cJSON_GetObjectItem(g, "extensionsUsed"))
+        cJSON_AddItemToArray(cJSON_AddArrayToObject(g, "extensionsUsed"), cJSON_CreateString(ext));
+    cJSON *light = cJSON_CreateObject();
+    cJSON_AddStringToObject(light, "type", type);
+    if (!strcmp(type, "spot"))  /* glTF requires it of a spot light */
+        cJSON_AddObjectToObject(light, "spot");
+    if (angle)
+        cJSON_AddItemToObject(cJSON_AddObjectToObject(light, "extras"), "angular_diameter_deg", angle);
+    cJSON *root = cJSON_GetObjectItem(g, "extensions");
+    if (!root)
+        cJSON_AddItemToArray(cJSON_AddArrayToObject(cJSON_AddObjectToObject(cJSON_AddObjectToObject(g, "extensions"),
+                                                                            ext), "lights"), light);
+    else
+        cJSON_Delete(light);
+    cJSON_AddNumberToObject(cJSON_AddObjectToObject(cJSON_AddObjectToObject(at(g, "nodes", node), "extensions"), ext),
+                            "light", 0);
+}
+static void sun(cJSON *g) { put_sun(g, 2, "directional", cJSON_CreateNumber(0.53)); }
+static void sun_no_angle(cJSON *g) { put_sun(g, 2, "directional", NULL); }
+static void sun_zero(cJSON *g) { put_sun(g, 2, "directional", cJSON_CreateNumber(0)); }
+static void sun_negative(cJSON *g) { put_sun(g, 2, "directional", cJSON_CreateNumber(-1)); }
+static void sun_too_wide(cJSON *g) { put_sun(g, 2, "directional", cJSON_CreateNumber(30.5)); }
+static void sun_string(cJSON *g) { put_sun(g, 2, "directional", cJSON_CreateString("0.53")); }
+static void point_light(cJSON *g) { put_sun(g, 2, "point", NULL); }
+static void spot_light(cJSON *g) { put_sun(g, 2, "spot", NULL); }
+static void two_suns(cJSON *g)
+{
+    put_sun(g, 2, "directional", cJSON_CreateNumber(0.53));
+    put_sun(g, 1, "directional", NULL);  /* the same light again, at the camera's node */
+}
+static void sun_and_area(cJSON *g)
+{
+    cJSON *area = cJSON_Duplicate(cJSON_GetObjectItem(at(g, "nodes", 2), "extras"), 1);
+    put_sun(g, 1, "directional", cJSON_CreateNumber(0.53));
+    cJSON_AddItemToObject(at(g, "nodes", 2), "extras", area);
+}
+static void sun_unlisted(cJSON *g)
+{
+    sun(g);
+    cJSON_DeleteItemFromObject(g, "extensionsUsed");
+}
+
 static void cycle(cJSON *g)
 {
     cJSON_DeleteItemFromObject(g, "scenes");
@@ -391,7 +440,30 @@ int main(int argc, char **argv)
     case_mutated("no_camera", no_camera, "no camera: need a node with a perspective camera");
     case_mutated("orthographic", orthographic,
                  "camera 0 is orthographic: only perspective cameras are supported");
-    case_mutated("no_light", no_light, "no area light: need a node whose extras hold \"area_light\"");
+    case_mutated("no_light", no_light, "no light: need a node whose extras hold \"area_light\", or a "
+                                       "KHR_lights_punctual directional light (the sun)");
+    {   /* the sun in place of the area light loads */
+        char *path = scene_with("sun", sun);
+        char *load = util_printf("%s gt --scene %s --width 16 --height 16 --gt-samples 4 --no-cache -q "
+                                 "--out %s/out >/dev/null", shadowbench, path, dir);
+        CHECK(system(load) == 0, "a scene lit by the sun must load");
+        free(load), free(path);
+    }
+    case_mutated("sun_no_angle", sun_no_angle, "sun (node 2): light 0 has no extras.angular_diameter_deg (the sun's "
+                                               "angular diameter in degrees, e.g. 0.53)");
+    case_mutated("sun_zero", sun_zero, "sun (node 2): angular_diameter_deg must be in (0, 30], got 0");
+    case_mutated("sun_negative", sun_negative, "sun (node 2): angular_diameter_deg must be in (0, 30], got -1");
+    case_mutated("sun_too_wide", sun_too_wide, "sun (node 2): angular_diameter_deg must be in (0, 30], got 30.5");
+    case_mutated("sun_string", sun_string, "sun (node 2): angular_diameter_deg must be a number");
+    case_mutated("point_light", point_light, "light 0 (node 2) is a point light: shadowbench measures an area light "
+                                             "or the sun (a directional light)");
+    case_mutated("spot_light", spot_light, "light 0 (node 2) is a spot light: shadowbench measures an area light "
+                                           "or the sun (a directional light)");
+    case_mutated("two_suns", two_suns, "two suns (nodes 1 and 2): a scene has one light");
+    case_mutated("sun_and_area", sun_and_area, "two lights (an area light at node 2, a sun at node 1): a scene has "
+                                               "one light");
+    case_mutated("sun_unlisted", sun_unlisted, "the scene uses KHR_lights_punctual but does not list it in "
+                                               "extensionsUsed (glTF requires it)");
     case_mutated("no_triangles", no_triangles, "no triangles");
     case_mutated("lines", lines,
                  "mesh 0 primitive 0 has mode 1 (LINES): only TRIANGLES (4) is supported");

@@ -222,14 +222,28 @@ int gltf_write(const char *path, const struct mesh_builder *m, const struct gltf
     cJSON_AddStringToObject(n_cam, "name", "camera");
     cJSON_AddNumberToObject(n_cam, "camera", 0);
     cJSON_AddItemToObject(n_cam, "matrix", look_at_matrix(d->camera_pos, d->camera_target));
-    cJSON_AddStringToObject(n_light, "name", "area light");
+    cJSON_AddStringToObject(n_light, "name", d->sun_angular_diameter_deg > 0 ? "sun" : "area light");
     cJSON_AddItemToObject(n_light, "matrix", look_at_matrix(d->light_pos, d->light_target));
-    cJSON *al = cJSON_AddObjectToObject(cJSON_AddObjectToObject(n_light, "extras"), "area_light");
-    cJSON_AddStringToObject(al, "shape", light_shape_names[d->light_disk ? LIGHT_DISK : LIGHT_RECT]);
-    if (d->light_disk) {
-        cJSON_AddNumberToObject(al, "radius", d->light_radius);
+    if (d->sun_angular_diameter_deg > 0) {  /* glTF's own light, which three.js, Babylon.js and Blender read */
+        static const char ext[] = "KHR_lights_punctual";
+        cJSON_AddItemToArray(cJSON_AddArrayToObject(g, "extensionsUsed"), cJSON_CreateString(ext));
+        cJSON *sun = cJSON_CreateObject();
+        cJSON_AddStringToObject(sun, "name", "sun");
+        cJSON_AddStringToObject(sun, "type", "directional");
+        cJSON_AddNumberToObject(cJSON_AddObjectToObject(sun, "extras"), "angular_diameter_deg",
+                                d->sun_angular_diameter_deg);
+        cJSON *lights = cJSON_AddArrayToObject(cJSON_AddObjectToObject(cJSON_AddObjectToObject(g, "extensions"), ext),
+                                               "lights");
+        cJSON_AddItemToArray(lights, sun);
+        cJSON_AddNumberToObject(cJSON_AddObjectToObject(cJSON_AddObjectToObject(n_light, "extensions"), ext),
+                                "light", 0);
     } else {
-        cJSON_AddItemToObject(al, "size", cJSON_CreateFloatArray((const float[]){d->light_width, d->light_height}, 2));
+        cJSON *al = cJSON_AddObjectToObject(cJSON_AddObjectToObject(n_light, "extras"), "area_light");
+        cJSON_AddStringToObject(al, "shape", light_shape_names[d->light_disk ? LIGHT_DISK : LIGHT_RECT]);
+        if (d->light_disk)
+            cJSON_AddNumberToObject(al, "radius", d->light_radius);
+        else
+            cJSON_AddItemToObject(al, "size", cJSON_CreateFloatArray((const float[]){d->light_width, d->light_height}, 2));
     }
     cJSON_AddItemToArray(nodes, n_cam);
     cJSON_AddItemToArray(nodes, n_light);

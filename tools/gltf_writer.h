@@ -1,6 +1,6 @@
 /* Writes shadowbench scenes as glTF 2.0 with an embedded buffer: the
  * triangles as one node named "geometry", or one named node per part, a
- * perspective camera and an area light, each placed by a look-at. Used by tools/make_scenes.c (the shipped scenes) and by the tests
+ * perspective camera and an area light or the sun, each placed by a look-at. Used by tools/make_scenes.c (the shipped scenes) and by the tests
  * (scenes generated on the fly, e.g. the closed-form parallel planes). */
 #ifndef SB_GLTF_WRITER_H
 #define SB_GLTF_WRITER_H
@@ -50,6 +50,8 @@ struct gltf_scene_desc {
     struct vec3 light_pos, light_target;  /* the light faces its target */
     int light_disk;                       /* 0: rect width x height, 1: disk of radius */
     float light_width, light_height, light_radius;
+    double sun_angular_diameter_deg;      /* > 0: the light is this sun (KHR_lights_punctual), shining
+                                             from light_pos towards light_target; size and shape unused */
     const char *const *motions;           /* extras.shadowbench.motions, NULL-terminated, or NULL */
 };
 

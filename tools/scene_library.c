@@ -254,6 +254,109 @@ static int map_border(struct mesh_builder *m, struct gltf_scene_desc *d)
     return 0;
 }
 
+/* ---- the sun (docs/scenes.md): a directional light of angular diameter
+ * 2 alpha; a straight edge at height h above a receiver facing the sun
+ * casts a penumbra 2 h tan(alpha) wide. ---- */
+
+/* The sun's direction (towards it) at an elevation and an azimuth from -x
+ * towards -z, in degrees: light_pos and light_target for a look-at. */
+static void place_sun(struct gltf_scene_desc *d, float elevation_deg, float azimuth_deg, double angular_diameter_deg)
+{
+    const float e = elevation_deg * (float)M_PI / 180, a = azimuth_deg * (float)M_PI / 180;
+    d->light_pos = v3(-10 * cosf(e) * cosf(a), 10 * sinf(e), -10 * cosf(e) * sinf(a));
+    d->light_target = v3(0, 0, 0);
+    d->sun_angular_diameter_deg = angular_diameter_deg;
+}
+
+float scene_sun_penumbra_width(double angular_diameter_deg)
+{
+    return 2.0f * PP_H_BLOCK * (float)tan(0.5 * angular_diameter_deg * M_PI / 180);
+}
+
+void scene_sun_parallel_planes(struct mesh_builder *m, struct gltf_scene_desc *d, double angular_diameter_deg)
+{
+    /* A 2 m plate over the ground, the camera framing the penumbra (W wide)
+     * as parallel_planes frames its own: every length of that view scaled
+     * by W, so the ramp fills the image at any angle. */
+    const float w = scene_sun_penumbra_width(angular_diameter_deg);
+    ground(m, -3, -3, 3, 3);
+    plate(m, -4, -4, 0, 4, PP_H_BLOCK);  /* the half-plane x < 0, edge along z */
+    *d = (struct gltf_scene_desc){
+        .description = "The sun straight above a receiver plane; an occluder half-plane 2 above it, its "
+                       "straight edge parallel to both.",
+        .shows = "the closed-form case for the sun: the penumbra is the visible circular segment of its "
+                 "disk, 2 h tan(alpha) wide; the PCSS model is exact here",
+        .camera_pos = v3(0.0f, 1.2f * w, 3.0f * w), .camera_target = v3(0.0f, 0.0f, 0.0f),
+        .camera_yfov_rad = 0.5f, .camera_znear = 0.05f * w,
+        .light_pos = v3(0, 10, 0), .light_target = v3(0, 0, 0),
+        .sun_angular_diameter_deg = angular_diameter_deg,
+    };
+}
+
+static int sun_parallel_planes(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    scene_sun_parallel_planes(m, d, SCENE_SUN_DEG);
+    return 0;
+}
+
+/* A pole 3 tall and 0.1 thick on the ground under a sun 50 degrees up:
+ * its shadow runs 2.5 along the ground. At the foot the blocker touches
+ * the receiver; along the shadow the height above it grows to 3.9 along
+ * the sun's rays at the tip, where the penumbra is 2 * 3.9 tan(alpha) wide
+ * across the shadow: 3.6 cm under the real sun (0.53 degrees), 7 to 10
+ * of the default 1024^2 map's texels (5.1 x 3.5 mm here); at the foot,
+ * under one. */
+static void sun_pole(struct mesh_builder *m, struct gltf_scene_desc *d, double angular_diameter_deg)
+{
+    ground(m, -1.0f, -2.0f, 5.0f, 2.5f);
+    mesh_add_box(m, v3(-0.05f, 0.0f, -0.05f), v3(0.05f, 3.0f, 0.05f));
+    *d = (struct gltf_scene_desc){
+        .camera_pos = v3(1.2f, 2.6f, 4.0f), .camera_target = v3(1.2f, 0.0f, 0.4f),
+        .camera_yfov_rad = 0.7f, .camera_znear = 0.05f,
+    };
+    place_sun(d, 50, 20, angular_diameter_deg);
+}
+
+static int sun_contact(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    sun_pole(m, d, SCENE_SUN_DEG);
+    d->description = "A pole 3 tall and 0.1 thick on the ground under the real sun (0.53 degrees across), "
+                     "50 degrees up.";
+    d->shows = "the sun's contact hardening: a penumbra under a texel wide at the foot, a few texels at "
+               "the tip's shadow";
+    return 0;
+}
+
+static int sun_wide(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    sun_pole(m, d, 5.0);
+    d->description = "The pole of sun_contact under a sun 5 degrees across (an overcast or stylised sun), "
+                     "50 degrees up.";
+    d->shows = "a wide sun: penumbrae ten times sun_contact's, growing from the foot to 0.34 wide at the "
+               "tip's shadow";
+    return 0;
+}
+
+/* A low box on a long receiver under the real sun 7 degrees above the
+ * horizon: the ground's depth in the map changes by many texels' worth
+ * across one texel, so a comparison without enough bias shadows the
+ * ground itself (acne), and a bias large enough to prevent it detaches
+ * the box's 4 m shadow from its foot (peter-panning). */
+static int sun_grazing(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    ground(m, -2.0f, -3.0f, 12.0f, 6.0f);
+    mesh_add_box(m, v3(0.0f, 0.0f, -0.5f), v3(0.6f, 0.5f, 0.5f));
+    *d = (struct gltf_scene_desc){
+        .description = "A 0.6 x 0.5 x 1 box on a long plane under the real sun (0.53 degrees across), 7 "
+                       "degrees above the horizon.",
+        .shows = "shadow acne against bias (peter-panning) under a low sun",
+        .camera_pos = v3(2.4f, 3.2f, 6.0f), .camera_target = v3(2.4f, 0.0f, 0.3f),
+        .camera_yfov_rad = 0.9f, .camera_znear = 0.05f,
+    };
+    place_sun(d, 7, 10, SCENE_SUN_DEG);
+    return 0;
+}
+
 /* Reads the vertices and triangles of a Wavefront OBJ ("v x y z" and
  * "f a b c" lines, 1-based, optional /texture/normal parts ignored). */
 static int read_obj(const char *path, float **pos, size_t *vertex_count, uint32_t **tri,
@@ -349,6 +452,10 @@ const struct scene_recipe scene_recipes[] = {
     {"parallel_planes", parallel_planes},
     {"parallel_planes_disk", parallel_planes_disk},
     {"stanford_bunny", stanford_bunny},
+    {"sun_contact", sun_contact},
+    {"sun_grazing", sun_grazing},
+    {"sun_parallel_planes", sun_parallel_planes},
+    {"sun_wide", sun_wide},
     {"thin_features", thin_features},
     {NULL, NULL},
 };

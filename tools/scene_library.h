@@ -19,6 +19,17 @@
 void scene_parallel_planes(struct mesh_builder *m, struct gltf_scene_desc *d, float light_width,
                            bool disk);
 
+/* The real sun's angular diameter in the shipped sun scenes (degrees;
+ * Blender's default sun is 0.526, Unreal's 0.5357). */
+#define SCENE_SUN_DEG 0.53
+
+/* The sun's parallel planes (the closed form of docs/design.md §6): the sun
+ * straight above a receiver at y = 0, an occluder half-plane (x < 0) at
+ * y = PP_H_BLOCK; the camera frames the penumbra, whose width is
+ * scene_sun_penumbra_width, at any angle. */
+void scene_sun_parallel_planes(struct mesh_builder *m, struct gltf_scene_desc *d, double angular_diameter_deg);
+float scene_sun_penumbra_width(double angular_diameter_deg);
+
 /* Where make_scenes reads the real-world mesh: the Stanford Bunny as Debian's
  * glmark2-data package ships it (69 666 triangles). */
 #define SCENE_BUNNY_OBJ "/usr/share/glmark2/models/bunny.obj"

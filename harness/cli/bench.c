@@ -78,10 +78,11 @@ int bench_main(const struct options *o)
     struct shadowmap sm = {0};
     struct receiver rcv = {0};
     struct light_frustum f;
-    if (light_frustum_fit(&s, &f) != 0 || cli_gl_open(o, o->gl) != 0)
+    if (light_frustum_fit(&s, (float)o->width / (float)o->height, &f) != 0 || cli_gl_open(o, o->gl) != 0)
         goto out_free_scene;
     status = EXIT_CHECK_FAILED;
-    if (shadowmap_create(&sm, &s, &(struct shadowmap_desc){.size_texels = o->shadow_map_size}) != 0 ||
+    if (shadowmap_create(&sm, &s, &(struct shadowmap_desc){.size_texels = o->shadow_map_size,
+                                                          .aspect = (float)o->width / (float)o->height}) != 0 ||
         receiver_create(&rcv, &s, o->width, o->height) != 0)
         goto out_free_gl;
     scene_mesh_upload(&s, &mesh);

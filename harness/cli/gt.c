@@ -15,7 +15,7 @@ int gt_main(const struct options *o)
     struct scene s;
     int count = 0;
     struct light_frustum f;
-    if (cli_load_scenes(o, NULL, 0, &s, 1, &count) != 0 || light_frustum_fit(&s, &f) != 0) {
+    if (cli_load_scenes(o, NULL, 0, &s, 1, &count) != 0 || light_frustum_fit(&s, (float)o->width / (float)o->height, &f) != 0) {
         if (count)
             scene_free(&s);
         return EXIT_USAGE;

@@ -4,6 +4,7 @@
 #include "scene/catalog.h"
 #include "techniques/params.h"
 
+#include <math.h>
 #include <stdio.h>
 
 int list_main(const struct options *o)
@@ -27,8 +28,11 @@ int list_main(const struct options *o)
             status = EXIT_CHECK_FAILED;
             continue;
         }
-        printf("  %s\n    %s\n    shows: %s\n    %zu triangles, %s light\n\n", s.name, s.description,
-               *s.shows ? s.shows : "-", s.triangle_count, light_shape_names[s.light.shape]);
+        char sun[64] = "";
+        if (s.light.shape == LIGHT_SUN)
+            snprintf(sun, sizeof sun, ", %.3g degrees across", 2 * s.light.half_angle * 180 / M_PI);
+        printf("  %s\n    %s\n    shows: %s\n    %zu triangles, %s light%s\n\n", s.name, s.description,
+               *s.shows ? s.shows : "-", s.triangle_count, light_shape_names[s.light.shape], sun);
         scene_free(&s);
     }
     catalog_free(paths, n);

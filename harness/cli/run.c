@@ -93,6 +93,7 @@ static int run_scene(struct run *r, const struct scene *scene, struct scene_setu
         const void *settings = config_settings(c, scene->name);
         tc[i] = (struct stage_timer_cell){c->technique, settings, scene_setup_program(ss, c->technique, settings)};
         cell_describe(&cells[i], scene->name, c->technique, settings, c->label);
+        cell_note_search(&cells[i], settings, &ss->sm.frustum, ss->sm.desc.size_texels);
         char *cell_dir = util_printf("%s/%s", dir, c->label);
         rc = scene_setup_cell(ss, c->technique, settings, &cells[i].m) ||
              output_cell_images(cell_dir, &(struct cell_images){ss->width, ss->height, ss->v, ss->distance, ss->gt.v,

@@ -26,6 +26,8 @@ cJSON *report_cell_json(const struct cell *c)
             cJSON_AddNumberToObject(o, metric_info[k].key, v);
     }
     cJSON_AddStringToObject(o, "gl_renderer", c->gl_renderer);
+    if (c->notice)
+        cJSON_AddStringToObject(o, "notice", c->notice);
     return o;
 }
 

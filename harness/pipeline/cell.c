@@ -1,4 +1,5 @@
 #include "cell.h"
+#include "base/log.h"
 #include "base/util.h"
 #include "gl/gl_context.h"
 #include "techniques/params.h"
@@ -23,11 +24,29 @@ void cell_set_times(struct cell *c, const struct stage_times *t)
     c->m.ms_total_q1 = t->total_q1_ms, c->m.ms_total_q3 = t->total_q3_ms;
 }
 
+void cell_note_search(struct cell *c, const void *settings, const struct light_frustum *f, int map_size)
+{
+    for (const struct technique_param *p = c->technique->params; p->name; p++) {
+        if (strcmp(p->name, "light_size_scale") != 0)
+            continue;
+        const double scale = params_get(p, settings);
+        const float side = light_frustum_search_box_texels(f, (float)scale, map_size);
+        if (side > (float)map_size) {
+            free(c->notice);
+            c->notice = util_printf("the blocker search at light_size_scale %g spans %.0f texels at the farthest "
+                                    "receiver, wider than the %d-texel map: past its edge it reads edge texels",
+                                    scale, (double)side, map_size);
+            log_warn("%s on %s: %s", c->label, c->scene, c->notice);
+        }
+    }
+}
+
 void cell_free(struct cell *c)
 {
     cJSON_Delete(c->params);
     free(c->params_text);
-    c->params = NULL, c->params_text = NULL;
+    free(c->notice);
+    c->params = NULL, c->params_text = NULL, c->notice = NULL;
 }
 
 int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct scene_setup_desc *d)
@@ -38,7 +57,8 @@ int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct
     ss->programs = d->programs;
     scene_mesh_upload(s, &ss->mesh);
     if (shadowmap_create(&ss->sm, s,
-                         &(struct shadowmap_desc){.size_texels = d->shadow_map_size, .near_scale = d->near_scale}) ||
+                         &(struct shadowmap_desc){.size_texels = d->shadow_map_size, .near_scale = d->near_scale,
+                                                  .aspect = (float)d->width / (float)d->height}) ||
         receiver_create(&ss->receiver, s, d->width, d->height) ||
         gt_obtain(s, &ss->sm.frustum,
                   &(struct gt_desc){.width = d->width, .height = d->height, .samples = d->gt_samples,

@@ -31,6 +31,8 @@ struct cell {
     cJSON *params;                       /* values used (owned) */
     char *params_text;                   /* "name=value name=value" (owned) */
     const char *gl_renderer;             /* the device the timings were taken on */
+    char *notice;                        /* what the numbers do not show, one line (owned), or NULL:
+                                            cell_note_search */
     struct metrics m;
 };
 
@@ -41,6 +43,13 @@ void cell_describe(struct cell *c, const char *scene, const struct technique *t,
 
 /* The times of a frame of c into its metrics. */
 void cell_set_times(struct cell *c, const struct stage_times *t);
+
+/* Notes (c->notice, and once in the log) that c's technique searches for
+ * blockers over a region wider than the shadow map: its light_size_scale
+ * times the light's size, at the map's farthest receiver, against the
+ * map's side (light_frustum_search_box_texels). Past the map's edge the
+ * search reads edge texels (the edge policy), never what is there. */
+void cell_note_search(struct cell *c, const void *settings, const struct light_frustum *f, int map_size);
 
 /* Frees what cell_describe made. */
 void cell_free(struct cell *c);

@@ -63,7 +63,8 @@ int stability_check_nodes(const struct stability *st)
             if (mo->kind != MOTION_CASTER_SHIFT || !motion_on(mo, s))
                 continue;
             const int node = pose_find_node(sc, mo->node, &count);
-            if (node >= 0 && !(pose_light_depth_of_node(sc, node) > 0)) {
+            /* the sun's texels have one size at every depth */
+            if (node >= 0 && sc->light.shape != LIGHT_SUN && !(pose_light_depth_of_node(sc, node) > 0)) {
                 log_error("%s: %s: %s's node '%s' has its centre behind the light's plane, where a texel has no size "
                           "to step by", mo->scene < 0 ? "--motion" : sc->path, mo->label, sc->name, mo->node);
                 return -1;
@@ -142,7 +143,7 @@ int stability_motion(struct stability *st, int s, int m)
     const int w = st->width, h = st->height, K = st->frames;
     const size_t count = (size_t)w * (size_t)h;
     struct light_frustum f0;
-    if (light_frustum_fit(base, &f0) != 0)
+    if (light_frustum_fit(base, (float)w / (float)h, &f0) != 0)
         return -1;
     const int node = mo->kind == MOTION_CASTER_SHIFT ? pose_find_node(base, mo->node, NULL) : -1;  /* found:
                                                                                      stability_check_nodes */

@@ -2,6 +2,7 @@
 #include "base/util.h"
 #include "gl/shader.h"
 
+#include <math.h>
 #include <string.h>
 
 int irradiance_create(struct irradiance_pass *p, const struct scene *s, int width, int height)
@@ -43,8 +44,9 @@ double irradiance_render(const struct irradiance_pass *p, const struct scene *s,
     glUniform3f(glGetUniformLocation(prog, "u_light_z"), L->z.x, L->z.y, L->z.z);
     glUniform1f(glGetUniformLocation(prog, "u_light_half_width"), 0.5f * L->width);
     glUniform1f(glGetUniformLocation(prog, "u_light_half_height"), 0.5f * L->height);
-    glUniform1f(glGetUniformLocation(prog, "u_light_radius"), L->radius);
-    glUniform1i(glGetUniformLocation(prog, "u_light_disk"), L->shape == LIGHT_DISK);
+    glUniform1f(glGetUniformLocation(prog, "u_light_radius"), L->shape == LIGHT_SUN ? tanf(L->half_angle) : L->radius);
+    glUniform1i(glGetUniformLocation(prog, "u_light_disk"), L->shape != LIGHT_RECT);
+    glUniform1i(glGetUniformLocation(prog, "u_light_sun"), L->shape == LIGHT_SUN);
     scene_mesh_draw(mesh);
     gl_read_red(GL_COLOR_ATTACHMENT0, p->width, p->height, out);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

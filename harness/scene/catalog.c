@@ -133,7 +133,7 @@ int catalog_load(const char *const *names, int n, const char *const *reserved, s
         if (!rc)
             (*count)++;
         struct light_frustum f;
-        if (!rc && (catalog_check_name(&scenes[i], reserved) != 0 || light_frustum_fit(&scenes[i], &f) != 0))
+        if (!rc && (catalog_check_name(&scenes[i], reserved) != 0 || light_frustum_fit(&scenes[i], 1.0f, &f) != 0))
             rc = -1;
         if (rc)
             continue;

@@ -19,6 +19,7 @@ void scene_posed(const struct scene *base, const struct scene_pose *p, struct sc
     }
     if (p->light_scale > 0) {
         L->width *= p->light_scale, L->height *= p->light_scale, L->radius *= p->light_scale;
+        L->half_angle *= p->light_scale;  /* the sun's */
     }
     out->camera.pos = v3_add(out->camera.pos, v3_scale(out->camera.x, p->camera_shift));
     const struct scene_node *n = NULL;
@@ -77,11 +78,6 @@ float pose_light_depth_of_node(const struct scene *s, int node)
     return -v3_dot(v3_sub(v3_scale(v3_add(lo, hi), 0.5f), s->light.pos), s->light.z);
 }
 
-float pose_texel_world(float window_world, float near_world, int size, float d)
-{
-    return window_world / (float)size * d / near_world;
-}
-
 static struct vec3 centre(const struct scene *s)
 {
     return v3_scale(v3_add(s->bounds_min, s->bounds_max), 0.5f);
@@ -109,7 +105,16 @@ struct scene scene_orbited(const struct scene *base, const struct scene_orbit *p
 {
     struct scene s = *base;
     struct scene_light *L = &s.light;
-    L->pos = v3_add(L->pos, v3_add(v3_scale(L->x, p->light_dx), v3_scale(L->y, p->light_dy)));
+    if (L->shape == LIGHT_SUN && (p->light_dx != 0 || p->light_dy != 0)) {
+        /* the sun turns (yaw and pitch) as a light a scene's extent away would
+         * move in its plane: its direction towards that moved point */
+        L->z = v3_normalize(v3_add(v3_scale(L->z, extent),
+                                   v3_add(v3_scale(L->x, p->light_dx), v3_scale(L->y, p->light_dy))));
+        L->x = v3_normalize(v3_sub(L->x, v3_scale(L->z, v3_dot(L->x, L->z))));
+        L->y = v3_cross(L->z, L->x);
+    } else {
+        L->pos = v3_add(L->pos, v3_add(v3_scale(L->x, p->light_dx), v3_scale(L->y, p->light_dy)));
+    }
     if (p->yaw == 0 && p->pitch == 0 && p->dolly == 0)
         return s;  /* the scene's own camera, bit for bit */
     struct scene_camera *c = &s.camera;

@@ -20,7 +20,8 @@ struct scene_pose {
 /* The viewer's pose (`shadowbench view`), relative to the scene's. Zero is
  * the scene's own pose, bit for bit. */
 struct scene_orbit {
-    float light_dx, light_dy;  /* the light along its own x and y, world units */
+    float light_dx, light_dy;  /* the light along its own x and y, world units (the sun: turned
+                                  towards that point a scene's extent along it) */
     float yaw, pitch, dolly;   /* the camera's orbit (radians) and log distance */
 };
 
@@ -44,11 +45,6 @@ int pose_find_node(const struct scene *s, const char *name, int *count);
 
 /* The planar depth from the light of the centre of node's bounds. */
 float pose_light_depth_of_node(const struct scene *s, int node);
-
-/* The world size of one shadow-map texel of a map of size texels whose
- * window at the near plane is window_world wide, at planar depth d from the
- * light (a perspective map's texels grow with depth). */
-float pose_texel_world(float window_world, float near_world, int size, float d);
 
 /* The planar depth from the light of the centre of s's bounds. */
 float pose_light_depth_of_centre(const struct scene *s);

@@ -1,11 +1,12 @@
 /* A scene as the harness sees it (docs/design.md §4): world-space triangles, one
- * perspective camera, one area light. Loaded from glTF by scene_gltf.cpp, the
+ * perspective camera, one light (an area light or the sun). Loaded from glTF by scene_gltf.cpp, the
  * only C++ in the project; everything downstream is C. */
 #ifndef SB_SCENE_H
 #define SB_SCENE_H
 
 #include "vecmath.h"
 
+#include <math.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -13,8 +14,9 @@
 extern "C" {
 #endif
 
-/* X(ID, name): the area light's shapes (docs/design.md §4); GLSL sees SM_LIGHT_<ID>. */
-#define LIGHT_SHAPES(X) X(RECT, "rect") X(DISK, "disk")
+/* X(ID, name): the light's shapes (docs/design.md §4): two area lights and
+ * the sun, a directional light with an angular size; GLSL sees SM_LIGHT_<ID>. */
+#define LIGHT_SHAPES(X) X(RECT, "rect") X(DISK, "disk") X(SUN, "sun")
 
 enum light_shape {
 #define X(id, name) LIGHT_##id,
@@ -30,9 +32,18 @@ struct scene_light {
     enum light_shape shape;
     float width, height;  /* rect: full size along x, y (world units) */
     float radius;         /* disk (world units) */
-    struct vec3 pos;      /* centre */
-    struct vec3 x, y, z;  /* orthonormal; emits towards -z, one side only */
+    float half_angle;     /* sun: half its angular diameter (radians), in (0, 15 deg] */
+    struct vec3 pos;      /* centre; the sun's node position, which nothing measures */
+    struct vec3 x, y, z;  /* orthonormal; emits towards -z, one side only (the sun lies along +z) */
 };
+
+/* The sun's solid angle over 2 pi, 1 - cos(half_angle), as 2 sin^2(half/2):
+ * in float, cos rounds to 1 at the real sun's size (0.27 deg). */
+static inline double light_sun_cap(float half_angle)
+{
+    double s = sin(0.5 * (double)half_angle);
+    return 2 * s * s;
+}
 
 struct scene_camera {
     struct vec3 pos;

@@ -140,6 +140,7 @@ public:
     struct node_range { std::string name; size_t first_vertex, vertex_count; };
     std::vector<node_range> ranges;  // every node with vertices under it
     bool have_camera = false, have_light = false;
+    int area_node = -1, sun_node = -1;  // the first node of each kind of light
     struct scene_camera camera = {};
     struct scene_light light = {};
 
@@ -254,8 +255,17 @@ private:
             fail(fmt("malformed glTF: node %d names camera %d, which does not exist", ni, n.camera));
         if (n.camera >= 0 && !have_camera)
             take_camera(n.camera, world);
-        if (!have_light && n.extras.IsObject() && n.extras.Has("area_light"))
-            take_light(ni, n.extras.Get("area_light"), world);
+        if (n.extras.IsObject() && n.extras.Has("area_light")) {
+            if (sun_node >= 0)
+                two_lights(ni, sun_node);
+            if (!have_light)
+                take_light(ni, n.extras.Get("area_light"), world);
+            if (area_node < 0)
+                area_node = ni;
+        }
+        auto punctual = n.extensions.find("KHR_lights_punctual");
+        if (punctual != n.extensions.end())
+            take_sun(ni, punctual->second, world);
         const size_t first_vertex = pos.size() / 3;
         if (n.mesh >= 0) {
             if (n.mesh >= (int)m.meshes.size())
@@ -340,6 +350,51 @@ private:
             fail(fmt("%s (node %d): the node has a degenerate or mirrored transform (a zero axis, or a negative "
                      "scale)", where, ni));
         have_light = true;
+    }
+
+    // The sun (docs/design.md §4): a KHR_lights_punctual directional light
+    // with extras.angular_diameter_deg, shining along the node's local -Z.
+    // The only light then: one sun, no area light.
+    void take_sun(int ni, const tinygltf::Value &e, struct mat4 world)
+    {
+        if (!e.IsObject() || !e.Has("light") || !e.Get("light").IsInt())
+            fail(fmt("malformed glTF: nodes[%d].extensions.KHR_lights_punctual.light must be an index", ni));
+        const int li = e.Get("light").Get<int>();
+        if (li < 0 || li >= (int)m.lights.size())
+            fail(fmt("malformed glTF: node %d names light %d, which does not exist", ni, li));
+        const tinygltf::Light &l = m.lights[li];
+        if (l.type != "directional")
+            fail(fmt("light %d (node %d) is a %.32s light: shadowbench measures an area light or the sun (a "
+                     "directional light)", li, ni, l.type.c_str()));
+        if (sun_node >= 0)
+            fail(fmt("two suns (nodes %d and %d): a scene has one light", sun_node, ni));
+        if (area_node >= 0)
+            two_lights(area_node, ni);
+        const tinygltf::Value &x = l.extras;
+        if (!x.IsObject() || !x.Has("angular_diameter_deg"))
+            fail(fmt("sun (node %d): light %d has no extras.angular_diameter_deg (the sun's angular diameter in "
+                     "degrees, e.g. 0.53)", ni, li));
+        const tinygltf::Value &a = x.Get("angular_diameter_deg");
+        if (!a.IsNumber())
+            fail(fmt("sun (node %d): angular_diameter_deg must be a number", ni));
+        const double deg = a.GetNumberAsDouble();
+        if (!(deg > 0 && deg <= 30))
+            fail(fmt("sun (node %d): angular_diameter_deg must be in (0, 30], got %g", ni, deg));
+        check_position(v3(world.m[12], world.m[13], world.m[14]), fmt("sun (node %d)", ni));
+        struct scene_light sun = {};
+        if (!node_frame(world, &sun.pos, &sun.x, &sun.y, &sun.z))
+            fail(fmt("sun (node %d): the node has a degenerate or mirrored transform (a zero axis, or a negative "
+                     "scale)", ni));
+        sun.shape = LIGHT_SUN;
+        sun.half_angle = (float)(0.5 * deg * M_PI / 180);
+        light = sun;
+        have_light = true;
+        sun_node = ni;
+    }
+
+    [[noreturn]] static void two_lights(int area, int sun)
+    {
+        fail(fmt("two lights (an area light at node %d, a sun at node %d): a scene has one light", area, sun));
     }
 
     // Bounds-checked view of an accessor's elements.
@@ -755,7 +810,7 @@ void check_types(const cJSON *doc)
     if (const char *twice = util_json_duplicate_key(doc))
         fail(fmt("malformed JSON: the key \"%.64s\" appears twice in one object", twice));
     static const char *const arrays[] = {"scenes", "nodes", "meshes", "accessors", "bufferViews", "buffers",
-                                         "cameras", "extensionsRequired"};
+                                         "cameras", "extensionsRequired", "extensionsUsed"};
     for (const char *name : arrays) {
         const cJSON *a = cJSON_GetObjectItemCaseSensitive(doc, name);
         if (a && !cJSON_IsArray(a))
@@ -765,6 +820,18 @@ void check_types(const cJSON *doc)
     if (required)
         fail(fmt("the scene requires the extension %.64s, which shadowbench does not support",
                  cJSON_IsString(required) ? required->valuestring : "(not a name)"));
+    // glTF: every extension a file uses is listed in extensionsUsed.
+    static const char punctual[] = "KHR_lights_punctual";
+    bool uses = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "extensions"), punctual);
+    const cJSON *n;
+    cJSON_ArrayForEach(n, cJSON_GetObjectItemCaseSensitive(doc, "nodes"))
+        uses = uses || cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(n, "extensions"), punctual);
+    bool listed = false;
+    const cJSON *used;
+    cJSON_ArrayForEach(used, cJSON_GetObjectItemCaseSensitive(doc, "extensionsUsed"))
+        listed = listed || (cJSON_IsString(used) && strcmp(used->valuestring, punctual) == 0);
+    if (uses && !listed)
+        fail(fmt("the scene uses %s but does not list it in extensionsUsed (glTF requires it)", punctual));
     const char *version =
         cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "asset"), "version"));
     if (!version || strncmp(version, "2.", 2) != 0)
@@ -1058,7 +1125,8 @@ void load(const char *path, const char *bytes, size_t size, struct scene *s)
     if (!l.have_camera)
         fail("no camera: need a node with a perspective camera");
     if (!l.have_light)
-        fail("no area light: need a node whose extras hold \"area_light\"");
+        fail("no light: need a node whose extras hold \"area_light\", or a KHR_lights_punctual directional "
+             "light (the sun)");
     if (l.idx.empty())
         fail("no triangles");
 

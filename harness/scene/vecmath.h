@@ -78,4 +78,15 @@ static inline struct mat4 m4_frustum_reversed_z(float l, float r, float b, float
                           0, 0, c, 0}};
 }
 
+/* Orthographic with reversed Z for glClipControl(GL_ZERO_TO_ONE): depth 1
+ * at the near plane, 0 at the far plane, linear between. l, r, b, t: the
+ * window; n, f: planar depths (the view looks along -z). */
+static inline struct mat4 m4_ortho_reversed_z(float l, float r, float b, float t, float n, float f)
+{
+    return (struct mat4){{2 / (r - l), 0, 0, 0,
+                          0, 2 / (t - b), 0, 0,
+                          0, 0, 1 / (f - n), 0,
+                          -(r + l) / (r - l), -(t + b) / (t - b), f / (f - n), 1}};
+}
+
 #endif

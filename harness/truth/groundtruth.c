@@ -77,13 +77,17 @@ static inline float cos_quarter(float a)
     return 1.0f + a2 * (-0.5f + a2 * (1.0f / 24 + a2 * (-1.0f / 720 + a2 * (1.0f / 40320))));
 }
 
-/* Uniform points on the light for 16 unit-square samples. The disk uses the
- * concentric map (Shirley & Chiu 1997), which keeps strata compact: the
- * larger of |x|, |y| is the radius, the angle is pi/4 times their ratio from
- * the nearer axis. */
+/* Uniform points on the light for 16 unit-square samples; for the sun,
+ * unit directions uniform in its cone's solid angle (cap = 1 - cos alpha).
+ * The disk and the cone use the concentric map (Shirley & Chiu 1997), which
+ * keeps strata compact: the larger of |x|, |y| is the radius, the angle is
+ * pi/4 times their ratio from the nearer axis. The cone takes the disk's
+ * point (a, b), radius r, to cos(theta) = 1 - r^2 cap, which is uniform in
+ * solid angle, and its sine r sqrt(cap (2 - r^2 cap)) along (a, b) / r. */
 /* Inlined, so it is built for the caller's target (trace_tile's clones). */
 static inline __attribute__((always_inline)) void
-light_points(const struct scene_light *L, const float *u, const float *v, float *qx, float *qy, float *qz)
+light_points(const struct scene_light *L, float cap, const float *u, const float *v, float *qx, float *qy,
+             float *qz)
 {
     float a[16], b[16];
     if (L->shape == LIGHT_RECT) {
@@ -93,7 +97,7 @@ light_points(const struct scene_light *L, const float *u, const float *v, float 
             b[i] = (v[i] - 0.5f) * L->height;
         }
     } else {
-        const float radius = L->radius;
+        const float radius = L->shape == LIGHT_SUN ? 1.0f : L->radius;
 #pragma omp simd
         for (int i = 0; i < 16; i++) {
             float x = 2.0f * u[i] - 1.0f, y = 2.0f * v[i] - 1.0f;
@@ -105,7 +109,17 @@ light_points(const struct scene_light *L, const float *u, const float *v, float 
             b[i] = radius * r * (x_major ? s : c);
         }
     }
-    const struct vec3 p = L->pos, x = L->x, y = L->y;
+    const struct vec3 p = L->pos, x = L->x, y = L->y, z = L->z;
+    if (L->shape == LIGHT_SUN) {
+#pragma omp simd
+        for (int i = 0; i < 16; i++) {
+            const float c = (a[i] * a[i] + b[i] * b[i]) * cap, sin_r = sqrtf(cap * (2.0f - c));
+            qx[i] = z.x * (1.0f - c) + (x.x * a[i] + y.x * b[i]) * sin_r;
+            qy[i] = z.y * (1.0f - c) + (x.y * a[i] + y.y * b[i]) * sin_r;
+            qz[i] = z.z * (1.0f - c) + (x.z * a[i] + y.z * b[i]) * sin_r;
+        }
+        return;
+    }
 #pragma omp simd
     for (int i = 0; i < 16; i++) {
         qx[i] = p.x + x.x * a[i] + y.x * b[i];
@@ -249,7 +263,7 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
     int slots = 0, known[16];
     for (int i = 0; i < 16; i++) {
         struct cull_occluder o[CULL_MAX_OCCLUDERS];
-        const int count = live[i] && !tr->desc.trace_all
+        const int count = live[i] && tr->cull && !tr->desc.trace_all
                               ? cull_occluders(tr->cull, v3(ox[i], oy[i], oz[i]), v3(nx[i], ny[i], nz[i]), o)
                               : -1;
         known[i] = count >= 0;  /* its occluders are known: samples can be decided */
@@ -266,7 +280,11 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
         }
         slots = count > slots ? count : slots;
     }
-    const float margin = cull_margin(tr->cull);
+    const float margin = tr->cull ? cull_margin(tr->cull) : 0.0f;
+    /* The sun: samples are directions, rays go to infinity, the weight is
+     * cos(theta_p) alone (its radiance arrives from a solid angle). */
+    const int sun = L->shape == LIGHT_SUN;
+    const float cap = sun ? (float)light_sun_cap(L->half_angle) : 0.0f;
 
     const int n = tr->strata;
     const float inv_n = 1.0f / (float)n;
@@ -290,7 +308,7 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
             u[i] = ((float)su + (float)(h >> 16) * (1.0f / 65536.0f)) * inv_n;
             v[i] = ((float)sv + (float)(h & 0xffffu) * (1.0f / 65536.0f)) * inv_n;
         }
-        light_points(L, u, v, qx, qy, qz);
+        light_points(L, cap, u, v, qx, qy, qz);
         /* The patches' verdict on each lane's segment (cull.h): blocked when
          * it crosses one inside; open when it misses them all; else traced. */
         int blocked[16] = {0}, unsure[16] = {0};
@@ -317,19 +335,21 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
         int any = 0;
 #pragma omp simd reduction(+ : any)
         for (int i = 0; i < 16; i++) {
-            float dx = qx[i] - ox[i], dy = qy[i] - oy[i], dz = qz[i] - oz[i];
+            float dx = sun ? qx[i] : qx[i] - ox[i], dy = sun ? qy[i] : qy[i] - oy[i];
+            float dz = sun ? qz[i] : qz[i] - oz[i];
             float dist2 = dx * dx + dy * dy + dz * dz;
             float n_d = nx[i] * dx + ny[i] * dy + nz[i] * dz;  /* |d| cos(theta_p) */
             float l_d = lzx * dx + lzy * dy + lzz * dz;        /* |d| cos(theta_light) */
             /* Above p's horizon and in front of the one-sided light. */
-            int ok = live[i] & (n_d > 0.0f) & (l_d > 0.0f);
-            float w = n_d * l_d / (dist2 * dist2);  /* cos cos / r^2, no sqrt needed */
+            int ok = live[i] & (n_d > 0.0f) & (sun | (l_d > 0.0f));
+            float w = sun ? n_d : n_d * l_d / (dist2 * dist2);  /* cos cos / r^2, no sqrt needed */
             w_sample[i] = ok ? w : 0.0f;
             weight_all[i] += w_sample[i];
             above[i] += ok;
             above_a[i] += ok & half_a;
             ray.dir_x[i] = dx, ray.dir_y[i] = dy, ray.dir_z[i] = dz;
-            ray.tfar[i] = 1.0f;  /* the light itself is not geometry; rtcOccluded16 resets it */
+            /* the light itself is not geometry; rtcOccluded16 resets it */
+            ray.tfar[i] = sun ? INFINITY : 1.0f;
             decided[i] = known[i] & (blocked[i] | !unsure[i]);
             open[i] = ok & !blocked[i];
             active[i] = -(ok & !decided[i]);
@@ -348,8 +368,9 @@ static long long trace_tile(const struct tracer *tr, int tx, int ty, struct gt_i
             weight_vis[i] += seen ? w_sample[i] : 0.0f;
         }
     }
-    const float area = L->shape == LIGHT_RECT ? L->width * L->height
-                                              : (float)M_PI * L->radius * L->radius;
+    /* the light's area, or the sun's solid angle 2 pi (1 - cos alpha) */
+    const float area = sun ? 2.0f * (float)M_PI * cap
+                       : L->shape == LIGHT_RECT ? L->width * L->height : (float)M_PI * L->radius * L->radius;
     *samples = 0;
     for (int i = 0; i < 16; i++) {
         if (!live[i])
@@ -423,7 +444,9 @@ enum gt_render_result gt_render(const struct scene *s, const struct light_frustu
     RTCDevice dev = embree_device();
     if (!dev || !(tr.rtc = build_scene(dev, s)))
         return GT_RENDER_FAILED;
-    if (!(tr.cull = cull_build(dev, s))) {
+    /* The samples decided without a ray are an area light's (cull.h's
+     * pyramid reaches a finite light); the sun traces every one. */
+    if (s->light.shape != LIGHT_SUN && !(tr.cull = cull_build(dev, s))) {
         rtcReleaseScene(tr.rtc);
         return GT_RENDER_FAILED;
     }

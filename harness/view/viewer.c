@@ -233,7 +233,8 @@ int viewer_open(struct viewer *v, const struct viewer_desc *d, const struct scen
     if (gt_worker_start(&v->worker, v->w, v->h, d->gt_samples) != 0)
         return -1;
     scene_mesh_upload(s, &v->mesh);
-    if (shadowmap_create(&v->sm, s, &(struct shadowmap_desc){.size_texels = d->shadow_map_size}) != 0 ||
+    if (shadowmap_create(&v->sm, s, &(struct shadowmap_desc){.size_texels = d->shadow_map_size,
+                                                                .aspect = (float)v->w / (float)v->h}) != 0 ||
         receiver_create(&v->receiver, s, v->w, v->h) != 0 ||
         irradiance_create(&v->irradiance_pass, s, v->w, v->h) != 0)
         return -1;
