@@ -100,6 +100,30 @@ static void overrun(cJSON *g)
     cJSON_DeleteItemFromObject(at(g, "accessors", 0), "max");
 }
 
+/* Encoded geometry (KHR_mesh_quantization, EXT_meshopt_compression,
+ * KHR_draco_mesh_compression): a quantized type without its extension, and
+ * data its decoder refuses. */
+static void uses_extension(cJSON *g, const char *name)
+{
+    cJSON_AddItemToArray(cJSON_AddArrayToObject(g, "extensionsUsed"), cJSON_CreateString(name));
+    cJSON_AddItemToArray(cJSON_AddArrayToObject(g, "extensionsRequired"), cJSON_CreateString(name));
+}
+static void short_positions(cJSON *g) { cJSON_ReplaceItemInObject(at(g, "accessors", 0), "componentType", cJSON_CreateNumber(5122)); }
+/* Buffer view 0 (the positions, 36 bytes) said to be meshopt data: floats are no meshopt header. */
+static void meshopt_view(cJSON *g, const char *mode)
+{
+    uses_extension(g, "EXT_meshopt_compression");
+    cJSON *e = cJSON_AddObjectToObject(cJSON_AddObjectToObject(at(g, "bufferViews", 0), "extensions"),
+                                       "EXT_meshopt_compression");
+    cJSON_AddNumberToObject(e, "buffer", 0);
+    cJSON_AddNumberToObject(e, "byteLength", 36);
+    cJSON_AddNumberToObject(e, "byteStride", 12);
+    cJSON_AddNumberToObject(e, "count", 3);
+    cJSON_AddStringToObject(e, "mode", mode);
+}
+static void meshopt_garbage(cJSON *g) { meshopt_view(g, "ATTRIBUTES"); }
+static void meshopt_mode(cJSON *g) { meshopt_view(g, "POINTS"); }
+
 /* Hostile values (issue 12): overflowing sizes, shared children, values
  * the renderers cannot hold, wrong JSON types that tinygltf would replace
  * by defaults. */
@@ -399,8 +423,9 @@ static void cycle(cJSON *g)
 }
 static void required_extension(cJSON *g)
 {
-    const char *const names[] = {"EXT_meshopt_compression"};
-    cJSON_AddItemToObject(g, "extensionsRequired", cJSON_CreateStringArray(names, 1));
+    /* instancing would multiply the geometry; the decoded encodings come first */
+    const char *const names[] = {"KHR_mesh_quantization", "EXT_mesh_gpu_instancing"};
+    cJSON_AddItemToObject(g, "extensionsRequired", cJSON_CreateStringArray(names, 2));
 }
 static void scenes_object(cJSON *g) { cJSON_ReplaceItemInObject(g, "scenes", cJSON_CreateObject()); }
 static void no_attributes(cJSON *g)
@@ -526,8 +551,13 @@ int main(int argc, char **argv)
         free(problem), free(edited), free(text), free(path);
     }
     case_mutated("cycle", cycle, "malformed glTF: node 3 is its own ancestor (a cycle)");
+    case_mutated("short_positions", short_positions, "mesh 0 primitive 0: POSITION must be FLOAT VEC3");
+    case_mutated("meshopt_garbage", meshopt_garbage, "malformed buffers: buffer view 0 (EXT_meshopt_compression) does "
+                                                     "not decode (meshoptimizer's error -1)");
+    case_mutated("meshopt_mode", meshopt_mode, "malformed glTF: buffer view 0 (EXT_meshopt_compression): mode must be "
+                                               "ATTRIBUTES, TRIANGLES or INDICES, got \"POINTS\"");
     case_mutated("required_extension", required_extension,
-                 "the scene requires the extension EXT_meshopt_compression, which shadowbench does not support");
+                 "the scene requires the extension EXT_mesh_gpu_instancing, which shadowbench does not support");
     case_mutated("scenes_object", scenes_object, "malformed glTF: \"scenes\" must be an array");
     case_mutated("no_attributes", no_attributes,
                  "malformed glTF: meshes[0].primitives[1] needs \"attributes\" with a POSITION");

@@ -70,12 +70,12 @@ static void search(void)
     /* Deterministic: the same calls in the same order, the same choices. */
     m = synthetic_memo(&y);
     y.order[0] = '\0';
-    CHECK(tune_cross_validate(&m, start, fold, held) == 0, "cross-validation");
+    CHECK(tune_cross_validate(&m, start, NULL, fold, held) == 0, "cross-validation");
     char *first = xstrdup(y.order);
     tune_memo_free(&m);
     m = synthetic_memo(&y);
     y.order[0] = '\0';
-    tune_cross_validate(&m, start, again, held_again);
+    tune_cross_validate(&m, start, NULL, again, held_again);
     CHECK(strcmp(first, y.order) == 0 && memcmp(fold, again, sizeof fold) == 0 &&
               memcmp(held, held_again, sizeof(double) * 4) == 0, "two searches differ");
     free(first);
@@ -92,7 +92,7 @@ static void search(void)
     for (int k = 0; k < y.scenes; k++) {
         y.scene_poisoned = k;
         m = synthetic_memo(&y);
-        tune_cross_validate(&m, start, again, held_again);
+        tune_cross_validate(&m, start, NULL, again, held_again);
         CHECK(memcmp(fold[k], again[k], sizeof fold[k]) == 0, "fold %d moved when its held-out scene changed", k);
         tune_descend(&m, all_scenes, 4, start, poisoned_all, &score);
         CHECK(memcmp(clean_all, poisoned_all, sizeof(int) * 3) != 0,
@@ -103,10 +103,26 @@ static void search(void)
 
     /* The memo: a cell is evaluated once, however many searches ask. */
     m = synthetic_memo(&y);
-    tune_cross_validate(&m, start, fold, held);
+    tune_cross_validate(&m, start, NULL, fold, held);
     const long cells = m.evaluations;
-    tune_cross_validate(&m, start, again, held_again);
+    tune_cross_validate(&m, start, NULL, again, held_again);
     CHECK(m.evaluations == cells, "a second cross-validation evaluated %ld more cells", m.evaluations - cells);
+    tune_memo_free(&m);
+
+    /* Folds by group (the light's kind): each scene's fold is chosen on the
+     * other scenes of its group alone; a scene alone in its group, on every
+     * other scene. */
+    const int pairs[4] = {0, 0, 1, 1}, lone[4] = {0, 0, 0, 1};
+    const int group_of[4][3] = {{1}, {0}, {3}, {2}}, others_of_3[3] = {0, 1, 2};
+    m = synthetic_memo(&y);
+    CHECK(tune_cross_validate(&m, start, pairs, fold, held) == 0, "cross-validation by group");
+    for (int k = 0; k < 4; k++) {
+        tune_descend(&m, group_of[k], 1, start, best, &score);
+        CHECK(memcmp(fold[k], best, sizeof(int) * 3) == 0, "fold %d was not chosen on its group's other scene", k);
+    }
+    tune_cross_validate(&m, start, lone, again, held_again);
+    tune_descend(&m, others_of_3, 3, start, best, &score);
+    CHECK(memcmp(again[3], best, sizeof(int) * 3) == 0, "a scene alone in its group: its fold, on every other scene");
     tune_memo_free(&m);
 }
 

@@ -279,8 +279,10 @@ void scene_sun_parallel_planes(struct mesh_builder *m, struct gltf_scene_desc *d
      * as parallel_planes frames its own: every length of that view scaled
      * by W, so the ramp fills the image at any angle. */
     const float w = scene_sun_penumbra_width(angular_diameter_deg);
+    mesh_begin_part(m, "ground");
     ground(m, -3, -3, 3, 3);
-    plate(m, -4, -4, 0, 4, PP_H_BLOCK);  /* the half-plane x < 0, edge along z */
+    mesh_begin_part(m, "plate");  /* the half-plane x < 0, edge along z */
+    plate(m, -4, -4, 0, 4, PP_H_BLOCK);
     *d = (struct gltf_scene_desc){
         .description = "The sun straight above a receiver plane; an occluder half-plane 2 above it, its "
                        "straight edge parallel to both.",

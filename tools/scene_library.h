@@ -26,7 +26,7 @@ void scene_parallel_planes(struct mesh_builder *m, struct gltf_scene_desc *d, fl
 /* The sun's parallel planes (the closed form of docs/design.md §6): the sun
  * straight above a receiver at y = 0, an occluder half-plane (x < 0) at
  * y = PP_H_BLOCK; the camera frames the penumbra, whose width is
- * scene_sun_penumbra_width, at any angle. */
+ * scene_sun_penumbra_width, at any angle. Its nodes: "ground", "plate". */
 void scene_sun_parallel_planes(struct mesh_builder *m, struct gltf_scene_desc *d, double angular_diameter_deg);
 float scene_sun_penumbra_width(double angular_diameter_deg);
 

@@ -156,7 +156,7 @@ cJSON *cli_run_record(const struct options *o, bool timed, double seconds);
 /* stability's defaults, when it is given no --scene (the scenes), or no
  * --motion and no --vary (the motions and variations; "scene": each
  * scene's own motions, extras.shadowbench.motions). */
-#define STABILITY_DEFAULT_SCENES 2
+#define STABILITY_DEFAULT_SCENES 3
 #define STABILITY_DEFAULT_MOTIONS 5
 #define STABILITY_DEFAULT_VARIES 3
 extern const char *const stability_default_scenes[STABILITY_DEFAULT_SCENES];

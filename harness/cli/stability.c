@@ -14,7 +14,7 @@
 #include <string.h>
 
 const char *const stability_default_scenes[STABILITY_DEFAULT_SCENES] = {"floating_box_sphere",
-                                                                        "overlapping_occluders"};
+                                                                        "overlapping_occluders", "sun_contact"};
 const char *const stability_default_motions[STABILITY_DEFAULT_MOTIONS] = {"static", "light_shift", "light_rotate",
                                                                           "camera_shift", "scene"};
 const char *const stability_default_varies[STABILITY_DEFAULT_VARIES] = {

@@ -362,12 +362,12 @@ enum tuner_result tuner_run(struct tuner *tn, cJSON **record)
             return TUNER_UNDEFINED;
         }
     }
-    int scenes[TUNE_MAX_SCENES];
+    int scenes[TUNE_MAX_SCENES], kind[TUNE_MAX_SCENES];
     for (int k = 0; k < tn->scene_count; k++)
-        scenes[k] = k;
+        scenes[k] = k, kind[k] = tn->scenes[k].light.shape == LIGHT_SUN;
     if (tune_mean(&tn->memo, start, scenes, tn->scene_count, &def) != 0 ||
         tune_descend(&tn->memo, scenes, tn->scene_count, start, all, &best) != 0 ||
-        tune_cross_validate(&tn->memo, start, fold, held_out) != 0)
+        tune_cross_validate(&tn->memo, start, kind, fold, held_out) != 0)
         return TUNER_FAILED;
     /* The oracle: on each scene, the best of every setting tried there. */
     double cv = 0, or = 0;

@@ -20,7 +20,9 @@
     "coordinate descent from the defaults: each tuned parameter in table order tried at every "   \
     "one of its values with the others held, the strictly best mean objective over the scenes "   \
     "taken; rounds until one changes nothing (at most " UTIL_STR(TUNE_MAX_ROUNDS) "). "           \
-    "Deterministic: no random choices, ties keep the earlier point"
+    "Deterministic: no random choices, ties keep the earlier point. Each scene's fold is chosen on the "  \
+    "other scenes of its light's kind (area lights, the sun), which generalises better than all of "      \
+    "them (docs/tuning.md); a scene alone of its kind, on every other scene"
 
 /* What a tuning measures with. */
 struct tune_options {

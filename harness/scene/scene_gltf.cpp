@@ -4,6 +4,8 @@
 // "<file>: <problem>", and nothing partially loaded is returned.
 
 #include <tiny_gltf.h>
+#include <draco/compression/decode.h>
+#include <meshoptimizer.h>
 
 #include <cjson/cJSON.h>
 
@@ -16,6 +18,7 @@
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <new>
 #include <set>
@@ -67,6 +70,11 @@ struct load_error {
 };
 
 [[noreturn]] void fail(const std::string &what) { throw load_error{what}; }
+
+// The required extensions the loader decodes (docs/scene-format.md).
+const char *const quantization_ext = "KHR_mesh_quantization", *const meshopt_ext = "EXT_meshopt_compression",
+                  *const draco_ext = "KHR_draco_mesh_compression";
+const char *const decoded_extensions[] = {quantization_ext, meshopt_ext, draco_ext};
 
 std::string fmt(const char *f, ...) __attribute__((format(printf, 1, 2)));
 std::string fmt(const char *f, ...)
@@ -133,7 +141,8 @@ bool node_frame(struct mat4 m, struct vec3 *o, struct vec3 *x, struct vec3 *y, s
 
 class loader {
 public:
-    loader(const tinygltf::Model &model) : m(model) {}
+    loader(const tinygltf::Model &model, const std::map<std::pair<int, int>, int> &draco_indices)
+        : m(model), draco_indices(draco_indices) {}
 
     std::vector<float> pos, nrm;
     std::vector<uint32_t> idx;
@@ -211,6 +220,7 @@ public:
 
 private:
     const tinygltf::Model &m;
+    const std::map<std::pair<int, int>, int> &draco_indices;  // take_draco_indices
 
     // A light's size: positive and below the coordinates' limit, as a float.
     static bool usable_length(float v) { return v >= SCENE_MIN_LENGTH && v <= SCENE_MAX_COORD; }
@@ -402,6 +412,103 @@ private:
         const unsigned char *base;
         size_t stride, count;
     };
+    struct bytes {
+        const unsigned char *data;
+        size_t size;
+    };
+
+    std::map<int, std::vector<unsigned char>> decoded;  // EXT_meshopt_compression's views, by index
+
+    // The bytes of buffer view `view`, bounds-checked: its buffer's, or
+    // what its EXT_meshopt_compression data decodes to.
+    bytes view_bytes(int view)
+    {
+        const tinygltf::BufferView &bv = m.bufferViews[view];
+        auto ext = bv.extensions.find(meshopt_ext);
+        if (ext != bv.extensions.end())
+            return meshopt_view(view, ext->second);
+        if (bv.buffer < 0 || bv.buffer >= (int)m.buffers.size())
+            fail(fmt("malformed buffers: buffer view %d names buffer %d, which does not exist", view, bv.buffer));
+        const tinygltf::Buffer &b = m.buffers[bv.buffer];
+        size_t view_end;  // every sum and product checked: a wrapped one would pass the bound
+        if (__builtin_add_overflow(bv.byteOffset, bv.byteLength, &view_end) || view_end > b.data.size())
+            fail(fmt("malformed buffers: buffer view %d (offset %zu, %zu bytes) reaches past the end of "
+                     "buffer %d (%zu bytes)", view, bv.byteOffset, bv.byteLength, bv.buffer, b.data.size()));
+        return bytes{b.data.data() + bv.byteOffset, bv.byteLength};
+    }
+
+    // A buffer view of EXT_meshopt_compression: count elements of byteStride
+    // bytes in mode ATTRIBUTES (vertices), TRIANGLES or INDICES, decoded by
+    // meshoptimizer from byteLength bytes at byteOffset of buffer, then its
+    // filter undone; decoded once.
+    bytes meshopt_view(int view, const tinygltf::Value &e)
+    {
+        auto done = decoded.find(view);
+        if (done != decoded.end())
+            return bytes{done->second.data(), done->second.size()};
+        const std::string where = fmt("buffer view %d (%s)", view, meshopt_ext);
+        if (!e.IsObject())
+            fail(fmt("malformed glTF: %s must be an object", where.c_str()));
+        auto whole = [&](const char *key, bool required) {
+            if (!e.Has(key)) {
+                if (required)
+                    fail(fmt("malformed glTF: %s needs %s", where.c_str(), key));
+                return 0.0;
+            }
+            const tinygltf::Value &v = e.Get(key);
+            const double x = v.IsNumber() ? v.GetNumberAsDouble() : -1;
+            if (!(x >= 0 && x <= 0x7fffffff && x == floor(x)))
+                fail(fmt("malformed glTF: %s: %s must be a whole number below 2^31", where.c_str(), key));
+            return x;
+        };
+        auto word = [&](const char *key, const char *absent) {
+            if (!e.Has(key) && absent)
+                return std::string(absent);
+            if (!e.Get(key).IsString())
+                fail(fmt("malformed glTF: %s: %s must be a string", where.c_str(), key));
+            return e.Get(key).Get<std::string>().substr(0, 32);
+        };
+        const int buffer = (int)whole("buffer", true);
+        const size_t offset = (size_t)whole("byteOffset", false), length = (size_t)whole("byteLength", true);
+        const size_t stride = (size_t)whole("byteStride", true), count = (size_t)whole("count", true);
+        const std::string mode = word("mode", nullptr), filter = word("filter", "NONE");
+        if (buffer >= (int)m.buffers.size())
+            fail(fmt("malformed buffers: %s names buffer %d, which does not exist", where.c_str(), buffer));
+        const tinygltf::Buffer &b = m.buffers[buffer];
+        if (offset + length > b.data.size())
+            fail(fmt("malformed buffers: %s: its %zu bytes at %zu reach past the end of buffer %d (%zu bytes)",
+                     where.c_str(), length, offset, buffer, b.data.size()));
+        const bool vertices = mode == "ATTRIBUTES";
+        if (!vertices && mode != "TRIANGLES" && mode != "INDICES")
+            fail(fmt("malformed glTF: %s: mode must be ATTRIBUTES, TRIANGLES or INDICES, got \"%s\"", where.c_str(),
+                     mode.c_str()));
+        if (vertices ? stride == 0 || stride > 256 || stride % 4 : stride != 2 && stride != 4)
+            fail(fmt("malformed glTF: %s: byteStride %zu does not suit mode %s", where.c_str(), stride, mode.c_str()));
+        if ((double)count * (double)stride != (double)m.bufferViews[view].byteLength)
+            fail(fmt("malformed buffers: %s decodes to %zu x %zu bytes, not the view's byteLength %zu", where.c_str(),
+                     count, stride, m.bufferViews[view].byteLength));
+        std::vector<unsigned char> out(count * stride);
+        const unsigned char *src = b.data.data() + offset;
+        const int rc = vertices ? meshopt_decodeVertexBuffer(out.data(), count, stride, src, length)
+                       : mode == "TRIANGLES" ? meshopt_decodeIndexBuffer(out.data(), count, stride, src, length)
+                                             : meshopt_decodeIndexSequence(out.data(), count, stride, src, length);
+        if (rc != 0)
+            fail(fmt("malformed buffers: %s does not decode (meshoptimizer's error %d)", where.c_str(), rc));
+        const bool octahedral = filter == "OCTAHEDRAL", quaternion = filter == "QUATERNION",
+                   exponential = filter == "EXPONENTIAL";
+        if (filter != "NONE" && !((octahedral && (stride == 4 || stride == 8)) || (quaternion && stride == 8) ||
+                                  (exponential && vertices)))
+            fail(fmt("malformed glTF: %s: filter \"%s\" does not suit mode %s and byteStride %zu", where.c_str(),
+                     filter.c_str(), mode.c_str(), stride));
+        if (octahedral)
+            meshopt_decodeFilterOct(out.data(), count, stride);
+        else if (quaternion)
+            meshopt_decodeFilterQuat(out.data(), count, stride);
+        else if (exponential)
+            meshopt_decodeFilterExp(out.data(), count, stride);
+        std::vector<unsigned char> &kept = decoded[view] = std::move(out);
+        return bytes{kept.data(), kept.size()};
+    }
 
     span accessor_span(int ai, const char *what, int mi, int pi, size_t elem_size)
     {
@@ -414,15 +521,7 @@ private:
         if (a.bufferView < 0 || a.bufferView >= (int)m.bufferViews.size())
             fail(fmt("mesh %d primitive %d: %s accessor %d has no buffer view", mi, pi, what, ai));
         const tinygltf::BufferView &bv = m.bufferViews[a.bufferView];
-        if (bv.buffer < 0 || bv.buffer >= (int)m.buffers.size())
-            fail(fmt("malformed buffers: buffer view %d names buffer %d, which does not exist",
-                     a.bufferView, bv.buffer));
-        const tinygltf::Buffer &b = m.buffers[bv.buffer];
-        size_t view_end;  // every sum and product checked: a wrapped one would pass the bound
-        if (__builtin_add_overflow(bv.byteOffset, bv.byteLength, &view_end) || view_end > b.data.size())
-            fail(fmt("malformed buffers: buffer view %d (offset %zu, %zu bytes) reaches past the end of "
-                     "buffer %d (%zu bytes)", a.bufferView, bv.byteOffset, bv.byteLength, bv.buffer,
-                     b.data.size()));
+        const bytes view = view_bytes(a.bufferView);
         if (bv.byteStride && bv.byteStride < elem_size)
             fail(fmt("malformed buffers: buffer view %d has byteStride %zu, less than the %zu-byte "
                      "elements of %s accessor %d", a.bufferView, bv.byteStride, elem_size, what, ai));
@@ -431,18 +530,148 @@ private:
                         __builtin_add_overflow(end, a.byteOffset, &end) ||
                         __builtin_add_overflow(end, elem_size, &end)))
             end = SIZE_MAX;
-        if (end > bv.byteLength)
+        if (end > view.size)
             fail(fmt("malformed buffers: %s accessor %d reads past the end of buffer view %d", what,
                      ai, a.bufferView));
-        return span{b.data.data() + bv.byteOffset + a.byteOffset, stride, a.count};
+        return span{view.data + a.byteOffset, stride, a.count};
     }
 
-    span vec3_span(int ai, const char *what, int mi, int pi)
+    bool uses(const char *extension) const
+    {
+        return std::find(m.extensionsUsed.begin(), m.extensionsUsed.end(), extension) != m.extensionsUsed.end();
+    }
+
+    // A VEC3 attribute as floats: FLOAT, or with KHR_mesh_quantization the
+    // integer types it allows (normalized: divided by the type's largest
+    // value, -1 at least; or as they are), which the node's transform takes
+    // back to the mesh's size. out: 3 floats per element.
+    void read_vec3(int ai, const char *what, int mi, int pi, std::vector<float> &out)
     {
         const tinygltf::Accessor &a = m.accessors.at(ai);
-        if (a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || a.type != TINYGLTF_TYPE_VEC3)
+        const int c = a.componentType;
+        const size_t size = c == TINYGLTF_COMPONENT_TYPE_FLOAT ? 4
+                            : c == TINYGLTF_COMPONENT_TYPE_BYTE || c == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ? 1
+                            : c == TINYGLTF_COMPONENT_TYPE_SHORT || c == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
+                                                                                                               : 0;
+        if (a.type != TINYGLTF_TYPE_VEC3 || !size || (size < 4 && !uses(quantization_ext)))
             fail(fmt("mesh %d primitive %d: %s must be FLOAT VEC3", mi, pi, what));
-        return accessor_span(ai, what, mi, pi, 12);
+        const span s = accessor_span(ai, what, mi, pi, 3 * size);
+        out.resize(3 * s.count);
+        for (size_t v = 0; v < s.count; v++)
+            for (int k = 0; k < 3; k++) {
+                const unsigned char *e = s.base + v * s.stride + k * size;
+                float f;
+                switch (c) {
+                case TINYGLTF_COMPONENT_TYPE_FLOAT: memcpy(&f, e, 4); break;
+                case TINYGLTF_COMPONENT_TYPE_BYTE: f = (float)(int8_t)e[0]; break;
+                case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: f = (float)e[0]; break;
+                case TINYGLTF_COMPONENT_TYPE_SHORT: f = (float)(int16_t)(e[0] | e[1] << 8); break;
+                default: f = (float)(uint16_t)(e[0] | e[1] << 8); break;
+                }
+                if (a.normalized && size < 4) {  // glTF: max(c / (2^(b-1) - 1), -1), or c / (2^b - 1)
+                    const bool is_signed = c == TINYGLTF_COMPONENT_TYPE_BYTE || c == TINYGLTF_COMPONENT_TYPE_SHORT;
+                    f = std::max(f / (float)((is_signed ? 1u << (8 * size - 1) : 1u << 8 * size) - 1), -1.0f);
+                }
+                out[3 * v + k] = f;
+            }
+    }
+
+    // A primitive as the file holds it, in the node's space: positions (and
+    // normals, or none) 3 floats a vertex, indices 3 a triangle.
+    struct primitive_data {
+        std::vector<float> positions, normals;
+        std::vector<uint32_t> indices;
+    };
+
+    void read_accessors(int mi, int pi, const tinygltf::Primitive &p, primitive_data &d)
+    {
+        read_vec3(p.attributes.at("POSITION"), "POSITION", mi, pi, d.positions);
+        const size_t nv = d.positions.size() / 3;
+        if (p.indices >= 0) {
+            if (p.indices >= (int)m.accessors.size())
+                fail(fmt("mesh %d primitive %d: index accessor %d does not exist", mi, pi, p.indices));
+            const tinygltf::Accessor &a = m.accessors[p.indices];
+            size_t es = a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
+                        : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
+                        : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT   ? 4
+                                                                                    : 0;
+            if (!es || a.type != TINYGLTF_TYPE_SCALAR)
+                fail(fmt("mesh %d primitive %d: indices must be unsigned SCALAR", mi, pi));
+            const int view = a.bufferView;
+            if (view >= 0 && view < (int)m.bufferViews.size() && m.bufferViews[view].byteStride)
+                fail(fmt("mesh %d primitive %d: buffer view %d of the indices has a byteStride (glTF forbids it)",
+                         mi, pi, view));
+            span is = accessor_span(p.indices, "index", mi, pi, es);
+            if (is.count % 3)
+                fail(fmt("mesh %d primitive %d: %zu indices is not a whole number of triangles", mi,
+                         pi, is.count));
+            d.indices.resize(is.count);
+            for (size_t i = 0; i < is.count; i++) {
+                const unsigned char *e = is.base + i * is.stride;
+                d.indices[i] = es == 1 ? e[0] : es == 2 ? (uint32_t)(e[0] | e[1] << 8)
+                                                        : (uint32_t)e[0] | (uint32_t)e[1] << 8 |
+                                                              (uint32_t)e[2] << 16 | (uint32_t)e[3] << 24;
+            }
+        } else {
+            if (nv % 3)
+                fail(fmt("mesh %d primitive %d: %zu vertices without indices is not a whole number "
+                         "of triangles", mi, pi, nv));
+            d.indices.resize(nv);
+            for (size_t v = 0; v < nv; v++)
+                d.indices[v] = (uint32_t)v;
+        }
+        auto na = p.attributes.find("NORMAL");
+        if (na != p.attributes.end())
+            read_vec3(na->second, "NORMAL", mi, pi, d.normals);
+    }
+
+    // A primitive of KHR_draco_mesh_compression: its bufferView decoded by
+    // Draco, POSITION (and NORMAL) the attributes its ids name, as floats
+    // (Draco undoes its own quantization), and the faces' corners.
+    void read_draco(int mi, int pi, const tinygltf::Primitive &p, const tinygltf::Value &e, primitive_data &d)
+    {
+        const std::string where = fmt("mesh %d primitive %d (%s)", mi, pi, draco_ext);
+        const tinygltf::Value &bv = e.Get("bufferView"), &ids = e.Get("attributes");
+        if (!e.IsObject() || !bv.IsInt() || bv.Get<int>() < 0 || bv.Get<int>() >= (int)m.bufferViews.size())
+            fail(fmt("malformed glTF: %s: bufferView must name a buffer view", where.c_str()));
+        if (!ids.IsObject() || !ids.Has("POSITION") || !ids.Get("POSITION").IsInt())
+            fail(fmt("malformed glTF: %s: attributes must give POSITION's id", where.c_str()));
+        const bytes data = view_bytes(bv.Get<int>());
+        draco::DecoderBuffer in;
+        in.Init((const char *)data.data, data.size);
+        draco::Decoder decoder;
+        auto decoded_mesh = decoder.DecodeMeshFromBuffer(&in);
+        if (!decoded_mesh.ok())
+            fail(fmt("malformed buffers: %s does not decode: %.120s", where.c_str(),
+                     decoded_mesh.status().error_msg()));
+        const draco::Mesh &mesh = *decoded_mesh.value();
+        auto attribute = [&](const char *name, std::vector<float> &out) {
+            const draco::PointAttribute *att = mesh.GetAttributeByUniqueId((uint32_t)ids.Get(name).Get<int>());
+            if (!att || att->num_components() != 3)
+                fail(fmt("malformed buffers: %s: its data has no 3-component attribute %d for %s", where.c_str(),
+                         ids.Get(name).Get<int>(), name));
+            const auto ai = p.attributes.find(name);
+            if (ai != p.attributes.end() && m.accessors[ai->second].count != mesh.num_points())
+                fail(fmt("malformed buffers: %s: %s accessor %d counts %zu, its data %u points", where.c_str(), name,
+                         ai->second, m.accessors[ai->second].count, mesh.num_points()));
+            out.resize(3 * (size_t)mesh.num_points());
+            for (draco::PointIndex i(0); i < mesh.num_points(); ++i)
+                if (!att->ConvertValue<float>(att->mapped_index(i), 3, &out[3 * i.value()]))
+                    fail(fmt("malformed buffers: %s: %s of point %u does not convert", where.c_str(), name,
+                             i.value()));
+        };
+        attribute("POSITION", d.positions);
+        if (ids.Has("NORMAL") && ids.Get("NORMAL").IsInt())
+            attribute("NORMAL", d.normals);
+        const auto indices = draco_indices.find({mi, pi});
+        if (indices != draco_indices.end() &&
+            (indices->second >= (int)m.accessors.size() || m.accessors[indices->second].count != 3 * (size_t)mesh.num_faces()))
+            fail(fmt("malformed buffers: %s: its data holds %u faces, not what index accessor %d counts", where.c_str(),
+                     mesh.num_faces(), indices->second));
+        d.indices.resize(3 * (size_t)mesh.num_faces());
+        for (draco::FaceIndex f(0); f < mesh.num_faces(); ++f)
+            for (int k = 0; k < 3; k++)
+                d.indices[3 * f.value() + k] = mesh.face(f)[k].value();
     }
 
     void take_primitive(int mi, int pi, const tinygltf::Primitive &p, struct mat4 world)
@@ -462,15 +691,22 @@ private:
         if (!p.targets.empty())
             fail(fmt("mesh %d primitive %d has morph targets: shadowbench does not deform meshes, so its "
                      "geometry would differ from the file's", mi, pi));
-        span ps = vec3_span(pa->second, "POSITION", mi, pi);
-        size_t base = pos.size() / 3, nv = ps.count;
+        auto na = p.attributes.find("NORMAL");
+        if (na != p.attributes.end() && (na->second < 0 || na->second >= (int)m.accessors.size()))
+            fail(fmt("mesh %d primitive %d: NORMAL accessor %d does not exist", mi, pi, na->second));
+        primitive_data d;
+        auto draco = p.extensions.find(draco_ext);
+        if (draco != p.extensions.end())
+            read_draco(mi, pi, p, draco->second, d);
+        else
+            read_accessors(mi, pi, p, d);
+        size_t base = pos.size() / 3, nv = d.positions.size() / 3;
         if (nv > 3 * (size_t)SCENE_MAX_TRIANGLES - base)  // vertices indexed by fewer triangles (count())
             fail(fmt("the scene instantiates more than %d vertices (shadowbench's limit; a mesh counts once per "
                      "node that uses it)", 3 * SCENE_MAX_TRIANGLES));
 
         for (size_t v = 0; v < nv; v++) {
-            float f[3];
-            memcpy(f, ps.base + v * ps.stride, sizeof f);
+            const float *f = &d.positions[3 * v];
             struct vec3 w = m4_point(world, v3(f[0], f[1], f[2]));
             if (!std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
                 fail(fmt("mesh %d primitive %d: vertex %zu is not finite", mi, pi, v));
@@ -479,57 +715,22 @@ private:
                          v, (double)SCENE_MAX_COORD, (double)w.x, (double)w.y, (double)w.z));
             pos.insert(pos.end(), {w.x, w.y, w.z});
         }
-
         size_t first_index = idx.size();
-        if (p.indices >= 0) {
-            if (p.indices >= (int)m.accessors.size())
-                fail(fmt("mesh %d primitive %d: index accessor %d does not exist", mi, pi, p.indices));
-            const tinygltf::Accessor &a = m.accessors[p.indices];
-            size_t es = a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
-                        : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
-                        : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT   ? 4
-                                                                                    : 0;
-            if (!es || a.type != TINYGLTF_TYPE_SCALAR)
-                fail(fmt("mesh %d primitive %d: indices must be unsigned SCALAR", mi, pi));
-            const int view = a.bufferView;
-            if (view >= 0 && view < (int)m.bufferViews.size() && m.bufferViews[view].byteStride)
-                fail(fmt("mesh %d primitive %d: buffer view %d of the indices has a byteStride (glTF forbids it)",
-                         mi, pi, view));
-            span is = accessor_span(p.indices, "index", mi, pi, es);
-            if (is.count % 3)
-                fail(fmt("mesh %d primitive %d: %zu indices is not a whole number of triangles", mi,
-                         pi, is.count));
-            for (size_t i = 0; i < is.count; i++) {
-                const unsigned char *e = is.base + i * is.stride;
-                uint32_t v = es == 1 ? e[0] : es == 2 ? (uint32_t)(e[0] | e[1] << 8)
-                                                      : (uint32_t)e[0] | (uint32_t)e[1] << 8 |
-                                                            (uint32_t)e[2] << 16 | (uint32_t)e[3] << 24;
-                if (v >= nv)
-                    fail(fmt("mesh %d primitive %d: index %u at position %zu is out of range (%zu "
-                             "vertices)", mi, pi, v, i, nv));
-                idx.push_back((uint32_t)base + v);
-            }
-        } else {
-            if (nv % 3)
-                fail(fmt("mesh %d primitive %d: %zu vertices without indices is not a whole number "
-                         "of triangles", mi, pi, nv));
-            for (size_t v = 0; v < nv; v++)
-                idx.push_back((uint32_t)(base + v));
+        for (size_t i = 0; i < d.indices.size(); i++) {
+            if (d.indices[i] >= nv)
+                fail(fmt("mesh %d primitive %d: index %u at position %zu is out of range (%zu "
+                         "vertices)", mi, pi, d.indices[i], i, nv));
+            idx.push_back((uint32_t)base + d.indices[i]);
         }
 
         nrm.resize(pos.size(), 0.0f);
-        auto na = p.attributes.find("NORMAL");
-        if (na != p.attributes.end() && (na->second < 0 || na->second >= (int)m.accessors.size()))
-            fail(fmt("mesh %d primitive %d: NORMAL accessor %d does not exist", mi, pi, na->second));
-        if (na != p.attributes.end()) {
-            span ns = vec3_span(na->second, "NORMAL", mi, pi);
-            if (ns.count != nv)
+        if (!d.normals.empty()) {
+            if (d.normals.size() != d.positions.size())
                 fail(fmt("mesh %d primitive %d: NORMAL has %zu elements, POSITION %zu", mi, pi,
-                         ns.count, nv));
+                         d.normals.size() / 3, nv));
             struct mat4 inv_t = normal_matrix(world);
             for (size_t v = 0; v < nv; v++) {
-                float f[3];
-                memcpy(f, ns.base + v * ns.stride, sizeof f);
+                const float *f = &d.normals[3 * v];
                 struct vec3 n = v3_normalize(m4_vector(inv_t, v3(f[0], f[1], f[2])));
                 if (!std::isfinite(n.x + n.y + n.z))
                     fail(fmt("mesh %d primitive %d: normal %zu is not finite", mi, pi, v));
@@ -816,10 +1017,19 @@ void check_types(const cJSON *doc)
         if (a && !cJSON_IsArray(a))
             fail(fmt("malformed glTF: \"%s\" must be an array", name));
     }
-    const cJSON *required = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(doc, "extensionsRequired"), 0);
-    if (required)
-        fail(fmt("the scene requires the extension %.64s, which shadowbench does not support",
-                 cJSON_IsString(required) ? required->valuestring : "(not a name)"));
+    // The geometry encodings that exporters write by default or on one
+    // click (gltfpack, gltf-transform, Blender) are decoded; any other
+    // required extension is refused.
+    const cJSON *required;
+    cJSON_ArrayForEach(required, cJSON_GetObjectItemCaseSensitive(doc, "extensionsRequired")) {
+        const char *name = cJSON_IsString(required) ? required->valuestring : nullptr;
+        bool known = false;
+        for (const char *k : decoded_extensions)
+            known = known || (name && strcmp(name, k) == 0);
+        if (!known)
+            fail(fmt("the scene requires the extension %.64s, which shadowbench does not support",
+                     name ? name : "(not a name)"));
+    }
     // glTF: every extension a file uses is listed in extensionsUsed.
     static const char punctual[] = "KHR_lights_punctual";
     bool uses = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(doc, "extensions"), punctual);
@@ -1050,6 +1260,68 @@ cJSON *glb_json(const char *bytes, size_t size)
     return j;
 }
 
+// EXT_meshopt_compression's fallback buffers hold nothing the decoder
+// needs (their views decode from another buffer) and often have no uri,
+// which tinygltf refuses in a .gltf and would fill from a GLB's BIN chunk:
+// each becomes a data URI of one zero byte (tinygltf decodes no empty one).
+// Returns whether doc changed.
+bool empty_fallback_buffers(cJSON *doc)
+{
+    bool changed = false;
+    cJSON *b;
+    cJSON_ArrayForEach(b, cJSON_GetObjectItemCaseSensitive(doc, "buffers")) {
+        const cJSON *e = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(b, "extensions"), meshopt_ext);
+        if (!cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(e, "fallback")) || cJSON_GetObjectItemCaseSensitive(b, "uri"))
+            continue;
+        cJSON_DeleteItemFromObjectCaseSensitive(b, "byteLength");
+        cJSON_AddNumberToObject(b, "byteLength", 1);
+        cJSON_AddStringToObject(b, "uri", "data:application/octet-stream;base64,AA==");
+        changed = true;
+    }
+    return changed;
+}
+
+// A primitive of KHR_draco_mesh_compression takes its triangles from its
+// Draco data; its index accessor has no buffer view, which tinygltf
+// refuses. The accessor is taken out of the primitive into
+// indices[{mesh, primitive}] (its count is checked against the data).
+// Returns whether doc changed.
+bool take_draco_indices(cJSON *doc, std::map<std::pair<int, int>, int> &indices)
+{
+    bool changed = false;
+    int mi = 0;
+    cJSON *mesh, *p;
+    cJSON_ArrayForEach(mesh, cJSON_GetObjectItemCaseSensitive(doc, "meshes")) {
+        int pi = 0;
+        cJSON_ArrayForEach(p, cJSON_GetObjectItemCaseSensitive(mesh, "primitives")) {
+            const cJSON *e = cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(p, "extensions"), draco_ext);
+            const cJSON *i = cJSON_GetObjectItemCaseSensitive(p, "indices");
+            if (e && is_index(i)) {
+                indices[{mi, pi}] = (int)i->valuedouble;
+                cJSON_DeleteItemFromObjectCaseSensitive(p, "indices");
+                changed = true;
+            }
+            pi++;
+        }
+        mi++;
+    }
+    return changed;
+}
+
+// A GLB with its JSON chunk replaced by json (padded with spaces), the
+// chunks after it as they were.
+std::string glb_with_json(const char *bytes, size_t size, const char *json)
+{
+    auto u32 = [](uint32_t v) { return std::string{(char)v, (char)(v >> 8), (char)(v >> 16), (char)(v >> 24)}; };
+    const uint32_t old = (uint32_t)(unsigned char)bytes[12] | (uint32_t)(unsigned char)bytes[13] << 8 |
+                         (uint32_t)(unsigned char)bytes[14] << 16 | (uint32_t)(unsigned char)bytes[15] << 24;
+    std::string chunk(json);
+    chunk.append((4 - chunk.size() % 4) % 4, ' ');
+    const std::string rest(bytes + 20 + old, size - 20 - old);
+    return "glTF" + u32(2) + u32((uint32_t)(12 + 8 + chunk.size() + rest.size())) + u32((uint32_t)chunk.size()) +
+           "JSON" + chunk + rest;
+}
+
 void load(const char *path, const char *bytes, size_t size, struct scene *s)
 {
     bool glb = size >= 4 && memcmp(bytes, "glTF", 4) == 0;
@@ -1090,6 +1362,16 @@ void load(const char *path, const char *bytes, size_t size, struct scene *s)
     // Deleted however load ends: check_read_as_written needs it after tinygltf.
     std::unique_ptr<cJSON, void (*)(cJSON *)> doc(j, cJSON_Delete);
     check_types(j);
+    std::string rewritten;  // what tinygltf reads instead of bytes, when not empty
+    std::map<std::pair<int, int>, int> draco_indices;
+    const bool fallbacks = empty_fallback_buffers(j), draco = take_draco_indices(j, draco_indices);
+    if (fallbacks || draco) {
+        std::unique_ptr<char, void (*)(void *)> text(cJSON_PrintUnformatted(j), cJSON_free);
+        if (!text)
+            throw std::bad_alloc();
+        rewritten = glb ? glb_with_json(bytes, size, text.get()) : std::string(text.get());
+        bytes = rewritten.data(), size = rewritten.size();
+    }
     buffer_files files{check_buffers(j, dir)};
 
     tinygltf::TinyGLTF gltf;
@@ -1120,7 +1402,7 @@ void load(const char *path, const char *bytes, size_t size, struct scene *s)
             fail(fmt("malformed glTF: meshes[%zu]: tinygltf did not read every primitive", mi));
     check_read_as_written(j, model);
 
-    loader l(model);
+    loader l(model, draco_indices);
     l.run();
     if (!l.have_camera)
         fail("no camera: need a node with a perspective camera");

@@ -82,13 +82,18 @@ int tune_descend(struct tune_memo *m, const int *scenes, int n, const int *start
     return 0;
 }
 
-int tune_cross_validate(struct tune_memo *m, const int *start, int (*fold)[TUNE_MAX_DIMS], double *held_out)
+int tune_cross_validate(struct tune_memo *m, const int *start, const int *group, int (*fold)[TUNE_MAX_DIMS],
+                        double *held_out)
 {
     for (int k = 0; k < m->scenes; k++) {
         int others[TUNE_MAX_SCENES], n = 0;
         for (int i = 0; i < m->scenes; i++)
-            if (i != k)
+            if (i != k && (!group || group[i] == group[k]))
                 others[n++] = i;
+        if (n == 0)  /* alone in its group: every other scene */
+            for (int i = 0; i < m->scenes; i++)
+                if (i != k)
+                    others[n++] = i;
         double fitted;
         if (tune_descend(m, others, n, start, fold[k], &fitted) != 0 ||
             tune_mean(m, fold[k], &k, 1, &held_out[k]) != 0)

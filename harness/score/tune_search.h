@@ -54,9 +54,12 @@ int tune_mean(struct tune_memo *m, const int *point, const int *scenes, int n, d
 int tune_descend(struct tune_memo *m, const int *scenes, int n, const int *start, int *best, double *score);
 
 /* Leave-one-scene-out: for each k in 0..m->scenes-1, fold[k] is the point
- * tune_descend chooses on every scene but k, and held_out[k] its objective
- * on k (evaluated after the search). Returns 0 or -1. */
-int tune_cross_validate(struct tune_memo *m, const int *start, int (*fold)[TUNE_MAX_DIMS], double *held_out);
+ * tune_descend chooses on every other scene of k's group (group[i] == group[k];
+ * every other scene when group is NULL or k is alone in its group), and
+ * held_out[k] its objective on k (evaluated after the search). Returns 0 or
+ * -1. */
+int tune_cross_validate(struct tune_memo *m, const int *start, const int *group, int (*fold)[TUNE_MAX_DIMS],
+                        double *held_out);
 
 /* The memo's entry for point, or NULL. */
 const struct tune_entry *tune_find(const struct tune_memo *m, const int *point);

@@ -6,6 +6,7 @@
  * scrambled per pixel). A sample is above the horizon when it lies in front
  * of the one-sided light and above p's tangent plane; H counts those, V is
  * the share of them that the shadow ray from p + eps*n reaches unblocked.
+ * The sun's samples are directions in its cone, its rays unbounded.
  *
  * Noise floor without a second trace: the strata split into two halves in
  * a checkerboard, each a stratified estimate on its own with independent

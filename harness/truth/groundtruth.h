@@ -44,8 +44,8 @@ struct gt_image {
     int width, height;
     float *v;           /* V_gt: of the light samples above p's tangent plane, the fraction
                            unblocked (0 where none is above) */
-    float *v_weighted;  /* V_gt_weighted: the same samples weighted by cos*cos/r^2 */
-    float *h;           /* H: fraction of the light's area above the tangent plane */
+    float *v_weighted;  /* V_gt_weighted: the same samples weighted by cos*cos/r^2 (the sun's: cos theta_p) */
+    float *h;           /* H: fraction of the light's area (the sun's solid angle) above the tangent plane */
     float *e;           /* E: unshadowed irradiance from a light of unit radiance */
     float *noise;       /* a sample of V's error: the two halves of the samples disagree by
                            this much, scaled so its rms over a region estimates V's rms
