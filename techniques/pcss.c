@@ -1,5 +1,7 @@
 /* pcss — percentage-closer soft shadows (Fernando 2005, "Percentage-closer
- * soft shadows", SIGGRAPH sketch), for a perspective light.
+ * soft shadows", SIGGRAPH sketch), for a perspective light (an area light;
+ * the sun's orthographic map takes its widths in world space, 2 tan(alpha)
+ * (z_r - z_b): shaders/pcss_geometry.glsl).
  *
  * Computes V in three steps: (1) blocker search: comparisons over the region
  * of the map through which the receiver sees the light (the light's shape,

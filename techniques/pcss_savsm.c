@@ -17,7 +17,8 @@
  *
  * Parameters:
  *   sat_format            as savsm (int32: the scale is set by the widest
- *                         search box, light_size_uv * (1 - near/far)).
+ *                         search box, light_size_uv * (1 - near/far); the
+ *                         sun's, light_size_uv * (far - near)).
  *   light_size_scale      multiplies the scene's light size.
  *   min_variance          floor on the variance, linear depth units squared.
  *   min_blocker_fraction  below this estimated blocked share, lit.

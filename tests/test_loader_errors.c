@@ -122,6 +122,16 @@ static void meshopt_view(cJSON *g, const char *mode)
     cJSON_AddStringToObject(e, "mode", mode);
 }
 static void meshopt_garbage(cJSON *g) { meshopt_view(g, "ATTRIBUTES"); }
+static void meshopt_indices(cJSON *g, int stride, double count)
+{
+    meshopt_view(g, "TRIANGLES");
+    cJSON *e = cJSON_GetObjectItem(cJSON_GetObjectItem(at(g, "bufferViews", 0), "extensions"), "EXT_meshopt_compression");
+    cJSON_ReplaceItemInObject(e, "byteStride", cJSON_CreateNumber(stride));
+    cJSON_ReplaceItemInObject(e, "count", cJSON_CreateNumber(count));
+}
+static void meshopt_stride(cJSON *g) { meshopt_indices(g, 12, 3); }
+static void meshopt_partial(cJSON *g) { meshopt_indices(g, 2, 4); }
+static void meshopt_huge(cJSON *g) { meshopt_indices(g, 4, 2147483646.0); }
 static void meshopt_mode(cJSON *g) { meshopt_view(g, "POINTS"); }
 
 /* Hostile values (issue 12): overflowing sizes, shared children, values
@@ -554,6 +564,12 @@ int main(int argc, char **argv)
     case_mutated("short_positions", short_positions, "mesh 0 primitive 0: POSITION must be FLOAT VEC3");
     case_mutated("meshopt_garbage", meshopt_garbage, "malformed buffers: buffer view 0 (EXT_meshopt_compression) does "
                                                      "not decode (meshoptimizer's error -1)");
+    case_mutated("meshopt_stride", meshopt_stride, "malformed glTF: buffer view 0 (EXT_meshopt_compression): byteStride "
+                                                   "12 does not suit mode TRIANGLES");
+    case_mutated("meshopt_partial", meshopt_partial, "malformed glTF: buffer view 0 (EXT_meshopt_compression): 4 "
+                                                     "indices is not a whole number of triangles");
+    case_mutated("meshopt_huge", meshopt_huge, "buffer view 0 (EXT_meshopt_compression): 2147483646 elements, more than "
+                                               "a scene may hold (30000000)");
     case_mutated("meshopt_mode", meshopt_mode, "malformed glTF: buffer view 0 (EXT_meshopt_compression): mode must be "
                                                "ATTRIBUTES, TRIANGLES or INDICES, got \"POINTS\"");
     case_mutated("required_extension", required_extension,

@@ -161,7 +161,7 @@ static double box_model_error(void)
 /* The sun over parallel planes (the shipped sun_parallel_planes at 0.53
  * degrees, and the same planes under a 5-degree sun): its penumbra is
  * 2 h tan(alpha) wide, the orthographic map's similar triangles in world
- * space. pcss_savsm and msm_soft draw their box model's ramp; the same at
+ * space. pcss_savsm, msm_soft and vssm draw their box model's ramp; the same at
  * a light_size_scale 1.2 (a cone 20 % too wide) is clearly worse, so the
  * sizes the angle gives are the right ones. pcss follows the disk within
  * its tap noise; hard has no penumbra. A sun whose blocker search is wider
@@ -180,7 +180,7 @@ static void sun_penumbra(void)
             mesh_free(&mb);
         }
         char *name = util_printf("sun%d", k);
-        char *args = util_printf("--scene %s --technique hard,pcss,pcss_savsm,msm_soft --sweep "
+        char *args = util_printf("--scene %s --technique hard,pcss,pcss_savsm,msm_soft,vssm --sweep "
                                  "pcss_savsm.light_size_scale=1,1.2 --width 192 --height 192 --gt-samples 1024 "
                                  "--shadow-map-size 1024", scene);
         cJSON *m = run_cells(name, args, 0);
@@ -188,7 +188,7 @@ static void sun_penumbra(void)
             const double hard = metric(m, "hard", "penumbra_rmse"), pcss = metric(m, "pcss", "penumbra_rmse"),
                          savsm = metric_of(m, "cell", "pcss_savsm@light_size_scale=1.0", "penumbra_rmse"),
                          wide = metric_of(m, "cell", "pcss_savsm@light_size_scale=1.2", "penumbra_rmse"),
-                         msm_soft = metric(m, "msm_soft", "penumbra_rmse"),
+                         msm_soft = metric(m, "msm_soft", "penumbra_rmse"), vssm = metric(m, "vssm", "penumbra_rmse"),
                          noise = metric(m, "hard", "gt_noise_penumbra_rmse");
             printf("sun %g deg, penumbra_rmse: hard %.4f  pcss %.4f  pcss_savsm %.4f (at 1.2x: %.4f)  msm_soft %.4f  "
                    "(ground-truth noise %.4f, the box model's own error %.4f)\n", deg, hard, pcss, savsm, wide,
@@ -197,9 +197,9 @@ static void sun_penumbra(void)
              * error (what remains is the edge's rasterisation in the map,
              * 0.0046 on the rect light's planes), and not below the model:
              * a box cannot draw the disk's segment. */
-            for (int j = 0; j < 2; j++) {
-                const double v = j ? msm_soft : savsm;
-                const char *t = j ? "msm_soft" : "pcss_savsm";
+            for (int j = 0; j < 3; j++) {
+                const double v = j == 2 ? vssm : j ? msm_soft : savsm;
+                const char *t = j == 2 ? "vssm" : j ? "msm_soft" : "pcss_savsm";
                 CHECK(v <= noise + model + 0.01, "sun %g deg: %s must draw its box model's ramp: %.4f", deg, t, v);
                 CHECK(v >= model - 0.003, "sun %g deg: %s is closer to the disk than a box can be: %.4f", deg, t, v);
             }

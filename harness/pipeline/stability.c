@@ -55,6 +55,17 @@ int stability_add_motion(struct stability *st, const struct motion *m)
 
 int stability_check_nodes(const struct stability *st)
 {
+    for (int v = 0; v < st->var_count; v++)
+        for (int s = 0; s < st->scene_count; s++) {
+            const struct scene *sc = &st->scenes[s];
+            const double x = st->vars[v].values[st->vars[v].count - 1];  /* increasing: the widest */
+            if (st->vars[v].kind == VARY_LIGHT_SCALE && sc->light.shape == LIGHT_SUN &&
+                !(2 * sc->light.half_angle * x * 180 / M_PI <= 30)) {
+                log_error("--vary light_scale=%g: %s's sun would be %.3g degrees across, beyond the 30 the scene format "
+                          "allows", x, sc->name, 2 * sc->light.half_angle * x * 180 / M_PI);
+                return -1;
+            }
+        }
     for (int m = 0; m < st->motion_count; m++)
         for (int s = 0; s < st->scene_count; s++) {
             const struct motion *mo = &st->motions[m];

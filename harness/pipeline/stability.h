@@ -121,8 +121,9 @@ struct stability {
  * error. Returns 0 or -1 (logged). */
 int stability_add_motion(struct stability *st, const struct motion *m);
 
-/* The node each caster motion moves, found in every scene it runs on.
- * Returns 0 or -1 (logged). */
+/* The node each caster motion moves, found in every scene it runs on; and
+ * each light_scale value keeps every sun within the scene format's 30
+ * degrees across. Returns 0 or -1 (logged). */
 int stability_check_nodes(const struct stability *st);
 
 /* Parses --vary spec (NAME=V1,V2,...) into the next variation; the

@@ -45,7 +45,7 @@ static void project(struct light_frustum *f, const struct scene_light *L)
 static int clip_plane(const struct vec3 *in, int count, struct vec3 n, float d, struct vec3 *out)
 {
     int k = 0;
-    for (int i = 0; i < count; i++) {
+    for (int i = 0; i < count && k < 15; i++) {
         struct vec3 a = in[i], b = in[(i + 1) % count];
         float sa = v3_dot(n, a) - d, sb = v3_dot(n, b) - d;
         if (sa >= 0)
@@ -60,9 +60,10 @@ static int clip_plane(const struct vec3 *in, int count, struct vec3 n, float d, 
  * fitted to what the camera can see (the geometry inside its frustum, for
  * images of the given aspect), its depth range from the
  * nearest caster over that window to the farthest visible point. The view's
- * origin sits a scene's extent above the scene's centre, on the line
- * through the light's node along the sun, so that moving the node
- * (`light_shift`) moves the map's texel grid and nothing else. */
+ * origin sits a scene's extent above the light's position along the sun
+ * (the loader puts it at the scene's centre, and only `light_shift` moves
+ * it): moving it moves the map's texel grid and nothing else, and turning
+ * the sun turns the map about the scene. */
 static int fit_sun(const struct scene *s, float aspect, struct light_frustum *f)
 {
     const struct scene_light *L = &s->light;
@@ -71,7 +72,7 @@ static int fit_sun(const struct scene *s, float aspect, struct light_frustum *f)
     const float extent = scene_extent(s);
     const struct vec3 o = v3_add(v3_sub(L->pos, v3_scale(L->z, v3_dot(v3_sub(L->pos, mid), L->z))),
                                  v3_scale(L->z, extent));
-    f->sun = true;
+    f->sun = 1;
     f->view = m4_view(o, L->x, L->y, L->z);
     /* The camera's planes, normals inwards: near, top, bottom, right, left. */
     const float ty = tanf(0.5f * c->yfov_rad), tx = ty * (aspect > 0 ? aspect : 1.0f);
@@ -83,7 +84,7 @@ static int fit_sun(const struct scene *s, float aspect, struct light_frustum *f)
         pd[k] = v3_dot(pn[k], c->pos) + (k == 0 ? c->znear : 0.0f);
     float x_lo = INFINITY, x_hi = -INFINITY, y_lo = INFINITY, y_hi = -INFINITY, d_hi = -INFINITY;
     for (size_t t = 0; t < s->triangle_count; t++) {
-        struct vec3 poly[2][8];  /* a triangle clipped by five planes: at most 8 corners */
+        struct vec3 poly[2][16];  /* a triangle clipped by five planes: 8 corners, with room for rounding */
         int n = 3;
         for (int k = 0; k < 3; k++) {
             const float *p = &s->positions[3 * s->indices[3 * t + k]];

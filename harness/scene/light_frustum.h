@@ -8,6 +8,7 @@
 #include "scene.h"
 
 #include <stdbool.h>
+#include <stddef.h>
 
 /* Widest half-angle of the light frustum: geometry beyond it is outside the
  * map (and unscored), as an engine's fixed-FOV spot shadow would be. */
@@ -24,8 +25,10 @@ struct light_frustum {
     float l, r, b, t;             /* window at the near plane (the sun's: at every depth), light space */
     float light_size_uv[2];       /* light size in shadow-map UV at the near plane; the sun's:
                                      its cone's width in UV per world unit of depth, 2 tan(alpha) / window */
-    bool sun;                     /* orthographic */
+    int sun;                      /* 1: orthographic (an int: the struct is hashed, no padding) */
 };
+_Static_assert(sizeof(struct light_frustum) == 2 * sizeof(struct mat4) + 8 * sizeof(float) + sizeof(int),
+               "light_frustum is hashed as bytes: no padding");
 
 /* Fits f to s, whose images are aspect = width / height (the sun's map
  * covers the camera's view). Returns 0, or -1 after logging when nothing is
@@ -35,13 +38,15 @@ int light_frustum_fit(const struct scene *s, float aspect, struct light_frustum 
 /* Fits near and far to s, and keeps window's angular window (its l/near,
  * r/near, b/near, t/near): the map's texel grid attached to the light, as a
  * spot light's shadow map moves with it, rather than refitted to the
- * scene's bounds (which holds the grid still on the scene). Returns 0 or
+ * scene's bounds (which holds the grid still on the scene). The sun's
+ * window is kept as it is, in its own frame's world units. Returns 0 or
  * -1 (logged). */
 int light_frustum_fit_window(const struct scene *s, float aspect, const struct light_frustum *window,
                              struct light_frustum *f);
 
 /* Pulls the near plane towards the light: near / k (k >= 1), far kept, the
- * same cone (the window scales with near). What an engine with a fixed,
+ * same cone (the window scales with near); the sun's, its depth range k
+ * times as deep towards it, the window kept. What an engine with a fixed,
  * too-small near plane does: the scene's depths then fill less of [near,
  * far] (`shadowbench stability --vary depth_range`). */
 void light_frustum_widen(struct light_frustum *f, const struct scene *s, float k);

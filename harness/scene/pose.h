@@ -12,7 +12,7 @@ struct scene_pose {
     float light_shift;     /* the light moved along its own x axis, world units */
     float light_turn_rad;  /* the light turned about its own y axis, through its centre */
     float camera_shift;    /* the camera moved along its own x axis, world units */
-    float light_scale;     /* the light's size times this (0: 1): width, height, radius */
+    float light_scale;     /* the light's size times this (0: 1): width, height, radius, the sun's angle */
     int caster;            /* 1 + the index in nodes of a node moved (0: none) */
     float caster_shift;    /* that node moved along the light's x axis, world units */
 };

@@ -240,7 +240,9 @@ private:
         if (n.mesh >= 0 && n.mesh < (int)m.meshes.size())
             for (const auto &p : m.meshes[n.mesh].primitives) {
                 auto pa = p.attributes.find("POSITION");
-                const int ai = p.indices >= 0 ? p.indices : pa != p.attributes.end() ? pa->second : -1;
+                const auto draco = draco_indices.find({n.mesh, (int)(&p - m.meshes[n.mesh].primitives.data())});
+                const int ai = draco != draco_indices.end() ? draco->second  // taken out for tinygltf
+                               : p.indices >= 0 ? p.indices : pa != p.attributes.end() ? pa->second : -1;
                 if (ai >= 0 && ai < (int)m.accessors.size() &&
                     (*triangles += m.accessors[ai].count / 3) > SCENE_MAX_TRIANGLES)
                     fail(fmt("the scene instantiates more than %d triangles (shadowbench's limit; a mesh counts "
@@ -484,6 +486,11 @@ private:
                      mode.c_str()));
         if (vertices ? stride == 0 || stride > 256 || stride % 4 : stride != 2 && stride != 4)
             fail(fmt("malformed glTF: %s: byteStride %zu does not suit mode %s", where.c_str(), stride, mode.c_str()));
+        if (count > 3 * (size_t)SCENE_MAX_TRIANGLES)  // before anything is allocated for it
+            fail(fmt("%s: %zu elements, more than a scene may hold (%d)", where.c_str(), count,
+                     3 * SCENE_MAX_TRIANGLES));
+        if (mode == "TRIANGLES" && count % 3)
+            fail(fmt("malformed glTF: %s: %zu indices is not a whole number of triangles", where.c_str(), count));
         if ((double)count * (double)stride != (double)m.bufferViews[view].byteLength)
             fail(fmt("malformed buffers: %s decodes to %zu x %zu bytes, not the view's byteLength %zu", where.c_str(),
                      count, stride, m.bufferViews[view].byteLength));
@@ -496,8 +503,8 @@ private:
             fail(fmt("malformed buffers: %s does not decode (meshoptimizer's error %d)", where.c_str(), rc));
         const bool octahedral = filter == "OCTAHEDRAL", quaternion = filter == "QUATERNION",
                    exponential = filter == "EXPONENTIAL";
-        if (filter != "NONE" && !((octahedral && (stride == 4 || stride == 8)) || (quaternion && stride == 8) ||
-                                  (exponential && vertices)))
+        if (filter != "NONE" && !(vertices && ((octahedral && (stride == 4 || stride == 8)) ||
+                                               (quaternion && stride == 8) || exponential)))
             fail(fmt("malformed glTF: %s: filter \"%s\" does not suit mode %s and byteStride %zu", where.c_str(),
                      filter.c_str(), mode.c_str(), stride));
         if (octahedral)
@@ -645,6 +652,9 @@ private:
             fail(fmt("malformed buffers: %s does not decode: %.120s", where.c_str(),
                      decoded_mesh.status().error_msg()));
         const draco::Mesh &mesh = *decoded_mesh.value();
+        if (mesh.num_faces() > (uint32_t)SCENE_MAX_TRIANGLES)
+            fail(fmt("%s: its data holds %u triangles, more than a scene may (%d)", where.c_str(), mesh.num_faces(),
+                     SCENE_MAX_TRIANGLES));
         auto attribute = [&](const char *name, std::vector<float> &out) {
             const draco::PointAttribute *att = mesh.GetAttributeByUniqueId((uint32_t)ids.Get(name).Get<int>());
             if (!att || att->num_components() != 3)
@@ -1498,6 +1508,12 @@ extern "C" int scene_load(const char *path, struct scene *s)
         s->bounds_min = v3_min(s->bounds_min, p);
         s->bounds_max = v3_max(s->bounds_max, p);
     }
+
+    // The sun has no position: its node's means nothing, so it is the
+    // scene's centre, about which light_rotate turns it without moving its
+    // map (light_frustum.c).
+    if (s->light.shape == LIGHT_SUN)
+        s->light.pos = v3_scale(v3_add(s->bounds_min, s->bounds_max), 0.5f);
 
     // The cache key (docs/design.md §6): the file's bytes plus everything it
     // resolved to, so a changed external buffer is noticed too.
