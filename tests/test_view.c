@@ -95,7 +95,8 @@ static int ground_truth(const char *scene, int samples, struct exr_channel *ch, 
  * 0.04, on both lights; a normal tilted by 0.2 gives 6). The picture is E
  * up to its scale, which the logged mean pins: within 0.5 % of the ground
  * truth's mean (the disk is a 64-gon of its area; seen: 0.10 % rect, 0.11 %
- * disk, about the sampled E's own error; the disk 1.3x too wide gives 68 %). */
+ * disk, about the sampled E's own error; the disk 1.3x too wide gives 68 %);
+ * and the sun's, its cone's solid angle times cos theta. */
 static void irradiance_check(const char *scene)
 {
     struct exr_channel ch[] = {{"E", NULL}};
@@ -220,6 +221,7 @@ int main(int argc, char **argv)
 
     irradiance_check("parallel_planes");
     irradiance_check("parallel_planes_disk");
+    irradiance_check("sun_contact");  /* the sun: a disk tan(alpha) wide one unit along it, 50 degrees up */
 
     /* The ground truth at the viewer's size and samples, by the gt command. */
     struct exr_channel ch[] = {{"V", NULL}, {"mask", NULL}};
