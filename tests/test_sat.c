@@ -9,7 +9,10 @@
  *   - precision: over random boxes, the error of the mean and variance read
  *     from moments_sat (as sat.glsl reads them) orders fp32 > fp32_centered
  *     >= int32; msm_sat's mean moments err less in int32 than in fp32, and
- *     int32 only by its rounding. */
+ *     int32 only by its rounding.
+ *   - the sun (sun_exact()): the same scene under a sun, an orthographic
+ *     map whose linear depth is 1 - d_hw: both int32 tables equal the CPU
+ *     reference of that conversion bit for bit. */
 #include "check.h"
 #include "gltf_writer.h"
 #include "run_cmd.h"
@@ -166,7 +169,7 @@ static void box_rms(const struct table *t, const float *moments, double err[4])
 /* Light at height 4 facing down; blocker (1 x 1) at height 2 is the near
  * plane; a sliver at height -0.22, hidden under the receiver, sets the far
  * plane, so the receiver (height 0) sits at d = 2 / 2.22 = 0.90. */
-static void write_scene(const char *path)
+static void write_scene(const char *path, bool sun)
 {
     struct mesh_builder m = {0};
     mesh_add_quad(&m, v3(-6, 0, -6), v3(0, 0, 12), v3(12, 0, 0));
@@ -176,7 +179,7 @@ static void write_scene(const char *path)
         .description = "SAT precision (test)", .shows = "depths far from 0.5",
         .camera_pos = v3(0, 3, 3), .camera_target = v3(0, 0, 0), .camera_yfov_rad = 0.8f,
         .camera_znear = 0.05f, .light_pos = v3(0, 4, 0), .light_target = v3(0, 0, 0),
-        .light_width = 1, .light_height = 1,
+        .light_width = 1, .light_height = 1, .sun_angular_diameter_deg = sun ? 0.53 : 0,
     };
     CHECK(gltf_write(path, &m, &d) == 0, "writing %s", path);
     mesh_free(&m);
@@ -208,12 +211,47 @@ static void both_tables(struct shadowmap *sm, const struct scene_mesh *mesh)
     }
 }
 
+/* The sun's depth conversion, as shaders/depth.glsl's sun branch: linear
+ * depth is 1 - d_hw; each int32 table equals its CPU reference. */
+static void sun_exact(const char *path)
+{
+    write_scene(path, true);
+    struct scene s;
+    struct scene_mesh mesh = {0};
+    struct shadowmap sm = {0};
+    CHECK(scene_load(path, &s) == 0 && s.light.shape == LIGHT_SUN, "the sun's scene");
+    scene_mesh_upload(&s, &mesh);
+    CHECK(shadowmap_create(&sm, &s, &(struct shadowmap_desc){.size_texels = N}) == 0 && sm.frustum.sun,
+          "the sun's shadow map");
+    float *depth = xmalloc(sizeof(float) * N * N), *m2 = xmalloc(sizeof(float) * 2 * N * N),
+          *m4 = xmalloc(sizeof(float) * 4 * N * N);
+    CHECK(shadowmap_prepare(&sm, &(struct shadowmap_request){.products = SM_DEPTH}) == 0, "depth map");
+    shadowmap_render_product(&sm, &mesh, SM_PRODUCT_DEPTH, NULL);
+    glBindTexture(GL_TEXTURE_2D, sm.products[SM_PRODUCT_DEPTH].texture);
+    glGetTexImage(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT, GL_FLOAT, depth);
+    for (int i = 0; i < N * N; i++) {
+        float d = 1.0f - depth[i], w = 2.0f * d - 1.0f, w2 = w * w;
+        m2[2 * i] = d, m2[2 * i + 1] = d * d;
+        m4[4 * i] = w, m4[4 * i + 1] = w2, m4[4 * i + 2] = w2 * w, m4[4 * i + 3] = w2 * w2;
+    }
+    const int products[] = {SM_PRODUCT_MOMENTS_SAT, SM_PRODUCT_MSM_SAT};
+    for (int k = 0; k < 2; k++) {
+        struct table t = build_sat(&sm, &mesh, products[k], SAT_INT32);
+        int32_exact(&t, k ? m4 : m2);
+        free(t.sat);
+    }
+    free(depth), free(m2), free(m4);
+    shadowmap_destroy(&sm);
+    scene_mesh_destroy(&mesh);
+    scene_free(&s);
+}
+
 int main(void)
 {
     if (!mkdtemp(dir))
         return 1;
     char *path = util_printf("%s/sat_precision.gltf", dir);
-    write_scene(path);
+    write_scene(path, false);
     struct scene s;
     struct scene_mesh mesh = {0};
     struct shadowmap sm = {0};
@@ -278,6 +316,9 @@ int main(void)
     for (int c = 0; c < 4; c++)
         CHECK(err4[SAT_FP32][c] > err4[SAT_INT32][c], "msm_sat: int32 must beat fp32 on moment %d", c + 1);
     both_tables(&sm, &mesh);
+    char *sun_path = util_printf("%s/sat_sun.gltf", dir);
+    sun_exact(sun_path);
+    free(sun_path);
     CHECK(shadowmap_prepare(&sm, &(struct shadowmap_request){
               .products = SM_DEPTH | SM_MSM_SAT, .msm_sat.format = SAT_FP32_CENTERED}) != 0,
           "msm_sat must refuse fp32_centered");
