@@ -306,7 +306,7 @@ static int sun_parallel_planes(struct mesh_builder *m, struct gltf_scene_desc *d
  * the receiver; along the shadow the height above it grows to 3.9 along
  * the sun's rays at the tip, where the penumbra is 2 * 3.9 tan(alpha) wide
  * across the shadow: 3.6 cm under the real sun (0.53 degrees), 7 to 10
- * of the default 1024^2 map's texels (5.1 x 3.5 mm here); at the foot,
+ * of the default 1024^2 map's texels (5.2 x 3.5 mm here); at the foot,
  * under one. */
 static void sun_pole(struct mesh_builder *m, struct gltf_scene_desc *d, double angular_diameter_deg)
 {

@@ -56,6 +56,8 @@ static int clip_plane(const struct vec3 *in, int count, struct vec3 n, float d, 
     return k;
 }
 
+static float caster_depth(const struct scene *s, const struct light_frustum *f);
+
 /* The sun's map (docs/design.md §5): orthographic along the sun, its window
  * fitted to what the camera can see (the geometry inside its frustum, for
  * images of the given aspect), its depth range from the
@@ -107,7 +109,23 @@ static int fit_sun(const struct scene *s, float aspect, struct light_frustum *f)
     const float mx = 0.01f * (x_hi - x_lo) + 1e-6f * extent, my = 0.01f * (y_hi - y_lo) + 1e-6f * extent;
     f->l = x_lo - mx, f->r = x_hi + mx, f->b = y_lo - my, f->t = y_hi + my;
     /* Every caster between the window and the sun: the nearest depth of
-     * any triangle whose light-space box meets the window. */
+     * any triangle whose light-space box meets the window; then the window
+     * widened by the farthest a blocker of a visible receiver can lie
+     * beside it, (d_hi - d_lo) tan(alpha), and the casters over that. */
+    float d_lo = caster_depth(s, f);
+    const float reach = (d_hi - d_lo) * tanf(L->half_angle);
+    f->l -= reach, f->r += reach, f->b -= reach, f->t += reach;
+    d_lo = caster_depth(s, f);
+    const float margin = 1e-3f * fmaxf(d_hi - d_lo, 1e-3f * extent);
+    f->near_world = d_lo - margin;
+    f->far_world = d_hi + margin;
+    project(f, L);
+    return 0;
+}
+
+/* The nearest light-space depth of the triangles whose box meets f's window. */
+static float caster_depth(const struct scene *s, const struct light_frustum *f)
+{
     float d_lo = INFINITY;
     for (size_t t = 0; t < s->triangle_count; t++) {
         float bx_lo = INFINITY, bx_hi = -INFINITY, by_lo = INFINITY, by_hi = -INFINITY, bd = INFINITY;
@@ -121,11 +139,7 @@ static int fit_sun(const struct scene *s, float aspect, struct light_frustum *f)
         if (bx_hi >= f->l && bx_lo <= f->r && by_hi >= f->b && by_lo <= f->t)
             d_lo = fminf(d_lo, bd);
     }
-    const float margin = 1e-3f * fmaxf(d_hi - d_lo, 1e-3f * extent);
-    f->near_world = d_lo - margin;
-    f->far_world = d_hi + margin;
-    project(f, L);
-    return 0;
+    return d_lo;
 }
 
 int light_frustum_fit(const struct scene *s, float aspect, struct light_frustum *f)
