@@ -20,8 +20,8 @@
  * closed form says fully lit, the two must agree within 0.005 (Cycles'
  * samples of cos theta over the disk vary by 1e-3 of it at 5 degrees). */
 #include "check.h"
+#include "parallel_planes.h"
 #include "run_cmd.h"
-#include "scene_library.h"
 #include "scene/light_frustum.h"
 #include "truth/groundtruth.h"
 
@@ -37,11 +37,7 @@ static char dir[] = "/tmp/sb_test_blender_XXXXXX";
 static void compare(double deg)
 {
     char *scene_path = util_printf("%s/sun_%g.gltf", dir, deg), *ratio_path = util_printf("%s/ratio_%g.f32", dir, deg);
-    struct mesh_builder m = {0};
-    struct gltf_scene_desc d;
-    scene_sun_parallel_planes(&m, &d, deg);
-    CHECK(gltf_write(scene_path, &m, &d) == 0, "writing %s", scene_path);
-    mesh_free(&m);
+    write_sun_parallel_planes(scene_path, deg);
     struct scene s;
     struct light_frustum f;
     CHECK(scene_load(scene_path, &s) == 0 && light_frustum_fit(&s, 1.0f, &f) == 0, "loading %s", scene_path);
@@ -67,12 +63,7 @@ static void compare(double deg)
         for (int i = 0; i < IMG * IMG; i++) {
             if (g.mask[i] < 0.5f || cycles[i] < 0)
                 continue;
-            const float t = tanf(0.5f * c->yfov_rad);
-            const float sx = (2.0f * ((float)(i % IMG) + 0.5f) / IMG - 1.0f) * t;
-            const float sy = (1.0f - 2.0f * ((float)(i / IMG) + 0.5f) / IMG) * t;
-            const struct vec3 dir_w = v3_normalize(v3_add(v3_add(v3_scale(c->x, sx), v3_scale(c->y, sy)),
-                                                          v3_scale(c->z, -1.0f)));
-            const struct vec3 p = v3_add(c->pos, v3_scale(dir_w, g.distance[i]));
+            const struct vec3 p = pixel_hit(c, i, IMG, IMG, g.distance[i]);
             const double chord = -p.x / (PP_H_BLOCK * tan_a);
             const double e = (double)cycles[i] - (double)g.v_weighted[i];
             if (fabs(chord) < 1) {

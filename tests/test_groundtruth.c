@@ -74,12 +74,7 @@ static struct profile_error profile_error(const struct scene *s, const struct gt
             in_profile[i] = 0.0f;
             if (g->mask[i] < 0.5f)
                 continue;
-            float t = tanf(0.5f * c->yfov_rad);
-            float sx = (2.0f * ((float)x + 0.5f) / (float)g->width - 1.0f) * t;
-            float sy = (1.0f - 2.0f * ((float)y + 0.5f) / (float)g->height) * t;
-            struct vec3 d = v3_normalize(v3_add(v3_add(v3_scale(c->x, sx), v3_scale(c->y, sy)),
-                                                v3_scale(c->z, -1.0f)));
-            struct vec3 p = v3_add(c->pos, v3_scale(d, g->distance[i]));
+            struct vec3 p = pixel_hit(c, i, g->width, g->height, g->distance[i]);
             if (fabsf(p.y) > 1e-3f || fabsf(p.z) > 1.0f)
                 continue;
             in_profile[i] = 1.0f;
@@ -148,11 +143,7 @@ static void check_closed_form(bool disk)
 static void check_sun_closed_form(double deg)
 {
     char *path = util_printf("%s/sun_%g.gltf", tmpdir, deg);
-    struct mesh_builder m = {0};
-    struct gltf_scene_desc d;
-    scene_sun_parallel_planes(&m, &d, deg);
-    CHECK(gltf_write(path, &m, &d) == 0, "writing %s", path);
-    mesh_free(&m);
+    write_sun_parallel_planes(path, deg);
     struct scene s;
     struct light_frustum f;
     CHECK(scene_load(path, &s) == 0 && light_frustum_fit(&s, 1.0f, &f) == 0, "loading %s", path);
@@ -171,12 +162,7 @@ static void check_sun_closed_form(double deg)
             in_band[i] = 0;
             if (g[k].mask[i] < 0.5f)
                 continue;
-            const int x = i % IMG, y = i / IMG;
-            const float t = tanf(0.5f * c->yfov_rad);
-            const float sx = (2.0f * ((float)x + 0.5f) / IMG - 1.0f) * t, sy = (1.0f - 2.0f * ((float)y + 0.5f) / IMG) * t;
-            const struct vec3 dir = v3_normalize(v3_add(v3_add(v3_scale(c->x, sx), v3_scale(c->y, sy)),
-                                                        v3_scale(c->z, -1.0f)));
-            const struct vec3 p = v3_add(c->pos, v3_scale(dir, g[k].distance[i]));
+            const struct vec3 p = pixel_hit(c, i, IMG, IMG, g[k].distance[i]);
             const double chord = -p.x / (H_BLOCK * tan_a);
             if (fabsf(p.y) > 1e-4f || fabs(chord) >= 1)
                 continue;

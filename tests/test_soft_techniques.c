@@ -24,7 +24,7 @@
  *     --vary depth_range`. */
 #include "check.h"
 #include "run_cmd.h"
-#include "scene_library.h"
+#include "parallel_planes.h"
 #include "techniques/technique.h"
 
 #include <cjson/cJSON.h>
@@ -172,13 +172,8 @@ static void sun_penumbra(void)
     for (int k = 0; k < 2; k++) {
         const double deg = k ? 5.0 : SCENE_SUN_DEG;
         char *scene = k ? util_printf("%s/sun_5.gltf", dir) : xstrdup("sun_parallel_planes");
-        if (k) {
-            struct mesh_builder mb = {0};
-            struct gltf_scene_desc d;
-            scene_sun_parallel_planes(&mb, &d, deg);
-            CHECK(gltf_write(scene, &mb, &d) == 0, "writing %s", scene);
-            mesh_free(&mb);
-        }
+        if (k)
+            write_sun_parallel_planes(scene, deg);
         char *name = util_printf("sun%d", k);
         char *args = util_printf("--scene %s --technique hard,pcss,pcss_savsm,msm_soft,vssm --sweep "
                                  "pcss_savsm.light_size_scale=1,1.2 --width 192 --height 192 --gt-samples 1024 "
@@ -217,11 +212,7 @@ static void sun_penumbra(void)
     /* A 30-degree sun and a tenfold light_size_scale: the blocker search
      * spans several maps; the cell's record says so. */
     char *scene = util_printf("%s/sun_30.gltf", dir);
-    struct mesh_builder mb = {0};
-    struct gltf_scene_desc d;
-    scene_sun_parallel_planes(&mb, &d, 30);
-    CHECK(gltf_write(scene, &mb, &d) == 0, "writing %s", scene);
-    mesh_free(&mb);
+    write_sun_parallel_planes(scene, 30);
     char *args = util_printf("--scene %s --technique pcss,hard --set pcss.light_size_scale=10 --width 32 --height 32 "
                              "--gt-samples 16", scene);
     cJSON *m = run_cells("sun30", args, 0);
