@@ -176,7 +176,10 @@ static void depth_render(struct shadowmap *sm, struct shadowmap_product *p,
     glClearBufferfv(GL_DEPTH, 0, (const float[]){0.0f}); /* reversed Z: far */
     glUseProgram(p->programs[0]);
     glBindBufferBase(GL_UNIFORM_BUFFER, BLOCK_BINDING, sm->ubo);
+    if (sm->desc.depth_clamp)
+        glEnable(GL_DEPTH_CLAMP);
     scene_mesh_draw(mesh);
+    glDisable(GL_DEPTH_CLAMP);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
@@ -508,6 +511,15 @@ void shadowmap_invalidate(struct shadowmap *sm)
         sm->products[i].current = false;
 }
 
+void shadowmap_set_frustum(struct shadowmap *sm, const struct scene *s, const struct light_frustum *f)
+{
+    shadowmap_invalidate(sm);
+    sm->frustum = *f;
+    fill_block(sm, s);
+    glBindBuffer(GL_UNIFORM_BUFFER, sm->ubo);
+    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof sm->block, &sm->block);
+}
+
 int shadowmap_refit(struct shadowmap *sm, const struct scene *s, const struct light_frustum *window)
 {
     shadowmap_invalidate(sm);
@@ -536,8 +548,13 @@ int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct s
         sm->desc.size_texels = SHADOWMAP_DEFAULT_SIZE;
     if (!(sm->desc.near_scale >= 1))
         sm->desc.near_scale = 1;
-    if (fit(sm, s, NULL) != 0)
+    if (desc->frustum) {
+        sm->frustum = *desc->frustum;
+        sm->desc.frustum = NULL;  /* copied: the caller's may go */
+        fill_block(sm, s);
+    } else if (fit(sm, s, NULL) != 0) {
         return -1;
+    }
     glGenBuffers(1, &sm->ubo);
     glBindBuffer(GL_UNIFORM_BUFFER, sm->ubo);
     glBufferData(GL_UNIFORM_BUFFER, sizeof sm->block, &sm->block, GL_DYNAMIC_DRAW);

@@ -74,6 +74,10 @@ struct shadowmap_desc {
                           (light_frustum_widen); default 1 */
     float aspect;      /* width / height of the images it serves (the sun's map is fitted to the
                           camera's view); default 1 */
+    const struct light_frustum *frustum;  /* NULL: fitted to the scene (light_frustum_fit); else this
+                                             one (a cascade's), copied */
+    int depth_clamp;   /* the depth pass clamps what is in front of the near plane onto it (GL_DEPTH_CLAMP:
+                          pancaking) */
 };
 
 /* One product's GL objects: the product itself (a texture or a storage
@@ -108,6 +112,11 @@ int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct s
  * (light_frustum_fit_window), and uploads the uniform block; the products
  * are rendered afresh by the next frame. Returns 0 or -1 (logged). */
 int shadowmap_refit(struct shadowmap *sm, const struct scene *s, const struct light_frustum *window);
+
+/* Sets the frustum to f (a cascade refitted to s in another pose) and
+ * uploads the uniform block; the products are rendered afresh by the next
+ * frame. */
+void shadowmap_set_frustum(struct shadowmap *sm, const struct scene *s, const struct light_frustum *f);
 
 /* Appends the #defines that the layer's shaders and the receiver pass share
  * with C, all from the product table and the enums: the products'

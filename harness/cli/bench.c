@@ -75,18 +75,20 @@ int bench_main(const struct options *o)
      * no geometry, a --shaders folder that is not one. */
     int status = EXIT_USAGE;
     struct scene_mesh mesh = {0};
-    struct shadowmap sm = {0};
+    struct shadow_cascades cascades = {0};
     struct receiver rcv = {0};
     struct light_frustum f;
     if (light_frustum_fit(&s, (float)o->width / (float)o->height, &f) != 0 || cli_gl_open(o, o->gl) != 0)
         goto out_free_scene;
     status = EXIT_CHECK_FAILED;
-    if (shadowmap_create(&sm, &s, &(struct shadowmap_desc){.size_texels = o->shadow_map_size,
-                                                          .aspect = (float)o->width / (float)o->height}) != 0 ||
+    if (shadow_cascades_create(&cascades, &s,
+                               &(struct shadowmap_desc){.size_texels = o->shadow_map_size,
+                                                        .aspect = (float)o->width / (float)o->height},
+                               &o->cascades) != 0 ||
         receiver_create(&rcv, &s, o->width, o->height) != 0)
         goto out_free_gl;
     scene_mesh_upload(&s, &mesh);
-    struct stage_timer timer = {.sm = &sm, .mesh = &mesh, .receiver = &rcv, .warmup = o->warmup,
+    struct stage_timer timer = {.cascades = &cascades, .mesh = &mesh, .receiver = &rcv, .warmup = o->warmup,
                                 .frames = o->frames, .timing = o->timing};
 
     /* The cells: every technique, then a fetch probe at the tap loops
@@ -112,7 +114,7 @@ int bench_main(const struct options *o)
         if (!(cells[i].program = receiver_program(cells[i].technique, cells[i].settings, s.light.shape)))
             goto out_free_programs;
     printf("scene %s, %dx%d, %d^2 shadow map, median of %d frames after %d warm-up, interleaved, on %s (%s, %s), "
-           "timed by %s\n", s.name, o->width, o->height, sm.desc.size_texels, o->frames, o->warmup,
+           "timed by %s\n", s.name, o->width, o->height, o->shadow_map_size, o->frames, o->warmup,
            gl_context_renderer(), gl_context_vendor(), gl_context_platform(), stage_timing_text(o->timing));
     if (stage_timer_run(&timer, cells, cell_count, times) != 0)
         goto out_free_programs;
@@ -153,7 +155,7 @@ out_free_programs:
             glDeleteProgram(cells[i].program);
 out_free_gl:
     receiver_destroy(&rcv);
-    shadowmap_destroy(&sm);
+    shadow_cascades_destroy(&cascades);
     scene_mesh_destroy(&mesh);
     gl_context_destroy();
 out_free_scene:

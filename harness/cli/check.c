@@ -67,13 +67,13 @@ static int setup_for(struct scene_setup *ss, struct baseline_setup *open, struct
     const struct baseline_setup *b = &c->setup;
     if (scene_setup_open(ss, c->scene, &(struct scene_setup_desc){b->width, b->height, b->shadow_map_size,
                                                                    b->gt_samples, b->gt_seed, o->cache_dir, 0,
-                                                                   programs}) != 0)
+                                                                   programs, NULL}) != 0)
         return -1;
     *open = *b;
     for (int k = 0; k < BASELINE_SEEDS - 1 && o->update; k++) {
         const struct gt_desc d = {.width = b->width, .height = b->height, .samples = b->gt_samples,
                                   .seed = b->gt_seed + 1 + (uint32_t)k};
-        if (gt_obtain(c->scene, &ss->sm.frustum, &d, o->cache_dir, &extra[k]) != 0)
+        if (gt_obtain(c->scene, &ss->cascades.view, &d, o->cache_dir, &extra[k]) != 0)
             return -1;
     }
     return 0;

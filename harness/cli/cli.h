@@ -55,6 +55,8 @@ struct options {
     int width, height;                   /* image size in pixels */
     int gt_samples;                      /* light samples per pixel of the ground truth */
     int shadow_map_size;                 /* texels */
+    struct cascade_settings cascades;    /* the sun's (--cascades ...) */
+    int fractions_given;                 /* --cascade-split f1,f2,...: how many */
     int frames;                          /* timed frames; stability: of each motion; view: drawn, 0 = until closed */
     int warmup;                          /* untimed frames first (0 allowed) */
     const char *out_dir;

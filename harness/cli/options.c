@@ -27,6 +27,7 @@
 #define RENDERING (ON(RUN) | ON(BENCH) | ON(CHECK) | ON(TUNE) | ON(STABILITY) | ON(VIEW))
 #define TRACING (ON(RUN) | ON(GT) | ON(TUNE) | ON(STABILITY))  /* a ground truth into an output folder */
 #define FIELD(member) offsetof(struct options, member)
+#define CASCADED (ON(RUN) | ON(BENCH) | ON(TUNE) | ON(STABILITY) | ON(VIEW))  /* the shared layer's cascades */
 
 /* ---- the options that need more than a field ----------------------------- */
 
@@ -217,6 +218,109 @@ static int set_objective(struct options *o, const char *arg)
     return rc;
 }
 
+static int set_cascade_split(struct options *o, const char *arg)
+{
+    struct cascade_settings *c = &o->cascades;
+    char *end;
+    if (!strncmp(arg, "practical:", 10)) {
+        errno = 0;
+        const double l = strtod(arg + 10, &end);
+        if (!arg[10] || *end || errno || !(l >= 0 && l <= 1)) {
+            log_error("--cascade-split %s: practical's lambda is a number in [0, 1]", arg);
+            return -1;
+        }
+        c->split = CASCADE_SPLIT_PRACTICAL, c->lambda = (float)l;
+        return 0;
+    }
+    for (int k = 0; k < CASCADE_SPLIT_FRACTIONS; k++)
+        if (!strcmp(arg, cascade_split_names[k])) {
+            c->split = (enum cascade_split)k;
+            return 0;
+        }
+    /* f1,f2,...: increasing fractions of the shadow distance */
+    o->fractions_given = 0;
+    for (const char *at = arg;; at = end + 1) {
+        errno = 0;
+        const double f = strtod(at, &end);
+        const double last = o->fractions_given ? c->fractions[o->fractions_given - 1] : 0.0;
+        if (end == at || errno || (*end && *end != ',') || !(f > last && f < 1) ||
+            o->fractions_given == CASCADES_MAX - 1) {
+            log_error("--cascade-split %s: not uniform, log, practical:LAMBDA, or up to %d increasing fractions "
+                      "in (0, 1) separated by commas", arg, CASCADES_MAX - 1);
+            return -1;
+        }
+        c->fractions[o->fractions_given++] = (float)f;
+        if (!*end)
+            break;
+    }
+    c->split = CASCADE_SPLIT_FRACTIONS;
+    return 0;
+}
+
+static int set_shadow_distance(struct options *o, const char *arg)
+{
+    if (!strcmp(arg, "view")) {
+        o->cascades.shadow_distance = 0;
+        return 0;
+    }
+    char *end;
+    errno = 0;
+    const double d = strtod(arg, &end);
+    if (!*arg || *end || errno || !(d > 0 && d < 1e9)) {
+        log_error("--shadow-distance %s: not a distance > 0 in world units, or 'view'", arg);
+        return -1;
+    }
+    o->cascades.shadow_distance = (float)d;
+    return 0;
+}
+
+static int set_on_off(const char *opt, const char *arg, int *out)
+{
+    static const char *const names[] = {"off", "on", NULL};
+    return options_choice(opt, arg, names, out);
+}
+
+static int set_cascade_fit(struct options *o, const char *arg)
+{
+    static const char *const names[] = {"box", "sphere", NULL};  /* enum cascade_fit's order */
+    int k;
+    const int rc = options_choice("cascade-fit", arg, names, &k);
+    o->cascades.fit = rc ? o->cascades.fit : (enum cascade_fit)k;
+    return rc;
+}
+
+static int set_cascade_width(struct options *o, const char *arg)
+{
+    static const char *const names[] = {"world", "texel", NULL};  /* enum cascade_width's order */
+    int k;
+    const int rc = options_choice("cascade-width", arg, names, &k);
+    o->cascades.width = rc ? o->cascades.width : (enum cascade_width)k;
+    return rc;
+}
+
+static int set_cascade_snap(struct options *o, const char *arg)
+{
+    return set_on_off("cascade-snap", arg, &o->cascades.snap);
+}
+
+static int set_depth_clamp(struct options *o, const char *arg)
+{
+    return set_on_off("depth-clamp", arg, &o->cascades.depth_clamp);
+}
+
+static int set_cascade_blend(struct options *o, const char *arg)
+{
+    char *end;
+    errno = 0;
+    const double f = strtod(arg, &end);
+    if (!*arg || *end || errno || !(f >= 0 && f <= 0.5)) {
+        log_error("--cascade-blend %s: not a fraction of a slice in [0, 0.5]", arg);
+        return -1;
+    }
+    o->cascades.blend = (float)f;
+    return 0;
+}
+
 static int set_quiet(struct options *o, const char *arg)
 {
     (void)o, (void)arg;
@@ -264,6 +368,33 @@ const struct option_row option_rows[] = {
      SHADOWMAP_MAX_SIZE, NULL,
      "shadow map resolution in texels, " UTIL_STR(SHADOWMAP_MIN_SIZE) ".." UTIL_STR(SHADOWMAP_MAX_SIZE)
      " (default {D})"},
+    {"cascades", 0, "N", CASCADED, OPTION_INT, FIELD(cascades.count), 1, CASCADES_MAX, NULL,
+     "the sun's cascaded shadow maps: the view cut by depth into N slices, a map of --shadow-map-size each, "
+     "1.." UTIL_STR(CASCADES_MAX) " (default 1: one map over the whole view, Filament's default). Area lights "
+     "have one map; the cascade options apply to the sun (docs/cascades.md)"},
+    {"cascade-split", 0, "uniform|log|practical:L|F1,F2,...", CASCADED, OPTION_NONE, 0, 0, 0, set_cascade_split,
+     "where the slices meet, in view depth: equal steps, equal ratios from the camera's near plane, the mix "
+     "L log + (1 - L) uniform (default practical:0.5, three.js's CSM addon), or the N - 1 splits as fractions of "
+     "the shadow distance (Filament's default 0.125,0.25,0.5; Unity HDRP's 0.05,0.15,0.3)"},
+    {"shadow-distance", 0, "M|view", CASCADED, OPTION_NONE, 0, 0, 0, set_shadow_distance,
+     "the far end of the last slice, world units: past it nothing is shadowed and nothing scored (default view: "
+     "the farthest point the camera sees, Filament's shadowFar 0)"},
+    {"cascade-fit", 0, "box|sphere", CASCADED, OPTION_NONE, 0, 0, 0, set_cascade_fit,
+     "each map fitted to the geometry its slice sees (box, default, Filament) or to the slice's bounding sphere, "
+     "a size that turning the camera does not change (sphere: Unity's stable fit)"},
+    {"cascade-snap", 0, "on|off", CASCADED, OPTION_NONE, 0, 0, 0, set_cascade_snap,
+     "move each map's window in whole texels, so that a moving camera does not move the texel grid on the "
+     "ground (Godot, Unity; default off, Filament's); holds the grid still only with the sphere fit"},
+    {"cascade-blend", 0, "F", CASCADED, OPTION_NONE, 0, 0, 0, set_cascade_blend,
+     "the band at each slice's far end where the next cascade fades in, a fraction of the slice in [0, 0.5] "
+     "(default 0: a hard switch, Filament; Unity HDRP blends)"},
+    {"depth-clamp", 0, "on|off", CASCADED, OPTION_NONE, 0, 0, 0, set_depth_clamp,
+     "pancaking: each map's near plane at its slice's nearest receiver, casters in front clamped onto it "
+     "(Unity; default off: the near plane at the nearest caster)"},
+    {"cascade-width", 0, "world|texel", CASCADED, OPTION_NONE, 0, 0, 0, set_cascade_width,
+     "the PCSS family's sizes from the sun's angle in each cascade's own world units (world, default, as Unity "
+     "HDRP converts them), or cascade 0's ratio on each cascade's normalised depth (texel: what most engines "
+     "compute, so softness jumps at a split)"},
     {"frames", 0, "K", RENDERING & ~ON(CHECK), OPTION_INT, FIELD(frames), 0, 0, set_frames,
      "timed frames per cell, the median and quartiles reported, 1.." UTIL_STR(STAGE_TIMER_MAX_FRAMES)
      " (default {D})"},

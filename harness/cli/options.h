@@ -6,6 +6,7 @@
 
 #define CLI_DEFAULT_SIZE 512                  /* --width, --height, unless the command says */
 #define CLI_DEFAULT_CACHE "results/cache"
+#define CLI_DEFAULT_CASCADE_LAMBDA 0.5f       /* three.js's CSM addon's practical split */
 #define CLI_DEFAULT_BASELINES "results/baselines"
 
 /* The type of the field of struct options an option sets. */

@@ -68,6 +68,8 @@ void cli_options_defaults(struct options *o, enum command cmd)
     o->width = o->height = c->size ? c->size : CLI_DEFAULT_SIZE;
     o->gt_samples = c->gt_samples ? c->gt_samples : GT_DEFAULT_SAMPLES;
     o->shadow_map_size = SHADOWMAP_DEFAULT_SIZE;
+    o->cascades = (struct cascade_settings){.count = 1, .split = CASCADE_SPLIT_PRACTICAL,
+                                            .lambda = CLI_DEFAULT_CASCADE_LAMBDA};
     o->frames = c->frames;
     o->warmup = c->warmup;
     o->out_dir = c->out;
@@ -88,6 +90,11 @@ static int check_options(struct options *o)
     }
     if (o->allow_uncommitted && !o->update && !o->write_tuned) {
         log_error("--allow-uncommitted: has an effect only when recording (check --update, tune --write-tuned)");
+        return -1;
+    }
+    if (o->cascades.split == CASCADE_SPLIT_FRACTIONS && o->fractions_given != o->cascades.count - 1) {
+        log_error("--cascade-split: %d fractions for %d cascades (it takes one fewer: the splits between them)",
+                  o->fractions_given, o->cascades.count);
         return -1;
     }
     if (c->needs_scene && o->scene_count == 0) {

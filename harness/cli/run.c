@@ -27,6 +27,7 @@ cJSON *cli_run_record(const struct options *o, bool timed, double seconds)
     cJSON_AddNumberToObject(r, "height", o->height);
     cJSON_AddNumberToObject(r, "gt_samples", o->gt_samples);
     cJSON_AddNumberToObject(r, "shadow_map_size", o->shadow_map_size);
+    cJSON_AddItemToObject(r, "cascades", cascade_settings_json(&o->cascades));
     cJSON_AddNumberToObject(r, "frames", o->frames);
     cJSON_AddNumberToObject(r, "warmup_frames", o->warmup);
     cJSON_AddNumberToObject(r, "seconds", seconds);
@@ -77,7 +78,7 @@ static int run_scene(struct run *r, const struct scene *scene, struct scene_setu
     log_info("scene %s: %zu triangles", scene->name, scene->triangle_count);
     char *dir = util_printf("%s/%s", o->out_dir, scene->name);
     const struct scene_setup_desc desc = {o->width, o->height, o->shadow_map_size, o->gt_samples, 0, o->cache_dir, 0,
-                                          &r->programs};
+                                          &r->programs, &o->cascades};
     if (scene_setup_open(ss, scene, &desc) != 0) {
         free(dir);
         return -1;
@@ -93,9 +94,12 @@ static int run_scene(struct run *r, const struct scene *scene, struct scene_setu
         const void *settings = config_settings(c, scene->name);
         tc[i] = (struct stage_timer_cell){c->technique, settings, scene_setup_program(ss, c->technique, settings)};
         cell_describe(&cells[i], scene->name, c->technique, settings, c->label);
-        cell_note_search(&cells[i], settings, &ss->sm.frustum, ss->sm.desc.size_texels);
+        cell_note_search(&cells[i], settings, &ss->cascades);
         char *cell_dir = util_printf("%s/%s", dir, c->label);
-        rc = scene_setup_cell(ss, c->technique, settings, &cells[i].m) ||
+        rc = scene_setup_cell(ss, c->technique, settings, &cells[i].m);
+        if (!rc)
+            cell_take_depth(&cells[i], ss);
+        rc = rc ||
              output_cell_images(cell_dir, &(struct cell_images){ss->width, ss->height, ss->v, ss->distance, ss->gt.v,
                                                                 ss->scored});
         free(cell_dir);

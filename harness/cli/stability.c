@@ -85,7 +85,8 @@ int stability_main(const struct options *o)
     int scene_count = 0, status = EXIT_USAGE;
     struct stability st = {.width = o->width, .height = o->height, .gt_samples = o->gt_samples,
                            .shadow_map_size = o->shadow_map_size, .frames = o->frames, .accumulate = o->accumulate,
-                           .cache_dir = o->cache_dir, .technique_count = o->technique_count, .scenes = scenes};
+                           .cache_dir = o->cache_dir, .technique_count = o->technique_count, .scenes = scenes,
+                           .cascades = o->cascades};
     struct stability_output so = {0};
     for (int i = 0; i < o->technique_count; i++)
         st.techniques[i] = o->techniques[i], st.settings[i] = cli_settings(o, o->techniques[i]);

@@ -141,7 +141,7 @@ int tune_main(const struct options *o)
     for (; opened < scene_count; opened++)
         if (scene_setup_open(&setups[opened], &scenes[opened],
                              &(struct scene_setup_desc){o->width, o->height, o->shadow_map_size, o->gt_samples, 0,
-                                                        o->cache_dir, 0, &programs}) != 0) {
+                                                        o->cache_dir, 0, &programs, &o->cascades}) != 0) {
             opened++;  /* scene_setup_open leaves it to be freed */
             goto out_gl;
         }

@@ -133,7 +133,8 @@ int view_main(const struct options *o)
              gl_context_renderer());
 
     struct viewer_desc d = {.width = o->width, .height = o->height, .gt_samples = o->gt_samples,
-                            .shadow_map_size = o->shadow_map_size, .technique_count = o->technique_count};
+                            .shadow_map_size = o->shadow_map_size, .cascades = &o->cascades,
+                            .technique_count = o->technique_count};
     for (int i = 0; i < o->technique_count; i++)
         d.techniques[i] = o->techniques[i], d.settings[i] = cli_settings(o, o->techniques[i]);
     static struct viewer v;  /* large; one per process */

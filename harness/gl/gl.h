@@ -83,7 +83,12 @@
     X(PFNGLSAMPLERPARAMETERIPROC, glSamplerParameteri) \
     X(PFNGLUNIFORM2IPROC, glUniform2i) \
     X(PFNGLUNIFORM1FVPROC, glUniform1fv) \
-    X(PFNGLUNIFORM2FVPROC, glUniform2fv)
+    X(PFNGLUNIFORM2FVPROC, glUniform2fv) \
+    X(PFNGLDISABLEPROC, glDisable) \
+    X(PFNGLDEPTHMASKPROC, glDepthMask) \
+    X(PFNGLENABLEIPROC, glEnablei) \
+    X(PFNGLDISABLEIPROC, glDisablei) \
+    X(PFNGLBLENDFUNCPROC, glBlendFunc)
 
 /* The read-backs only the tests call (a product's texture or buffer
  * contents): loaded by gl_context_load_test_functions, never by the

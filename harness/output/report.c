@@ -26,6 +26,10 @@ cJSON *report_cell_json(const struct cell *c)
             cJSON_AddNumberToObject(o, metric_info[k].key, v);
     }
     cJSON_AddStringToObject(o, "gl_renderer", c->gl_renderer);
+    if (c->cascades)
+        cJSON_AddItemToObject(o, "cascades", cJSON_Duplicate(c->cascades, 1));
+    if (c->cascades)  /* scored with its maps in hand */
+        cJSON_AddItemToObject(o, "depth", depth_metrics_json(&c->depth));
     if (c->notice)
         cJSON_AddStringToObject(o, "notice", c->notice);
     return o;

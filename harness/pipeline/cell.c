@@ -4,6 +4,7 @@
 #include "gl/gl_context.h"
 #include "techniques/params.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -24,26 +25,39 @@ void cell_set_times(struct cell *c, const struct stage_times *t)
     c->m.ms_total_q1 = t->total_q1_ms, c->m.ms_total_q3 = t->total_q3_ms;
 }
 
-void cell_note_search(struct cell *c, const void *settings, const struct light_frustum *f, int map_size)
+void cell_note_search(struct cell *c, const void *settings, const struct shadow_cascades *cs)
 {
     for (const struct technique_param *p = c->technique->params; p->name; p++) {
         if (strcmp(p->name, "light_size_scale") != 0)
             continue;
         const double scale = params_get(p, settings);
-        const float side = light_frustum_search_box_texels(f, (float)scale, map_size);
-        if (side > (float)map_size) {
+        for (int k = 0; k < cs->count; k++) {
+            const int map_size = cs->map[k].desc.size_texels;
+            const float side = light_frustum_search_box_texels(&cs->map[k].frustum, (float)scale, map_size);
+            if (side <= (float)map_size)
+                continue;
             free(c->notice);
             c->notice = util_printf("the blocker search at light_size_scale %g spans %.0f texels at the farthest "
-                                    "receiver, wider than the %d-texel map: past its edge it reads edge texels",
-                                    scale, (double)side, map_size);
+                                    "receiver%s, wider than the %d-texel map: past its edge it reads edge texels",
+                                    scale, (double)side, cs->count > 1 ? " of a cascade" : "", map_size);
             log_warn("%s on %s: %s", c->label, c->scene, c->notice);
+            break;
         }
     }
+}
+
+void cell_take_depth(struct cell *c, const struct scene_setup *ss)
+{
+    c->depth = ss->depth;
+    cJSON_Delete(c->cascades);
+    c->cascades = shadow_cascades_json(&ss->cascades, ss->scene->light.shape == LIGHT_SUN);
 }
 
 void cell_free(struct cell *c)
 {
     cJSON_Delete(c->params);
+    cJSON_Delete(c->cascades);
+    c->cascades = NULL;
     free(c->params_text);
     free(c->notice);
     c->params = NULL, c->params_text = NULL, c->notice = NULL;
@@ -56,21 +70,42 @@ int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct
     ss->width = d->width, ss->height = d->height;
     ss->programs = d->programs;
     scene_mesh_upload(s, &ss->mesh);
-    if (shadowmap_create(&ss->sm, s,
-                         &(struct shadowmap_desc){.size_texels = d->shadow_map_size, .near_scale = d->near_scale,
-                                                  .aspect = (float)d->width / (float)d->height}) ||
+    if (shadow_cascades_create(&ss->cascades, s,
+                               &(struct shadowmap_desc){.size_texels = d->shadow_map_size,
+                                                        .near_scale = d->near_scale,
+                                                        .aspect = (float)d->width / (float)d->height},
+                               d->cascades) ||
         receiver_create(&ss->receiver, s, d->width, d->height) ||
-        gt_obtain(s, &ss->sm.frustum,
+        gt_obtain(s, &ss->cascades.view,
                   &(struct gt_desc){.width = d->width, .height = d->height, .samples = d->gt_samples,
                                     .seed = d->gt_seed},
                   d->cache_dir, &ss->gt) != 0)
         return -1;
     const size_t count = (size_t)d->width * (size_t)d->height;
+    ss->view_depth = xmalloc(sizeof(float) * count);
+    scene_setup_truth_posed(ss);
     ss->v = xmalloc(sizeof(float) * count);
     ss->distance = xmalloc(sizeof(float) * count);
     ss->scored = xcalloc(count, sizeof(float));  /* written whole even before any cell is scored */
-    ss->timer = (struct stage_timer){.sm = &ss->sm, .mesh = &ss->mesh, .receiver = &ss->receiver};
+    ss->timer = (struct stage_timer){.cascades = &ss->cascades, .mesh = &ss->mesh, .receiver = &ss->receiver};
     return 0;
+}
+
+void scene_setup_truth_posed(struct scene_setup *ss)
+{
+    const struct scene_camera *c = &ss->scene->camera;
+    const float ty = tanf(0.5f * c->yfov_rad), tx = ty * (float)ss->width / (float)ss->height;
+    const float far = ss->cascades.z[ss->cascades.count];  /* INFINITY: no shadow distance */
+    for (int y = 0; y < ss->height; y++)
+        for (int x = 0; x < ss->width; x++) {
+            const size_t i = (size_t)y * (size_t)ss->width + (size_t)x;
+            const float px = (2.0f * ((float)x + 0.5f) / (float)ss->width - 1.0f) * tx;
+            const float py = (1.0f - 2.0f * ((float)y + 0.5f) / (float)ss->height) * ty;
+            const float d = ss->gt.distance[i];
+            ss->view_depth[i] = d < 0 ? -1.0f : d / sqrtf(1.0f + px * px + py * py);
+            if (d >= 0 && ss->view_depth[i] > far)
+                ss->gt.mask[i] = 0;  /* past the shadow distance: unshadowed, unscored */
+        }
 }
 
 GLuint scene_setup_program(struct scene_setup *ss, const struct technique *t, const void *settings)
@@ -93,6 +128,8 @@ void scene_setup_score(struct scene_setup *ss, struct metrics *m)
     m->mismatch_pixels = metrics_score_mask(ss->gt.mask, ss->gt.distance, ss->distance,
                                             ss->width * ss->height, ss->scored);
     metrics_compute(ss->v, &ss->gt, ss->scored, ss->distance, m);
+    depth_metrics_compute(ss->v, &ss->gt, ss->scored, ss->view_depth, ss->cascades.z, ss->cascades.band,
+                          ss->cascades.count, &ss->depth);
 }
 
 int scene_setup_time(struct scene_setup *ss, const struct scene_setup_timing *how, const struct stage_timer_cell *cells,
@@ -108,8 +145,8 @@ void scene_setup_free(struct scene_setup *ss)
 {
     gt_image_free(&ss->gt);
     receiver_destroy(&ss->receiver);
-    shadowmap_destroy(&ss->sm);
+    shadow_cascades_destroy(&ss->cascades);
     scene_mesh_destroy(&ss->mesh);
-    free(ss->v), free(ss->distance), free(ss->scored);
+    free(ss->v), free(ss->distance), free(ss->scored), free(ss->view_depth);
     memset(ss, 0, sizeof *ss);
 }

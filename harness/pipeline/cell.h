@@ -14,12 +14,15 @@
 #include "gl/scene_mesh.h"
 #include "render/receiver.h"
 #include "render/stage_timer.h"
+#include "score/depth_metrics.h"
 #include "score/metrics.h"
-#include "techniques/shadowmap.h"
+#include "techniques/cascades.h"
 #include "techniques/technique.h"
 #include "truth/groundtruth.h"
 
 #include <cjson/cJSON.h>
+
+struct scene_setup;
 
 /* One (scene, technique, parameter set) evaluation: a row of the matrix. */
 struct cell {
@@ -34,6 +37,8 @@ struct cell {
     char *notice;                        /* what the numbers do not show, one line (owned), or NULL:
                                             cell_note_search */
     struct metrics m;
+    struct depth_metrics depth;          /* the error by view depth, by slice, at each split */
+    cJSON *cascades;                     /* the maps it was rendered with (owned; shadow_cascades_json) */
 };
 
 /* c as technique t at settings on scene `scene`, named label (strings
@@ -45,11 +50,16 @@ void cell_describe(struct cell *c, const char *scene, const struct technique *t,
 void cell_set_times(struct cell *c, const struct stage_times *t);
 
 /* Notes (c->notice, and once in the log) that c's technique searches for
- * blockers over a region wider than the shadow map: its light_size_scale
- * times the light's size, at the map's farthest receiver, against the
- * map's side (light_frustum_search_box_texels). Past the map's edge the
- * search reads edge texels (the edge policy), never what is there. */
-void cell_note_search(struct cell *c, const void *settings, const struct light_frustum *f, int map_size);
+ * blockers over a region wider than a shadow map of cs: its
+ * light_size_scale times the light's size, at the map's farthest
+ * receiver, against the map's side (light_frustum_search_box_texels).
+ * Past the map's edge the search reads edge texels (the edge policy),
+ * never what is there. */
+void cell_note_search(struct cell *c, const void *settings, const struct shadow_cascades *cs);
+
+/* After scene_setup_cell: what ss rendered c with and c's error by view
+ * depth (c->depth, c->cascades). */
+void cell_take_depth(struct cell *c, const struct scene_setup *ss);
 
 /* Frees what cell_describe made. */
 void cell_free(struct cell *c);
@@ -61,6 +71,7 @@ struct scene_setup_desc {
     const char *cache_dir;           /* NULL: no ground-truth cache */
     float near_scale;                /* the shadow map's (shadowmap_desc); 0: 1 */
     struct program_cache *programs;  /* the caller's, required */
+    const struct cascade_settings *cascades;  /* the sun's (NULL: one map over the view) */
 };
 
 struct scene_setup {
@@ -69,16 +80,24 @@ struct scene_setup {
     struct program_cache *programs;
     struct gt_image gt;
     struct scene_mesh mesh;
-    struct shadowmap sm;
+    struct shadow_cascades cascades;  /* its maps: one, or the sun's cascades */
     struct receiver receiver;
     struct stage_timer timer;      /* untimed: frames and warm-up unset */
     float *v, *distance, *scored;  /* the last cell's V_tech, GL distance, scored mask */
+    struct depth_metrics depth;    /* the last cell's error by view depth */
+    float *view_depth;             /* each pixel's view depth (the truth's hit along the camera's
+                                      axis; -1: none), what cascades are cut by */
 };
 
 /* Opens scene s for cells: mesh, shadow map, receiver, ground truth
  * (obtained through the cache). Returns 0 or -1 (logged); scene_setup_free
  * either way. */
 int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct scene_setup_desc *d);
+
+/* After the ground truth of a new pose is in ss->gt: the pixels' view
+ * depths, and the pixels past the shadow distance out of its mask
+ * (scene_setup_open calls it). */
+void scene_setup_truth_posed(struct scene_setup *ss);
 
 /* The receiver program of technique t at settings on this scene; 0 after a
  * logged compile error. */
@@ -89,7 +108,8 @@ GLuint scene_setup_program(struct scene_setup *ss, const struct technique *t, co
  * they are). Returns 0 or -1 (logged). */
 int scene_setup_cell(struct scene_setup *ss, const struct technique *t, const void *settings, struct metrics *m);
 
-/* Scores what the receiver holds now (the last frame rendered) into m. */
+/* Scores what the receiver holds now (the last frame rendered) into m,
+ * and its error by view depth into ss->depth. */
 void scene_setup_score(struct scene_setup *ss, struct metrics *m);
 
 /* How a scene's cells are timed (stage_timer.h): warmup untimed rounds,

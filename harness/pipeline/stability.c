@@ -170,11 +170,16 @@ int stability_motion(struct stability *st, int s, int m)
     scene_posed(base, &(struct scene_pose){0}, &posed);
     struct scene_camera prev_camera = posed.camera;
     int rc = scene_setup_open(&ss, &posed, &(struct scene_setup_desc){w, h, st->shadow_map_size, st->gt_samples, 0,
-                                                                      st->cache_dir, 0, &st->programs});
+                                                                      st->cache_dir, 0, &st->programs,
+                                                                      &st->cascades});
     /* A light's motion moves the map's texel grid with it (a spot light's
      * map is its view): the angular window stays frame 0's. So does a
-     * caster's: the map does not follow the geometry. */
-    const struct light_frustum window = ss.sm.frustum;
+     * caster's: the map does not follow the geometry. A camera's motion
+     * refits the sun's maps to the view, as an engine does every frame
+     * (where snapping matters); an area light's map does not depend on
+     * the camera. */
+    const struct shadow_cascades window = ss.cascades;  /* its frusta only */
+    const bool follow = mo->kind == MOTION_CAMERA_SHIFT || mo->kind == MOTION_CAMERA_YAW;
     int *from = xmalloc(sizeof(int) * count);
     float *prev_distance = xmalloc(sizeof(float) * count);
     char where[640];  /* the posed scene's "path": its errors name the motion and frame */
@@ -190,12 +195,13 @@ int stability_motion(struct stability *st, int s, int m)
             if (p.caster)
                 scene_mesh_update_positions(&posed, &ss.mesh);
             gt_image_free(&ss.gt);
-            rc = shadowmap_refit(&ss.sm, &posed, &window) ||
-                 gt_obtain(&posed, &ss.sm.frustum,
+            rc = shadow_cascades_refit(&ss.cascades, &posed, follow ? NULL : &window) ||
+                 gt_obtain(&posed, &ss.cascades.view,
                            &(struct gt_desc){.width = w, .height = h, .samples = st->gt_samples}, st->cache_dir,
                            &ss.gt);
             if (rc)
                 break;
+            scene_setup_truth_posed(&ss);
         }
         for (int k = 0; k < n && !rc; k++) {
             struct live_row *L = &live[k];
@@ -289,7 +295,10 @@ static int variation_target(const struct stability *st, struct variation *v, dou
             return -1;
         }
         v->kind = (enum variable_kind)k;
-        *reference = k == VARY_MAP_SIZE ? st->shadow_map_size : stability_variables[k].reference;
+        *reference = k == VARY_MAP_SIZE        ? st->shadow_map_size
+                     : k == VARY_CASCADES      ? (st->cascades.count > 0 ? st->cascades.count : 1)
+                     : k == VARY_CASCADE_LAMBDA ? st->cascades.lambda
+                                               : stability_variables[k].reference;
         return 0;
     }
     char tech[64];
@@ -333,7 +342,7 @@ static int add_value(struct variation *v, const char *list, const char *text, vo
         rc = params_set(v->t, work, v->p->name, text);
         value = rc ? 0 : params_get(v->p, work);
     } else if ((rc = util_parse_finite(v->name, text, &value)) == 0) {
-        const bool whole = v->kind != VARY_MAP_SIZE || value == floor(value);
+        const bool whole = (v->kind != VARY_MAP_SIZE && v->kind != VARY_CASCADES) || value == floor(value);
         if (!whole || value < stability_variables[v->kind].lo || value > stability_variables[v->kind].hi) {
             log_error("--vary %s: %s is out of range [%g, %g]%s", v->name, text, stability_variables[v->kind].lo,
                       stability_variables[v->kind].hi, whole ? "" : " or not a whole number");
@@ -416,10 +425,16 @@ int stability_vary(struct stability *st, int s, int var)
         struct scene posed;
         scene_posed(base, &(struct scene_pose){.light_scale = v->kind == VARY_LIGHT_SCALE ? (float)x : 0}, &posed);
         struct scene_setup ss;
+        struct cascade_settings cascades = st->cascades;
+        if (v->kind == VARY_CASCADES)
+            cascades.count = (int)x;
+        if (v->kind == VARY_CASCADE_LAMBDA)
+            cascades.split = CASCADE_SPLIT_PRACTICAL, cascades.lambda = (float)x;
         const struct scene_setup_desc desc = {st->width, st->height,
                                               v->kind == VARY_MAP_SIZE ? (int)x : st->shadow_map_size,
                                               st->gt_samples, 0, st->cache_dir,
-                                              v->kind == VARY_DEPTH_RANGE ? (float)x : 0, &st->programs};
+                                              v->kind == VARY_DEPTH_RANGE ? (float)x : 0, &st->programs,
+                                              &cascades};
         rc = scene_setup_open(&ss, &posed, &desc);
         for (int i = 0; i < st->technique_count && !rc; i++) {
             const struct technique *t = st->techniques[i];

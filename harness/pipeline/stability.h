@@ -39,7 +39,11 @@
       "the light's size times this (the ground truth follows)")                                       \
     X(DEPTH_RANGE, "depth_range", 1.0, 1.0, 1e6,                                                      \
       "the shadow map's near plane pulled towards the light to near / this: the scene's depths fill " \
-      "less of the map's depth range, as with an engine's fixed small near plane")
+      "less of the map's depth range, as with an engine's fixed small near plane")                     \
+    X(CASCADES, "cascades", NAN, 1, CASCADES_MAX,                                                      \
+      "the sun's cascades (reference: --cascades; a scene with an area light has one map whatever the value)") \
+    X(CASCADE_LAMBDA, "cascade_lambda", NAN, 0, 1,                                                     \
+      "the practical split's lambda, 0 uniform to 1 log (reference: --cascade-split's, practical:0.5 by default)")
 
 enum variable_kind {
 #define X(id, name, ref, lo, hi, help) VARY_##id,
@@ -93,6 +97,7 @@ typedef int (*stability_frame_fn)(void *user, const struct motion_row *row, int 
 struct stability {
     /* set by the caller */
     int width, height, gt_samples, shadow_map_size, frames;
+    struct cascade_settings cascades;    /* the sun's maps (the reference of --vary cascades, ...) */
     double accumulate;                   /* a new frame's weight in the moving average */
     const char *cache_dir;
     const struct technique *techniques[STABILITY_MAX_TECHNIQUES];

@@ -7,7 +7,7 @@
 #include "gl/gl.h"
 #include "gl/scene_mesh.h"
 #include "scene/scene.h"
-#include "techniques/shadowmap.h"
+#include "techniques/cascades.h"
 #include "techniques/technique.h"
 
 #include <stdbool.h>
@@ -22,6 +22,7 @@ struct receiver {
     GLuint fbo, visibility, distance, depth;
     struct mat4 view_proj;  /* camera: reversed Z, infinite far */
     struct vec3 camera_pos;
+    struct vec3 camera_fwd; /* view depth is along it */
     float noise_frame;      /* the frame index tap noise is animated by (sm_noise_frame); 0: still */
 };
 
@@ -39,8 +40,13 @@ bool receiver_program_animated(GLuint program);
  * family's tap pattern follows it). Returns 0 on failure (logged). */
 GLuint receiver_program(const struct technique *t, const void *settings, enum light_shape shape);
 
+/* Renders V_tech: with one map, one pass; with cascades, one pass per
+ * cascade with its map bound, each adding w_c V_c where its weight w_c (its
+ * slice, faded over the blend band) is not 0, and the first adding 1 - the
+ * sum of the weights (lit past the shadow distance). A pass runs the
+ * technique only where its weight is not 0. */
 void receiver_render(const struct receiver *r, GLuint program, const struct scene_mesh *mesh,
-                     const struct shadowmap *sm);
+                     const struct shadow_cascades *c);
 
 /* Reads back both targets, top row first; distance is -1 where no geometry. */
 void receiver_read(const struct receiver *r, float *visibility, float *distance);

@@ -58,36 +58,45 @@ static double stage_end(struct stage_clock *k)
     return (double)ns * 1e-6;
 }
 
-/* One timed frame of a cell with request r, its stages' ms added to ms by
- * clock k: every product rendered afresh (a frame's cost is all of its
- * work), then the receiver pass. */
+/* One timed frame of a cell with requests r (one per cascade), its stages'
+ * ms added to ms by clock k: every product of every cascade rendered
+ * afresh (a frame's cost is all of its work), then the receiver pass. */
 static void timed_frame(const struct stage_timer *t, const struct stage_timer_cell *c,
                         const struct shadowmap_request *r, struct stage_clock *k, double ms[STAGE_COUNT])
 {
-    for (int p = 0; p < SM_PRODUCT_COUNT; p++)
-        if (r->products & (1u << p)) {
-            stage_begin(k);
-            shadowmap_render_product(t->sm, t->mesh, p, r);
-            ms[p == SM_PRODUCT_DEPTH ? STAGE_SHADOWMAP : STAGE_FILTER_PREP] += stage_end(k);
-        }
+    struct shadow_cascades *cs = t->cascades;
+    for (int m = 0; m < cs->count; m++)
+        for (int p = 0; p < SM_PRODUCT_COUNT; p++)
+            if (r[m].products & (1u << p)) {
+                stage_begin(k);
+                shadowmap_render_product(&cs->map[m], t->mesh, p, &r[m]);
+                ms[p == SM_PRODUCT_DEPTH ? STAGE_SHADOWMAP : STAGE_FILTER_PREP] += stage_end(k);
+            }
     stage_begin(k);
-    receiver_render(t->receiver, c->program, t->mesh, t->sm);
+    receiver_render(t->receiver, c->program, t->mesh, cs);
     ms[STAGE_RECEIVER] += stage_end(k);
 }
 
-static int request(const struct stage_timer *t, const struct stage_timer_cell *c,
-                   struct shadowmap_request *r)
+/* The cell's request of each cascade's map (its options follow the map's
+ * frustum: an int32 table's scale), prepared. */
+static int request(const struct stage_timer *t, const struct stage_timer_cell *c, struct shadowmap_request *r)
 {
-    technique_request(c->technique, c->settings, &(struct request_context){&t->sm->frustum, t->sm->desc.size_texels},
-                      r);
-    return shadowmap_prepare(t->sm, r);
+    struct shadow_cascades *cs = t->cascades;
+    for (int m = 0; m < cs->count; m++) {
+        struct shadowmap *sm = &cs->map[m];
+        technique_request(c->technique, c->settings, &(struct request_context){&sm->frustum, sm->desc.size_texels},
+                          &r[m]);
+        if (shadowmap_prepare(sm, &r[m]) != 0)
+            return -1;
+    }
+    return 0;
 }
 
 int stage_timer_run(const struct stage_timer *t, const struct stage_timer_cell *cells, int n,
                     struct stage_times *out)
 {
     const int frames = t->frames < STAGE_TIMER_MAX_FRAMES ? t->frames : STAGE_TIMER_MAX_FRAMES;
-    struct shadowmap_request *requests = xcalloc((size_t)n, sizeof *requests);
+    struct shadowmap_request *requests = xcalloc((size_t)n * CASCADES_MAX, sizeof *requests);
     /* samples[(i * STAGE_COUNT + stage) * frames + f], and the frames' totals */
     double *samples = xcalloc((size_t)n * STAGE_COUNT * (size_t)frames, sizeof(double));
     double *totals = xcalloc((size_t)frames, sizeof(double));
@@ -96,14 +105,14 @@ int stage_timer_run(const struct stage_timer *t, const struct stage_timer_cell *
     if (stage_timing_resolve(t->timing) == STAGE_TIMING_QUERY)
         glGenQueries(1, &clock.query);
     for (int i = 0; i < n && !rc; i++)
-        rc = request(t, &cells[i], &requests[i]);
+        rc = request(t, &cells[i], &requests[i * CASCADES_MAX]);
     glFinish();
     const int rounds = t->warmup + frames;
     for (int k = 0; k < rounds && !rc; k++) {
         const int f = k - t->warmup;  /* < 0: a warm-up round */
         for (int i = 0; i < n; i++) {
             double ms[STAGE_COUNT] = {0};
-            timed_frame(t, &cells[i], &requests[i], &clock, ms);
+            timed_frame(t, &cells[i], &requests[i * CASCADES_MAX], &clock, ms);
             for (int s = 0; s < STAGE_COUNT && f >= 0; s++)
                 samples[(i * STAGE_COUNT + s) * frames + f] = ms[s];
         }
@@ -133,12 +142,13 @@ int stage_timer_run(const struct stage_timer *t, const struct stage_timer_cell *
 
 int stage_timer_render(const struct stage_timer *t, const struct stage_timer_cell *c)
 {
-    struct shadowmap_request r;
-    if (request(t, c, &r) != 0)
+    struct shadowmap_request r[CASCADES_MAX];
+    if (request(t, c, r) != 0)
         return -1;
-    for (int p = 0; p < SM_PRODUCT_COUNT; p++)  /* the pose's products, shared by the cells that agree */
-        if (r.products & (1u << p))
-            shadowmap_ensure_product(t->sm, t->mesh, p, &r);
-    receiver_render(t->receiver, c->program, t->mesh, t->sm);
+    for (int m = 0; m < t->cascades->count; m++)  /* the pose's products, shared by the cells that agree */
+        for (int p = 0; p < SM_PRODUCT_COUNT; p++)
+            if (r[m].products & (1u << p))
+                shadowmap_ensure_product(&t->cascades->map[m], t->mesh, p, &r[m]);
+    receiver_render(t->receiver, c->program, t->mesh, t->cascades);
     return 0;
 }

@@ -2,7 +2,8 @@
  * timed interleaved: warm-up rounds, then K rounds, each round one frame of
  * every cell in turn, so a slow spell of the machine is shared by the cells
  * rather than landing on one. A timed frame is the whole of a cell's work:
- * its shadow-map products rendered afresh, then its receiver pass. Each stage is
+ * its shadow-map products rendered afresh (every cascade's), then its
+ * receiver pass (one per cascade). Each stage is
  * timed by wall clock around glFinish on a CPU rasteriser (llvmpipe, where
  * GL timer queries do not measure the work), by a GL_TIME_ELAPSED query on
  * a GPU (the wall clock there would add the driver's submission and the
@@ -11,7 +12,7 @@
 #define SB_STAGE_TIMER_H
 
 #include "receiver.h"
-#include "techniques/shadowmap.h"
+#include "techniques/cascades.h"
 
 #define STAGE_TIMER_MAX_FRAMES 1000
 
@@ -44,7 +45,7 @@ enum stage_timing stage_timing_resolve(enum stage_timing m);
 const char *stage_timing_text(enum stage_timing m);
 
 struct stage_timer {
-    struct shadowmap *sm;
+    struct shadow_cascades *cascades;  /* the scene's maps (one, or a cascade each) */
     const struct scene_mesh *mesh;
     const struct receiver *receiver;
     int warmup, frames;  /* frames in [1, STAGE_TIMER_MAX_FRAMES] */

@@ -58,69 +58,192 @@ static int clip_plane(const struct vec3 *in, int count, struct vec3 n, float d, 
 
 static float caster_depth(const struct scene *s, const struct light_frustum *f);
 
-/* The sun's map (docs/design.md §5): orthographic along the sun, its window
- * fitted to what the camera can see (the geometry inside its frustum, for
- * images of the given aspect), its depth range from the
- * nearest caster over that window to the farthest visible point. The view's
- * origin sits a scene's extent above the light's position along the sun
- * (the loader puts it at the scene's centre, and only `light_shift` moves
- * it): moving it moves the map's texel grid and nothing else, and turning
- * the sun turns the map about the scene. */
-static int fit_sun(const struct scene *s, float aspect, struct light_frustum *f)
+const char *const cascade_split_names[] = {
+#define X(id, name) name,
+    CASCADE_SPLITS(X)
+#undef X
+    NULL};
+
+/* What the camera sees of s between view depths z_lo and z_hi (INFINITY:
+ * no far plane), in the sun's light space (view): the box of the geometry
+ * clipped to that slice of the camera's frustum, its farthest light-space
+ * depth and its nearest, and the farthest view depth. Returns false when
+ * nothing is seen. */
+struct seen {
+    float x_lo, x_hi, y_lo, y_hi, d_lo, d_hi, z_hi;
+};
+static bool see(const struct scene *s, float aspect, float z_lo, float z_hi, const struct mat4 *view,
+                struct seen *out)
 {
-    const struct scene_light *L = &s->light;
     const struct scene_camera *c = &s->camera;
-    const struct vec3 mid = v3_scale(v3_add(s->bounds_min, s->bounds_max), 0.5f);
-    const float extent = scene_extent(s);
-    const struct vec3 o = v3_add(v3_sub(L->pos, v3_scale(L->z, v3_dot(v3_sub(L->pos, mid), L->z))),
-                                 v3_scale(L->z, extent));
-    f->sun = 1;
-    f->view = m4_view(o, L->x, L->y, L->z);
-    /* The camera's planes, normals inwards: near, top, bottom, right, left. */
+    /* The camera's planes, normals inwards: near, top, bottom, right, left, far. */
     const float ty = tanf(0.5f * c->yfov_rad), tx = ty * (aspect > 0 ? aspect : 1.0f);
     const struct vec3 fwd = v3_scale(c->z, -1.0f);
-    const struct vec3 pn[5] = {fwd, v3_sub(v3_scale(fwd, ty), c->y), v3_add(v3_scale(fwd, ty), c->y),
-                               v3_sub(v3_scale(fwd, tx), c->x), v3_add(v3_scale(fwd, tx), c->x)};
-    float pd[5];
+    const struct vec3 pn[6] = {fwd, v3_sub(v3_scale(fwd, ty), c->y), v3_add(v3_scale(fwd, ty), c->y),
+                               v3_sub(v3_scale(fwd, tx), c->x), v3_add(v3_scale(fwd, tx), c->x),
+                               v3_scale(fwd, -1.0f)};
+    float pd[6];
     for (int k = 0; k < 5; k++)
-        pd[k] = v3_dot(pn[k], c->pos) + (k == 0 ? c->znear : 0.0f);
-    float x_lo = INFINITY, x_hi = -INFINITY, y_lo = INFINITY, y_hi = -INFINITY, d_hi = -INFINITY;
+        pd[k] = v3_dot(pn[k], c->pos) + (k == 0 ? z_lo : 0.0f);
+    pd[5] = -(v3_dot(fwd, c->pos) + z_hi);
+    const int planes = isinf(z_hi) ? 5 : 6;
+    *out = (struct seen){INFINITY, -INFINITY, INFINITY, -INFINITY, INFINITY, -INFINITY, -INFINITY};
     for (size_t t = 0; t < s->triangle_count; t++) {
-        struct vec3 poly[2][16];  /* a triangle clipped by five planes: 8 corners, with room for rounding */
+        struct vec3 poly[2][20];  /* a triangle clipped by six planes: 9 corners, with room for rounding */
         int n = 3;
         for (int k = 0; k < 3; k++) {
             const float *p = &s->positions[3 * s->indices[3 * t + k]];
             poly[0][k] = v3(p[0], p[1], p[2]);
         }
-        for (int k = 0; k < 5 && n > 0; k++)
+        for (int k = 0; k < planes && n > 0; k++)
             n = clip_plane(poly[k & 1], n, pn[k], pd[k], poly[(k + 1) & 1]);
         for (int k = 0; k < n; k++) {
-            struct vec3 q = m4_point(f->view, poly[1][k]);  /* five clips end in poly[1] */
-            x_lo = fminf(x_lo, q.x), x_hi = fmaxf(x_hi, q.x);
-            y_lo = fminf(y_lo, q.y), y_hi = fmaxf(y_hi, q.y);
-            d_hi = fmaxf(d_hi, -q.z);
+            const struct vec3 w = poly[planes & 1][k];
+            const struct vec3 q = m4_point(*view, w);
+            out->x_lo = fminf(out->x_lo, q.x), out->x_hi = fmaxf(out->x_hi, q.x);
+            out->y_lo = fminf(out->y_lo, q.y), out->y_hi = fmaxf(out->y_hi, q.y);
+            out->d_lo = fminf(out->d_lo, -q.z), out->d_hi = fmaxf(out->d_hi, -q.z);
+            out->z_hi = fmaxf(out->z_hi, v3_dot(fwd, v3_sub(w, c->pos)));
         }
     }
-    if (isinf(d_hi)) {
-        log_error("%s: the camera sees no geometry to fit the sun's shadow map to", s->path);
+    return !isinf(out->d_hi);
+}
+
+/* The sun's view: its origin a scene's extent above the light's position
+ * along the sun (the loader puts it at the scene's centre, and only
+ * `light_shift` moves it). Moving it moves the map's texel grid and
+ * nothing else; turning the sun turns the map about the scene. */
+static struct mat4 sun_view(const struct scene *s)
+{
+    const struct scene_light *L = &s->light;
+    const struct vec3 mid = v3_scale(v3_add(s->bounds_min, s->bounds_max), 0.5f);
+    const struct vec3 o = v3_add(v3_sub(L->pos, v3_scale(L->z, v3_dot(v3_sub(L->pos, mid), L->z))),
+                                 v3_scale(L->z, scene_extent(s)));
+    return m4_view(o, L->x, L->y, L->z);
+}
+
+/* The sun's map over one slice of the view, [z_lo, z_hi] in view depth
+ * (docs/design.md §5, docs/cascades.md): orthographic along the sun. Box
+ * fit: the window fitted to what the camera sees in the slice (the
+ * geometry inside it, for images of the given aspect). Sphere fit: a
+ * square about the slice's bounding sphere. Either widened by the
+ * farthest a blocker of a visible receiver can lie beside it, (depth
+ * range) tan(alpha); snapped, moved to whole texels of an n x n map. The
+ * depth range runs from the nearest caster over the window (with depth
+ * clamp, the nearest receiver: casters in front are clamped onto the near
+ * plane) to the farthest visible point. */
+static int fit_sun(const struct scene *s, float aspect, const struct cascade_settings *cs, float z_lo,
+                   float z_hi, int n, struct light_frustum *f)
+{
+    const struct scene_light *L = &s->light;
+    const struct scene_camera *c = &s->camera;
+    const float extent = scene_extent(s);
+    f->sun = 1;
+    f->view = sun_view(s);
+    struct seen v;
+    if (!see(s, aspect, z_lo, z_hi, &f->view, &v)) {
+        log_error("%s: the camera sees no geometry to fit the sun's shadow map to (view depths %g to %g)",
+                  s->path, (double)z_lo, (double)z_hi);
         return -1;
     }
-    /* Margins as the area light's: 1% of the window, 0.1% of the depths. */
-    const float mx = 0.01f * (x_hi - x_lo) + 1e-6f * extent, my = 0.01f * (y_hi - y_lo) + 1e-6f * extent;
-    f->l = x_lo - mx, f->r = x_hi + mx, f->b = y_lo - my, f->t = y_hi + my;
-    /* Every caster between the window and the sun: the nearest depth of
-     * any triangle whose light-space box meets the window; then the window
-     * widened by the farthest a blocker of a visible receiver can lie
-     * beside it, (d_hi - d_lo) tan(alpha), and the casters over that. */
-    float d_lo = caster_depth(s, f);
-    const float reach = (d_hi - d_lo) * tanf(L->half_angle);
-    f->l -= reach, f->r += reach, f->b -= reach, f->t += reach;
-    d_lo = caster_depth(s, f);
+    const float tan_a = tanf(L->half_angle);
+    float d_lo, d_hi = v.d_hi;
+    if (cs->fit == CASCADE_FIT_SPHERE) {
+        /* The slice's bounding sphere: its centre on the view axis where
+         * the near and far corners are equally far, at most the far end. */
+        const float ty = tanf(0.5f * c->yfov_rad), tx = ty * (aspect > 0 ? aspect : 1.0f), k = tx * tx + ty * ty;
+        const float zf = isinf(z_hi) ? v.z_hi : z_hi;
+        const float zc = fminf(0.5f * (zf + z_lo) * (1.0f + k), zf);
+        const float radius = fmaxf(sqrtf((zc - z_lo) * (zc - z_lo) + z_lo * z_lo * k),
+                                   sqrtf((zf - zc) * (zf - zc) + zf * zf * k));
+        const struct vec3 q = m4_point(f->view, v3_add(c->pos, v3_scale(c->z, -zc)));
+        const float half = radius * (1.0f + 2.0f * tan_a);  /* widened by the sphere's depth times tan(alpha) */
+        f->l = q.x - half, f->r = q.x + half, f->b = q.y - half, f->t = q.y + half;
+        d_hi = -q.z + radius;
+        d_lo = cs->depth_clamp ? -q.z - radius : caster_depth(s, f);
+    } else {
+        /* Margins as the area light's: 1% of the window, 0.1% of the depths. */
+        const float mx = 0.01f * (v.x_hi - v.x_lo) + 1e-6f * extent, my = 0.01f * (v.y_hi - v.y_lo) + 1e-6f * extent;
+        f->l = v.x_lo - mx, f->r = v.x_hi + mx, f->b = v.y_lo - my, f->t = v.y_hi + my;
+        /* Every caster between the window and the sun: the nearest depth of
+         * any triangle whose light-space box meets the window; then the
+         * window widened by the farthest a blocker of a visible receiver
+         * can lie beside it, (d_hi - d_lo) tan(alpha), and the casters over
+         * that. With depth clamp the depths start at the receivers. */
+        d_lo = cs->depth_clamp ? v.d_lo : caster_depth(s, f);
+        const float reach = (d_hi - d_lo) * tan_a;
+        f->l -= reach, f->r += reach, f->b -= reach, f->t += reach;
+        if (!cs->depth_clamp)
+            d_lo = caster_depth(s, f);
+    }
+    if (cs->snap && n > 0) {  /* whole texels of a grid fixed in the sun's frame */
+        const float tx = (f->r - f->l) / (float)n, ty = (f->t - f->b) / (float)n;
+        const float l = floorf(f->l / tx) * tx, b = floorf(f->b / ty) * ty;
+        f->r += l - f->l, f->l = l, f->t += b - f->b, f->b = b;
+    }
     const float margin = 1e-3f * fmaxf(d_hi - d_lo, 1e-3f * extent);
     f->near_world = d_lo - margin;
     f->far_world = d_hi + margin;
     project(f, L);
     return 0;
+}
+
+int light_frustum_splits(const struct scene *s, float aspect, const struct cascade_settings *cs, float *z)
+{
+    const int n = cs->count > 0 ? cs->count : 1;
+    const float z_near = s->camera.znear;
+    float z_far = cs->shadow_distance;
+    if (!(z_far > 0)) {
+        if (n == 1) {
+            z[0] = z_near, z[1] = INFINITY;
+            return 1;
+        }
+        const struct mat4 view = sun_view(s);
+        struct seen v;
+        if (!see(s, aspect, z_near, INFINITY, &view, &v)) {
+            log_error("%s: the camera sees no geometry to cut into cascades", s->path);
+            return -1;
+        }
+        z_far = v.z_hi * 1.001f;
+    }
+    if (!(z_far > z_near)) {
+        log_error("%s: the shadow distance %g is not beyond the camera's near plane %g", s->path, (double)z_far,
+                  (double)z_near);
+        return -1;
+    }
+    z[0] = z_near, z[n] = z_far;
+    for (int i = 1; i < n; i++) {
+        const double t = (double)i / n;
+        const double lin = z_near + (z_far - z_near) * t, lg = z_near * pow(z_far / z_near, t);
+        switch (cs->split) {
+        case CASCADE_SPLIT_UNIFORM: z[i] = (float)lin; break;
+        case CASCADE_SPLIT_LOG: z[i] = (float)lg; break;
+        case CASCADE_SPLIT_PRACTICAL: z[i] = (float)(cs->lambda * lg + (1.0 - cs->lambda) * lin); break;
+        case CASCADE_SPLIT_FRACTIONS: z[i] = z_far * cs->fractions[i - 1]; break;
+        }
+    }
+    for (int i = 0; i < n; i++)
+        if (!(z[i + 1] > z[i])) {
+            log_error("%s: cascade %d's slice is empty (view depths %g to %g): the splits must increase "
+                      "beyond the camera's near plane %g", s->path, i, (double)z[i], (double)z[i + 1],
+                      (double)z_near);
+            return -1;
+        }
+    return n;
+}
+
+float light_frustum_band(const struct cascade_settings *cs, const float *z, int c)
+{
+    const int n = cs->count > 0 ? cs->count : 1;
+    return c < n - 1 ? cs->blend * (z[c + 1] - z[c]) : 0.0f;
+}
+
+int light_frustum_fit_cascade(const struct scene *s, float aspect, const struct cascade_settings *cs,
+                              const float *z, int c, int n, struct light_frustum *f)
+{
+    memset(f, 0, sizeof *f);
+    const float z_lo = c > 0 ? z[c] - light_frustum_band(cs, z, c - 1) : z[0];
+    return fit_sun(s, aspect, cs, z_lo, z[c + 1], n, f);
 }
 
 /* The nearest light-space depth of the triangles whose box meets f's window. */
@@ -147,7 +270,7 @@ int light_frustum_fit(const struct scene *s, float aspect, struct light_frustum 
     const struct scene_light *L = &s->light;
     memset(f, 0, sizeof *f);
     if (L->shape == LIGHT_SUN)
-        return fit_sun(s, aspect, f);
+        return fit_sun(s, aspect, &(struct cascade_settings){0}, s->camera.znear, INFINITY, 0, f);
     f->view = m4_view(L->pos, L->x, L->y, L->z);
 
     const float d_clip = 1e-4f * scene_extent(s);  /* keeps x/d finite at the light plane */
@@ -188,15 +311,27 @@ int light_frustum_fit(const struct scene *s, float aspect, struct light_frustum 
     return 0;
 }
 
+void light_frustum_set_window(struct light_frustum *f, const struct scene *s, const struct light_frustum *window)
+{
+    const float k = f->sun ? 1.0f : f->near_world / window->near_world;  /* the sun's window: world units */
+    f->l = window->l * k, f->r = window->r * k, f->b = window->b * k, f->t = window->t * k;
+    project(f, &s->light);
+}
+
 int light_frustum_fit_window(const struct scene *s, float aspect, const struct light_frustum *window,
                              struct light_frustum *f)
 {
     if (light_frustum_fit(s, aspect, f) != 0)
         return -1;
-    const float k = f->sun ? 1.0f : f->near_world / window->near_world;  /* the sun's window: world units */
-    f->l = window->l * k, f->r = window->r * k, f->b = window->b * k, f->t = window->t * k;
-    project(f, &s->light);
+    light_frustum_set_window(f, s, window);
     return 0;
+}
+
+void light_frustum_texel_ratio(struct light_frustum *f, const struct light_frustum *first)
+{
+    const float k = (first->far_world - first->near_world) / (f->far_world - f->near_world);
+    f->light_size_uv[0] = first->light_size_uv[0] * k;
+    f->light_size_uv[1] = first->light_size_uv[1] * k;
 }
 
 void light_frustum_widen(struct light_frustum *f, const struct scene *s, float k)

@@ -35,6 +35,68 @@ _Static_assert(sizeof(struct light_frustum) == 2 * sizeof(struct mat4) + 8 * siz
  * in front of the light (the camera, for the sun). */
 int light_frustum_fit(const struct scene *s, float aspect, struct light_frustum *f);
 
+/* Cascaded shadow maps for the sun (docs/cascades.md): the camera's view
+ * cut by view depth into slices, each covered by its own orthographic map.
+ * The split schemes: X(ID, name). */
+#define CASCADES_MAX 8
+#define CASCADE_SPLITS(X)                                                                    \
+    X(PRACTICAL, "practical") /* lambda log + (1 - lambda) uniform (Zhang et al. 2006, PSSM) */ \
+    X(UNIFORM, "uniform")     /* equal steps of view depth */                                 \
+    X(LOG, "log")             /* equal ratios from the camera's near plane */                 \
+    X(FRACTIONS, "fractions") /* given: each split's depth as a fraction of the distance */
+
+enum cascade_split {
+#define X(id, name) CASCADE_SPLIT_##id,
+    CASCADE_SPLITS(X)
+#undef X
+};
+extern const char *const cascade_split_names[];  /* by enum value, NULL-terminated */
+
+enum cascade_fit { CASCADE_FIT_BOX, CASCADE_FIT_SPHERE };
+enum cascade_width { CASCADE_WIDTH_WORLD, CASCADE_WIDTH_TEXEL };
+
+/* The shared layer's cascade settings (the run's, recorded with every
+ * cell). Zero is one map over the whole view, fitted to what the camera
+ * sees: Filament's default (one cascade, shadowFar 0 = the view's far
+ * end, no stable fit). */
+struct cascade_settings {
+    int count;                          /* 1..CASCADES_MAX; 0: 1 */
+    enum cascade_split split;
+    float lambda;                       /* PRACTICAL: the log scheme's share, [0, 1] */
+    float fractions[CASCADES_MAX - 1];  /* FRACTIONS: the count - 1 splits, increasing in (0, 1) */
+    float shadow_distance;              /* world units: the last slice's far end; 0: the farthest
+                                           point the camera sees. Past it is unshadowed and unscored */
+    enum cascade_fit fit;               /* BOX: each map fitted to the geometry its slice sees
+                                           (Filament); SPHERE: to its slice's bounding sphere, a size
+                                           that turning the camera does not change (Unity's stable fit) */
+    int snap;                           /* the window moved in whole texels (Godot, Unity) */
+    float blend;                        /* the band at a slice's far end where the next fades in, as a
+                                           fraction of the slice, [0, 0.5] (Unity HDRP's border) */
+    int depth_clamp;                    /* near plane at the slice's receivers, casters in front of it
+                                           clamped onto it (pancaking, Unity) */
+    enum cascade_width width;           /* WORLD: the PCSS family's sizes from the sun's angle in each
+                                           map's own world units (HDRP); TEXEL: cascade 0's ratio on
+                                           each map's normalised depth (most engines) */
+};
+
+/* The slices' view depths z[0..n] (n = the count): z[0] the camera's near
+ * plane, z[n] the shadow distance (s's farthest visible depth when 0; with
+ * one slice and no distance, INFINITY: the whole view, as
+ * light_frustum_fit). Returns n, or -1 after logging when the camera sees
+ * nothing or the splits do not increase. */
+int light_frustum_splits(const struct scene *s, float aspect, const struct cascade_settings *cs, float *z);
+
+/* The width of the band at the far end of slice c, where slice c + 1
+ * fades in (view depth units; 0 for the last). */
+float light_frustum_band(const struct cascade_settings *cs, const float *z, int c);
+
+/* Fits cascade c of an n x n map to s: its slice of view depth, from
+ * z[c] (less the band of slice c - 1, which it also covers) to z[c + 1].
+ * With zero settings and c 0 the same as light_frustum_fit. Returns 0 or -1
+ * (logged). */
+int light_frustum_fit_cascade(const struct scene *s, float aspect, const struct cascade_settings *cs,
+                              const float *z, int c, int n, struct light_frustum *f);
+
 /* Fits near and far to s, and keeps window's angular window (its l/near,
  * r/near, b/near, t/near): the map's texel grid attached to the light, as a
  * spot light's shadow map moves with it, rather than refitted to the
@@ -43,6 +105,17 @@ int light_frustum_fit(const struct scene *s, float aspect, struct light_frustum 
  * -1 (logged). */
 int light_frustum_fit_window(const struct scene *s, float aspect, const struct light_frustum *window,
                              struct light_frustum *f);
+
+/* Keeps window's angular window in f (as light_frustum_fit_window does
+ * after its fit). */
+void light_frustum_set_window(struct light_frustum *f, const struct scene *s, const struct light_frustum *window);
+
+/* `--cascade-width texel`: f's light size in uv set so that a depth
+ * difference, in f's normalised depth, gives the penumbra it gives in
+ * first's (cascade 0's): light_size_uv = first's * first's depth range /
+ * f's. What an engine gets that takes the PCSS ratio on each cascade's
+ * normalised depth with one constant. */
+void light_frustum_texel_ratio(struct light_frustum *f, const struct light_frustum *first);
 
 /* Pulls the near plane towards the light: near / k (k >= 1), far kept, the
  * same cone (the window scales with near); the sun's, its depth range k

@@ -85,6 +85,7 @@ struct scene_pose motion_pose(const struct motion *m, const struct scene *s, con
         break;
     case MOTION_LIGHT_ROTATE: p.light_turn_rad = (float)(amount * M_PI / 180); break;
     case MOTION_CAMERA_SHIFT: p.camera_shift = (float)amount * pose_pixel_world(s, height); break;
+    case MOTION_CAMERA_YAW: p.camera_yaw_rad = (float)(amount * M_PI / 180); break;
     case MOTION_CASTER_SHIFT:
         p.caster = node + 1;
         p.caster_shift = (float)amount * light_frustum_texel_world(f, map_size, pose_light_depth_of_node(s, node));

@@ -20,6 +20,8 @@
       "the light turned about its own y axis through its centre")                                     \
     X(CAMERA_SHIFT, "camera_shift", "pixels per frame", 0.25, 64.0,                                   \
       "the camera along its own x axis (a pixel measured at the depth of the scene's centre)")      \
+    X(CAMERA_YAW, "camera_yaw", "degrees per frame", 0.02, 5.0,                                      \
+      "the camera turned about its own y axis (a sun's cascades are refitted to its view)")          \
     X(CASTER_SHIFT, "caster_shift", "shadow-map texels per frame", 0.125, 64.0,                     \
       "a node of the scene and what is under it along the light's x axis (a texel measured at the " \
       "depth of the node's centre)")

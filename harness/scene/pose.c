@@ -22,6 +22,13 @@ void scene_posed(const struct scene *base, const struct scene_pose *p, struct sc
         L->half_angle *= p->light_scale;  /* the sun's */
     }
     out->camera.pos = v3_add(out->camera.pos, v3_scale(out->camera.x, p->camera_shift));
+    if (p->camera_yaw_rad != 0) {  /* about its y: x and z turn in their plane */
+        struct scene_camera *c = &out->camera;
+        const float cs = cosf(p->camera_yaw_rad), sn = sinf(p->camera_yaw_rad);
+        const struct vec3 x = c->x, z = c->z;
+        c->x = v3_normalize(v3_add(v3_scale(x, cs), v3_scale(z, -sn)));
+        c->z = v3_normalize(v3_cross(c->x, c->y));
+    }
     const struct scene_node *n = NULL;
     if (p->caster) {
         assert(p->caster > 0 && (size_t)p->caster <= base->node_count);

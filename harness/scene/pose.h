@@ -15,6 +15,7 @@ struct scene_pose {
     float light_scale;     /* the light's size times this (0: 1): width, height, radius, the sun's angle */
     int caster;            /* 1 + the index in nodes of a node moved (0: none) */
     float caster_shift;    /* that node moved along the light's x axis, world units */
+    float camera_yaw_rad;  /* the camera turned about its own y axis */
 };
 
 /* The viewer's pose (`shadowbench view`), relative to the scene's. Zero is

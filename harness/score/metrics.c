@@ -22,7 +22,7 @@ long metrics_score_mask(const float *gt_mask, const float *gt_distance, const fl
 }
 
 /* Penumbra band of V_gt dilated by METRICS_PENUMBRA_DILATE, within scored. */
-static void penumbra_mask(const float *v_gt, const float *scored, int width, int height,
+void metrics_penumbra_band(const float *v_gt, const float *scored, int width, int height,
                           float *band)
 {
     const int r = METRICS_PENUMBRA_DILATE;
@@ -88,7 +88,7 @@ void metrics_compute(const float *v_tech, const struct gt_image *gt, const float
     const float *v_gt = gt->v;
     size_t count = (size_t)width * (size_t)height;
     float *band = xmalloc(count * sizeof(float));
-    penumbra_mask(v_gt, scored, width, height, band);
+    metrics_penumbra_band(v_gt, scored, width, height, band);
     float *abs_err = xmalloc(count * sizeof(float));
 
     double sum2 = 0, sum_abs = 0, sum = 0, max_abs = 0, pen2 = 0, shaded2 = 0, sum_e = 0;

@@ -97,6 +97,11 @@ long metrics_score_mask(const float *gt_mask, const float *gt_distance, const fl
 void metrics_compute(const float *v_tech, const struct gt_image *gt, const float *scored,
                      const float *gl_distance, struct metrics *m);
 
+/* band[i] = 1 where pixel i is scored and in the penumbra band: V_gt in
+ * (METRICS_PENUMBRA_LO, METRICS_PENUMBRA_HI), dilated by
+ * METRICS_PENUMBRA_DILATE pixels; else 0. */
+void metrics_penumbra_band(const float *v_gt, const float *scored, int width, int height, float *band);
+
 /* Whether the cell had anything to score (its error metrics are numbers). */
 bool metrics_scored(const struct metrics *m);
 

@@ -55,8 +55,8 @@ void viewer_apply_pose(struct viewer *v)
             "%.0f degrees of pitch", (double)VIEWER_LIGHT_REACH, (double)VIEWER_DOLLY_REACH,
             (double)VIEWER_PITCH_MAX * 180 / M_PI);
     struct scene s = scene_orbited(v->base, &v->pose, v->extent);
-    if (shadowmap_refit(&v->sm, &s, NULL) != 0) {
-        shadowmap_refit(&v->sm, &v->posed, NULL);
+    if (shadow_cascades_refit(&v->cascades, &s, NULL) != 0) {
+        shadow_cascades_refit(&v->cascades, &v->posed, NULL);
         v->pose = v->shown;
         snprintf(v->message, sizeof v->message, "the light's frustum cannot be fitted there: pose kept");
         return;
@@ -66,7 +66,7 @@ void viewer_apply_pose(struct viewer *v)
     v->mean_irradiance = irradiance_render(&v->irradiance_pass, &s, &v->receiver, &v->mesh, v->irradiance);
     v->pose_id++;
     v->gt_samples = 0;
-    gt_worker_ask(&v->worker, v->pose_id, &s, &v->sm.frustum);
+    gt_worker_ask(&v->worker, v->pose_id, &s, &v->cascades.view);
 }
 
 
@@ -201,7 +201,7 @@ void viewer_free(struct viewer *v)
     glDeleteFramebuffers(1, &v->show_fbo);
     glDeleteTextures(1, &v->show_texture);
     receiver_destroy(&v->receiver);
-    shadowmap_destroy(&v->sm);
+    shadow_cascades_destroy(&v->cascades);
     scene_mesh_destroy(&v->mesh);
     for (int k = 0; k < 2; k++)
         free(v->v[k]), free(v->distance[k]), free(v->scored[k]);
@@ -233,12 +233,14 @@ int viewer_open(struct viewer *v, const struct viewer_desc *d, const struct scen
     if (gt_worker_start(&v->worker, v->w, v->h, d->gt_samples) != 0)
         return -1;
     scene_mesh_upload(s, &v->mesh);
-    if (shadowmap_create(&v->sm, s, &(struct shadowmap_desc){.size_texels = d->shadow_map_size,
-                                                                .aspect = (float)v->w / (float)v->h}) != 0 ||
+    if (shadow_cascades_create(&v->cascades, s,
+                               &(struct shadowmap_desc){.size_texels = d->shadow_map_size,
+                                                        .aspect = (float)v->w / (float)v->h},
+                               d->cascades) != 0 ||
         receiver_create(&v->receiver, s, v->w, v->h) != 0 ||
         irradiance_create(&v->irradiance_pass, s, v->w, v->h) != 0)
         return -1;
-    v->timer = (struct stage_timer){.sm = &v->sm, .mesh = &v->mesh, .receiver = &v->receiver, .frames = 1,
+    v->timer = (struct stage_timer){.cascades = &v->cascades, .mesh = &v->mesh, .receiver = &v->receiver, .frames = 1,
                                     .timing = STAGE_TIMING_AUTO};
     v->pose_dirty = true;
     return 0;

@@ -34,6 +34,7 @@ struct viewer_desc {
     int width, height;            /* the picture */
     int gt_samples;               /* the ground truth's last level */
     int shadow_map_size;
+    const struct cascade_settings *cascades;  /* the sun's (NULL: one map over the view) */
     const struct technique *techniques[VIEWER_MAX_TECHNIQUES];  /* what Tab steps through */
     const void *settings[VIEWER_MAX_TECHNIQUES];                /* their first settings (copied) */
     int technique_count;
@@ -47,7 +48,7 @@ struct viewer {
     int w, h;
     float extent;  /* the scene's bounding-box diagonal: the unit of motion */
     struct scene_mesh mesh;
-    struct shadowmap sm;
+    struct shadow_cascades cascades;
     struct receiver receiver;
     struct stage_timer timer;
     struct program_cache programs;
