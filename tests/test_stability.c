@@ -48,8 +48,8 @@ static void flicker_unit(void)
     const float noise0[4] = {0.01f, 0, 0, 0}, noise1[4] = {-0.01f, 0, 0, 0};
     const float s0[4] = {1, 1, 1, 0}, s1[4] = {1, 1, 1, 1};  /* pixel 3 enters the mask */
     struct flicker f = {0};
-    flicker_add(&f, v0, gt0, noise0, s0, 4);
-    flicker_add(&f, v1, gt1, noise1, s1, 4);
+    flicker_add(&f, v0, gt0, noise0, s0, NULL, 4);
+    flicker_add(&f, v1, gt1, noise1, s1, NULL, 4);
     struct flicker_result r;
     flicker_finish(&f, &r);
     /* pixel 0: e 0 -> -0.1; pixel 1: e -0.5 -> 0.5; pixel 2: 0 -> 0 */

@@ -359,6 +359,123 @@ static int sun_grazing(struct mesh_builder *m, struct gltf_scene_desc *d)
     return 0;
 }
 
+/* ---- cascades (docs/cascades.md): a 200 m ground seen from eye height
+ * (1.7 m) along it, large enough to need cascades; each scene one way
+ * they fail. ---- */
+
+/* The ground from 40 m behind the camera (the casters behind it) to 200 m
+ * ahead, 120 m across, and the camera looking along it. */
+static void cascade_ground(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    mesh_begin_part(m, "ground");
+    ground(m, -60.0f, -200.0f, 60.0f, 40.0f);
+    *d = (struct gltf_scene_desc){
+        .camera_pos = v3(0.0f, 1.7f, 0.0f), .camera_target = v3(0.0f, 0.0f, -10.0f),
+        .camera_yfov_rad = 0.9f, .camera_znear = 0.1f,
+    };
+}
+
+/* A pole 14 m tall beside the view under a 3-degree sun behind the
+ * camera, 35 degrees up: its shadow runs from 12 m to 32 m away along the
+ * view, so it crosses a split there (three cascades over 200 m split at
+ * 0.11 of it, 22 m: docs/cascades.md runs it so), and its penumbra, 2 h
+ * tan(alpha) / sin(35) across at the pole's height h above the ground,
+ * is 0.3 to 0.9 m wide where it crosses: several pixels, so a width that
+ * jumps at the split shows. The wide sun is what makes it measurable at
+ * that distance; the real sun's is a pixel. */
+static int cascade_seam(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    cascade_ground(m, d);
+    mesh_begin_part(m, "pole");
+    mesh_add_box(m, v3(-2.15f, 0.0f, -12.15f), v3(-1.85f, 14.0f, -11.85f));
+    place_sun(d, 35, -90, 3.0);
+    d->description = "A 14 m pole 2 m left of a 200 m view from eye height, under a 3-degree sun behind the "
+                     "camera, 35 degrees up: its shadow runs along the view from 12 m to 32 m.";
+    d->shows = "a seam at a cascade split: the penumbra's width keeps its world size across it, or jumps "
+               "(--cascade-width texel)";
+    return 0;
+}
+
+/* Pickets at 2, 4, ..., 128 m along the view, each scaled with its
+ * distance (4% of it wide, 15% tall) so each casts the same shadow on
+ * the screen; the real sun from the right, 40 degrees up. With one map
+ * over 200 m a texel is some 20 cm everywhere, while a pixel grows with
+ * distance: near pickets' shadows span many pixels per texel (blocky),
+ * far ones few. The error against distance shows it, and what cascades
+ * buy. */
+static int cascade_distance(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    cascade_ground(m, d);
+    mesh_begin_part(m, "pickets");
+    for (float z = 2.0f; z <= 128.0f; z *= 2.0f)
+        mesh_add_box(m, v3(0.3f * z - 0.02f * z, 0.0f, -z - 0.02f * z), v3(0.3f * z + 0.02f * z, 0.15f * z, -z + 0.02f * z));
+    place_sun(d, 40, 180, SCENE_SUN_DEG);
+    d->description = "Pickets at 2, 4, ..., 128 m along a 200 m view from eye height, each scaled with its "
+                     "distance, under the real sun from the right, 40 degrees up.";
+    d->shows = "perspective aliasing: the error against distance from the camera, one map against cascades";
+    return 0;
+}
+
+/* A 40 m tower 25 m behind the camera under the real sun 15 degrees up,
+ * behind it: its shadow runs 150 m along the view, its penumbra some
+ * 0.4 m wide where the camera sees it 20 m away (the tower's top is 45 m
+ * up the sun's ray from there). The tower is far outside the near
+ * cascades' slices: with --depth-clamp on, their near planes sit at
+ * their receivers and the tower is pancaked onto them, so the PCSS
+ * family finds its blocker far too close to the receiver and hardens the
+ * penumbra. */
+static int cascade_pancake(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    cascade_ground(m, d);
+    mesh_begin_part(m, "tower");
+    mesh_add_box(m, v3(5.0f, 0.0f, 24.0f), v3(7.0f, 40.0f, 26.0f));
+    place_sun(d, 15, -90, SCENE_SUN_DEG);
+    d->description = "A 40 m tower 25 m behind the camera of a 200 m view from eye height, under the real sun "
+                     "15 degrees up behind it: its shadow runs 150 m along the view.";
+    d->shows = "pancaking: a caster outside a cascade's depth range, clamped onto its near plane "
+               "(--depth-clamp on), gives the PCSS family a wrong blocker depth";
+    return 0;
+}
+
+/* A 1.5 m block 24 m away under the real sun from the left, 40 degrees
+ * up, next to a split (the default practical split of four cascades over
+ * the view falls near 25 m); its motion moves it along the view, across
+ * the split, where its shadow's resolution changes at once. */
+static int cascade_pop(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    static const char *const motions[] = {"caster_shift:block=8", NULL};
+    cascade_ground(m, d);
+    mesh_begin_part(m, "block");
+    mesh_add_box(m, v3(-3.75f, 0.0f, -24.75f), v3(-2.25f, 1.5f, -23.25f));
+    place_sun(d, 40, 0, SCENE_SUN_DEG);
+    d->description = "A 1.5 m block 24 m along a 200 m view from eye height under the real sun from the left, "
+                     "40 degrees up; its motion moves it along the view.";
+    d->shows = "pop: a caster crossing a cascade split (stability's caster_shift:block)";
+    d->motions = motions;
+    return 0;
+}
+
+/* A fence of twelve posts (2 m tall, 25 cm thick) along the view, 3 to 36 m away, under the
+ * real sun 25 degrees up from the front left: crisp shadow edges across
+ * the ground. Its motions move the camera by a quarter pixel and turn it
+ * by 0.02 degrees a frame: each refits the sun's maps, and without
+ * snapping their texel grid slides under the edges (shimmer). */
+static int cascade_shimmer(struct mesh_builder *m, struct gltf_scene_desc *d)
+{
+    static const char *const motions[] = {"camera_shift=0.25", "camera_yaw=0.02", NULL};
+    cascade_ground(m, d);
+    mesh_begin_part(m, "fence");
+    for (int k = 1; k <= 12; k++)
+        mesh_add_box(m, v3(-1.625f, 0.0f, -3.0f * (float)k - 0.125f), v3(-1.375f, 2.0f, -3.0f * (float)k + 0.125f));
+    place_sun(d, 25, 30, SCENE_SUN_DEG);
+    d->description = "A fence of twelve 2 m posts along a 200 m view from eye height, 3 to 36 m away, under "
+                     "the real sun 25 degrees up from the front left.";
+    d->shows = "shimmer: the camera moving by sub-texel steps and turning slowly, with snapping on and off "
+               "(stability's camera_shift and camera_yaw)";
+    d->motions = motions;
+    return 0;
+}
+
 /* Reads the vertices and triangles of a Wavefront OBJ ("v x y z" and
  * "f a b c" lines, 1-based, optional /texture/normal parts ignored). */
 static int read_obj(const char *path, float **pos, size_t *vertex_count, uint32_t **tri,
@@ -444,6 +561,11 @@ static int stanford_bunny(struct mesh_builder *m, struct gltf_scene_desc *d)
 }
 
 const struct scene_recipe scene_recipes[] = {
+    {"cascade_distance", cascade_distance},
+    {"cascade_pancake", cascade_pancake},
+    {"cascade_pop", cascade_pop},
+    {"cascade_seam", cascade_seam},
+    {"cascade_shimmer", cascade_shimmer},
     {"contact_hardening", contact_hardening},
     {"curved_receivers", curved_receivers},
     {"floating_box_sphere", floating_box_sphere},

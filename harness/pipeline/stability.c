@@ -180,6 +180,7 @@ int stability_motion(struct stability *st, int s, int m)
      * the camera. */
     const struct shadow_cascades window = ss.cascades;  /* its frusta only */
     const bool follow = mo->kind == MOTION_CAMERA_SHIFT || mo->kind == MOTION_CAMERA_YAW;
+    const bool moving = follow;  /* the camera moves: pixels compared on the surface (flicker_add) */
     int *from = xmalloc(sizeof(int) * count);
     float *prev_distance = xmalloc(sizeof(float) * count);
     char where[640];  /* the posed scene's "path": its errors name the motion and frame */
@@ -203,6 +204,13 @@ int stability_motion(struct stability *st, int s, int m)
                 break;
             scene_setup_truth_posed(&ss);
         }
+        /* The last frame's pixel of each point, from the truth's hit distances
+         * (the same surfaces GL draws, within METRICS_DEPTH_TOLERANCE). */
+        if (frame > 0)
+            flicker_reproject(&posed.camera, &prev_camera, ss.gt.distance, prev_distance, w, h, from);
+        else
+            for (size_t i = 0; i < count; i++)
+                from[i] = -1;
         for (int k = 0; k < n && !rc; k++) {
             struct live_row *L = &live[k];
             if (L->row->accumulated)
@@ -214,27 +222,22 @@ int stability_motion(struct stability *st, int s, int m)
                 break;
             memcpy(L->v, ss.v, sizeof(float) * count);
             L->row->nonfinite += mt.nonfinite;
-            flicker_add(&L->fl, L->v, ss.gt.v, ss.gt.noise, ss.scored, count);
+            flicker_add(&L->fl, L->v, ss.gt.v, ss.gt.noise, ss.scored, moving ? from : NULL, count);
             if (st->on_frame)
                 rc = st->on_frame(st->user, L->row, frame, K, &ss, L->v);
         }
         if (rc)
             break;
-        if (frame > 0)
-            flicker_reproject(&posed.camera, &prev_camera, ss.distance, prev_distance, w, h, from);
-        else
-            for (size_t i = 0; i < count; i++)
-                from[i] = -1;
         for (int k = 0; k < n; k++) {
             struct live_row *L = &live[k];
             if (!L->row->accumulated)
                 continue;
             flicker_accumulate(L->history, L->prev_history, live[L->source].v, from, (float)st->accumulate, count);
-            flicker_add(&L->fl, L->history, ss.gt.v, ss.gt.noise, ss.scored, count);
+            flicker_add(&L->fl, L->history, ss.gt.v, ss.gt.noise, ss.scored, moving ? from : NULL, count);
             float *t = L->history;
             L->history = L->prev_history, L->prev_history = t;
         }
-        memcpy(prev_distance, ss.distance, sizeof(float) * count);
+        memcpy(prev_distance, ss.gt.distance, sizeof(float) * count);
         log_progress("  %s, %s: frame %d/%d", base->name, mo->label, frame + 1, K);
     }
     log_progress_done();

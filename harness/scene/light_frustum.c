@@ -176,10 +176,15 @@ static int fit_sun(const struct scene *s, float aspect, const struct cascade_set
         if (!cs->depth_clamp)
             d_lo = caster_depth(s, f);
     }
-    if (cs->snap && n > 0) {  /* whole texels of a grid fixed in the sun's frame */
+    if (cs->snap && n > 0) {
+        /* Whole texels of a grid fixed in the sun's frame; and the depth
+         * range in steps of 1/64 of the window, so that it too changes only
+         * now and then (every depth in the map moves when it does). */
         const float tx = (f->r - f->l) / (float)n, ty = (f->t - f->b) / (float)n;
         const float l = floorf(f->l / tx) * tx, b = floorf(f->b / ty) * ty;
         f->r += l - f->l, f->l = l, f->t += b - f->b, f->b = b;
+        const float step = (f->r - f->l) / 64.0f;
+        d_lo = floorf(d_lo / step) * step, d_hi = ceilf(d_hi / step) * step;
     }
     const float margin = 1e-3f * fmaxf(d_hi - d_lo, 1e-3f * extent);
     f->near_world = d_lo - margin;

@@ -7,7 +7,7 @@
 #include <string.h>
 
 void flicker_add(struct flicker *f, const float *v_tech, const float *v_gt, const float *noise,
-                 const float *scored, size_t count)
+                 const float *scored, const int *from, size_t count)
 {
     if (!f->prev_e) {
         f->prev_e = xmalloc(sizeof(float) * count);
@@ -22,24 +22,29 @@ void flicker_add(struct flicker *f, const float *v_tech, const float *v_gt, cons
         const bool now = scored[i] > 0.5f && isfinite(e);
         if (now)
             sum += (double)e * e, n++;
-        if (f->frames > 0) {
-            const bool before = f->prev_scored[i] > 0.5f;
-            if (now && before) {
-                if (f->count == f->capacity) {
-                    f->capacity = f->capacity ? 2 * f->capacity : count;
-                    f->d = xrealloc(f->d, sizeof(double) * f->capacity);
-                }
-                const double d = fabs((double)e - f->prev_e[i]), fl = fabs((double)noise[i] - f->prev_noise[i]);
-                f->d[f->count++] = d;
-                f->floor_sum += fl;
-                if ((v_gt[i] > METRICS_PENUMBRA_LO && v_gt[i] < METRICS_PENUMBRA_HI) ||
-                    (f->prev_gt[i] > METRICS_PENUMBRA_LO && f->prev_gt[i] < METRICS_PENUMBRA_HI))
-                    f->band_sum += d, f->band_floor_sum += fl, f->band_count++;
-            } else if (now != before) {
-                f->mask_changes++;
+        if (f->frames == 0)
+            continue;
+        const long j = from ? from[i] : (long)i;  /* the last frame's pixel of the same point */
+        const bool before = j >= 0 && f->prev_scored[j] > 0.5f;
+        if (now && before) {
+            if (f->count == f->capacity) {
+                f->capacity = f->capacity ? 2 * f->capacity : count;
+                f->d = xrealloc(f->d, sizeof(double) * f->capacity);
             }
+            const double d = fabs((double)e - f->prev_e[j]), fl = fabs((double)noise[i] - f->prev_noise[j]);
+            f->d[f->count++] = d;
+            f->floor_sum += fl;
+            if ((v_gt[i] > METRICS_PENUMBRA_LO && v_gt[i] < METRICS_PENUMBRA_HI) ||
+                (f->prev_gt[j] > METRICS_PENUMBRA_LO && f->prev_gt[j] < METRICS_PENUMBRA_HI))
+                f->band_sum += d, f->band_floor_sum += fl, f->band_count++;
+        } else if (now != before) {
+            f->mask_changes++;
         }
-        f->prev_e[i] = e, f->prev_noise[i] = noise[i], f->prev_scored[i] = now ? 1.0f : 0.0f;
+    }
+    for (size_t i = 0; i < count; i++) {  /* after: a pixel may read another's last value */
+        const float e = v_tech[i] - v_gt[i];
+        f->prev_e[i] = e, f->prev_noise[i] = noise[i];
+        f->prev_scored[i] = scored[i] > 0.5f && isfinite(e) ? 1.0f : 0.0f;
         f->prev_gt[i] = v_gt[i];
     }
     if (n) {

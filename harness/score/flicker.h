@@ -45,9 +45,13 @@ struct flicker_result {
 };
 
 /* Adds frame t: V_tech, V_gt, the ground truth's noise sample and the
- * scored mask (1 = scored), count pixels each. */
+ * scored mask (1 = scored), count pixels each. from (flicker_reproject;
+ * NULL: each pixel itself) gives the last frame's pixel that saw the same
+ * point: a moving camera's pixels are compared on the surface they see, so
+ * what counts is a shadow crawling over it (shimmer), not the image
+ * moving. A pixel with none (-1) counts in mask_changes when scored. */
 void flicker_add(struct flicker *f, const float *v_tech, const float *v_gt, const float *noise,
-                 const float *scored, size_t count);
+                 const float *scored, const int *from, size_t count);
 
 /* Sorts f's differences (for the percentile). */
 void flicker_finish(struct flicker *f, struct flicker_result *r);
