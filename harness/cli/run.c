@@ -40,7 +40,7 @@ cJSON *cli_run_record(const struct options *o, bool timed, double seconds)
  * "complete": true. A run that fails or is killed leaves false. */
 static int begin_run(const struct options *o)
 {
-    static const enum output_file stale[] = {OUTPUT_REPORT, OUTPUT_MATRIX_CSV, OUTPUT_MATRIX_JSON};
+    static const enum output_file stale[] = {OUTPUT_REPORT, OUTPUT_MATRIX_CSV, OUTPUT_MATRIX_JSON, OUTPUT_DEPTH_CSV};
     for (size_t i = 0; i < ARRAY_SIZE(stale); i++) {
         char *path = out_dir_path(o->out_dir, stale[i]);
         unlink(path);

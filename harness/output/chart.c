@@ -395,10 +395,13 @@ void chart_lines_svg(struct strbuf *out, const char *title, const char *subtitle
     const struct chart_panel *p0 = panel_count ? &panels[0] : NULL;
     for (int c = 0; p0 && c < p0->n; c++)
         lx = legend_entry(out, p0->lines[c].item.group, p0->lines[c].item.label, lx, height - 12);
-    strbuf_printf(out, "<text x=\"%d\" y=\"%d\" text-anchor=\"end\" fill=\"#555\">ringed: ", width - 10,
-                  height - 12);
-    strbuf_xml(out, marked_text);
-    strbuf_printf(out, "; dashed: the reference value</text>\n</svg>\n");
+    if (marked_text) {
+        strbuf_printf(out, "<text x=\"%d\" y=\"%d\" text-anchor=\"end\" fill=\"#555\">ringed: ", width - 10,
+                      height - 12);
+        strbuf_xml(out, marked_text);
+        strbuf_printf(out, "; dashed: the reference value</text>\n");
+    }
+    strbuf_printf(out, "</svg>\n");
 }
 
 enum { FRONT_W = 900, FRONT_H = 550, FRONT_L = 80, FRONT_R = 30, FRONT_T = 60, FRONT_B = 100 };

@@ -89,8 +89,9 @@ struct chart_panel {
 
 /* Panels in a grid of two columns sharing one x axis (logarithmic with
  * log_x: values that span decades), each a line per technique through its
- * points, marked points ringed (what the ring means: marked_text), a
- * dashed vertical line at reference_x (NAN: none). */
+ * points, marked points ringed (what the ring means: marked_text, NULL:
+ * no note, for charts without marks or reference), a dashed vertical line
+ * at reference_x (NAN: none). */
 void chart_lines_svg(struct strbuf *out, const char *title, const char *subtitle, const char *x_label, bool log_x,
                      double reference_x, const char *marked_text, const struct chart_panel *panels,
                      int panel_count);

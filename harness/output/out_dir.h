@@ -8,7 +8,7 @@
 /* X(ID, name): the files a command writes at the top of its output folder.
  * A scene's folder, <out>/<scene name>, may take none of these names. */
 #define OUTPUT_FILES(X)                                                           \
-    X(RUN_JSON, "run.json") X(MATRIX_CSV, "matrix.csv") X(MATRIX_JSON, "matrix.json") \
+    X(RUN_JSON, "run.json") X(MATRIX_CSV, "matrix.csv") X(MATRIX_JSON, "matrix.json") X(DEPTH_CSV, "depth.csv") \
     X(REPORT, "report.html") X(CHARTS, "charts") X(CHECK_PAGE, "check.html")          \
     X(STABILITY_JSON, "stability.json") X(STABILITY_CSV, "stability.csv")             \
     X(STABILITY_PAGE, "stability.html") X(TUNE_JSON, "tune.json")

@@ -54,6 +54,45 @@ void report_csv_field(struct strbuf *sb, const char *s)
     strbuf_append(sb, "\"", 1);
 }
 
+static void depth_row(struct strbuf *csv, const struct cell *c, const char *kind, int index,
+                      const struct depth_group *g, double seam, double gt_seam)
+{
+    report_csv_field(csv, c->scene);
+    strbuf_printf(csv, ",");
+    report_csv_field(csv, c->label);
+    strbuf_printf(csv, ",%s,%d", kind, index);
+    const double x[] = {g->lo, g->hi, g->rmse, g->penumbra_rmse, g->gt_noise_penumbra_rmse, seam, gt_seam};
+    for (size_t k = 0; k < ARRAY_SIZE(x); k++)
+        strbuf_printf(csv, isfinite(x[k]) ? ",%.9g" : ",", x[k]);  /* none: an empty field */
+    strbuf_printf(csv, ",%ld,%ld\n", g->pixels, g->penumbra_pixels);
+}
+
+/* depth.csv (docs/outputs.md): every cell's error by view depth, one row
+ * per distance bin, cascade slice and seam side. */
+static int write_depth(const struct report *r)
+{
+    struct strbuf csv = {0};
+    strbuf_printf(&csv, "scene,cell,kind,index,from,to,rmse,penumbra_rmse,gt_noise_penumbra_rmse,seam,gt_seam,"
+                        "pixels,penumbra_pixels\n");
+    for (int i = 0; i < r->cell_count; i++) {
+        const struct cell *c = &r->cells[i];
+        const struct depth_metrics *d = &c->depth;
+        for (int b = 0; b < d->bins; b++)
+            depth_row(&csv, c, "bin", b, &d->bin[b], NAN, NAN);
+        for (int k = 0; k < d->slices; k++)
+            depth_row(&csv, c, "slice", k, &d->slice[k], NAN, NAN);
+        for (int k = 0; k + 1 < d->slices; k++) {
+            depth_row(&csv, c, "seam_near", k, &d->seam[k].near, d->seam[k].seam, d->seam[k].gt_seam);
+            depth_row(&csv, c, "seam_far", k, &d->seam[k].far, d->seam[k].seam, d->seam[k].gt_seam);
+        }
+    }
+    char *path = util_printf("%s/depth.csv", r->out_dir);
+    const int rc = util_write_file_atomic(path, csv.data, csv.len);
+    free(path);
+    strbuf_free(&csv);
+    return rc ? -1 : 0;
+}
+
 static int write_matrix(const struct report *r)
 {
     struct strbuf csv = {0};
@@ -89,7 +128,7 @@ static int write_matrix(const struct report *r)
     free(json_path);
     cJSON_Delete(matrix);
     strbuf_free(&csv);
-    return rc ? -1 : 0;
+    return rc || write_depth(r) ? -1 : 0;
 }
 
 /* ---- charts ------------------------------------------------------------- */
@@ -170,6 +209,48 @@ static char *chart_subtitle(const char *device, const char *extra)
                        cpu ? " (CPU rasteriser: ranks techniques for this device only)" : "", extra);
 }
 
+/* Under the sun: each cell's error against the view depth of its pixels
+ * (depth_metrics' distance bins, at their geometric centres), where
+ * perspective aliasing and cascade splits show. */
+static int distance_chart(const struct report *r, const char *scene, struct strbuf *html)
+{
+    struct chart_line *rmse = xcalloc((size_t)r->cell_count, sizeof *rmse);
+    struct chart_line *pen = xcalloc((size_t)r->cell_count, sizeof *pen);
+    double *x = xcalloc((size_t)r->cell_count * DEPTH_BINS * 3, sizeof(double));
+    int n = 0;
+    const cJSON *maps = NULL;
+    for (int i = 0; i < r->cell_count; i++) {
+        const struct cell *c = &r->cells[i];
+        if (strcmp(c->scene, scene) != 0 || !cJSON_IsTrue(cJSON_GetObjectItem(c->cascades, "applied")) ||
+            c->depth.bins == 0)
+            continue;
+        maps = cJSON_GetObjectItem(c->cascades, "maps");
+        double *bx = &x[(size_t)n * DEPTH_BINS * 3], *by = bx + DEPTH_BINS, *bp = by + DEPTH_BINS;
+        for (int b = 0; b < c->depth.bins; b++) {
+            bx[b] = sqrt((double)c->depth.bin[b].lo * c->depth.bin[b].hi);
+            by[b] = c->depth.bin[b].rmse, bp[b] = c->depth.bin[b].penumbra_rmse;
+        }
+        rmse[n] = (struct chart_line){item_of(c), c->depth.bins, bx, by, NULL};
+        pen[n] = (struct chart_line){item_of(c), c->depth.bins, bx, bp, NULL};
+        n++;
+    }
+    int rc = 0;
+    if (n) {
+        const struct chart_panel panels[] = {{"rmse", "visibility", rmse, n}, {"penumbra_rmse", "visibility", pen, n}};
+        const int cascades = cJSON_GetArraySize(maps);
+        char *title = util_printf("%s: error against distance from the camera", scene);
+        char *sub = util_printf("%d shadow map%s over the view; each point a distance bin", cascades,
+                                cascades == 1 ? "" : "s (cascades)");
+        struct strbuf svg = {0};
+        chart_lines_svg(&svg, title, sub, "view depth (scene units, log scale)", true, NAN, NULL, panels, 2);
+        char *name = util_printf("%s_distance", scene);
+        rc = emit_chart(r, name, &svg, html);
+        free(title), free(sub), free(name);
+    }
+    free(rmse), free(pen), free(x);
+    return rc;
+}
+
 /* Per scene: error against time, and the four failure metrics as bars. */
 static int scene_charts(const struct report *r, const char *scene, const char *device,
                         struct strbuf *html)
@@ -204,7 +285,7 @@ static int scene_charts(const struct report *r, const char *scene, const char *d
     rc |= emit_chart(r, name, &svg, html);
     free(title), free(name), free(sub);
     points_free(&p);
-    return rc ? -1 : 0;
+    return rc || distance_chart(r, scene, html) ? -1 : 0;
 }
 
 /* A configuration (a cell label) over every scene of the run: its mean
