@@ -397,21 +397,25 @@ static int cascade_seam(struct mesh_builder *m, struct gltf_scene_desc *d)
 }
 
 /* Pickets at 2, 4, ..., 128 m along the view, each scaled with its
- * distance (4% of it wide, 15% tall) so each casts the same shadow on
- * the screen; the real sun from the right, 40 degrees up. With one map
- * over 200 m a texel is some 20 cm everywhere, while a pixel grows with
- * distance: near pickets' shadows span many pixels per texel (blocky),
- * far ones few. The error against distance shows it, and what cascades
- * buy. */
+ * distance (4% of it wide, 10% tall) and set 10% of it further right than
+ * the one before, so that each casts the same shadow on the screen and
+ * none hides another; the real sun from the front right, 40 degrees up,
+ * casting each shadow towards the camera. With one map over 200 m a texel
+ * is some 20 cm everywhere, while a pixel grows with distance: near
+ * pickets' shadows span many pixels per texel (blocky), far ones few. The
+ * error against distance shows it, and what cascades buy. */
 static int cascade_distance(struct mesh_builder *m, struct gltf_scene_desc *d)
 {
     cascade_ground(m, d);
     mesh_begin_part(m, "pickets");
-    for (float z = 2.0f; z <= 128.0f; z *= 2.0f)
-        mesh_add_box(m, v3(0.3f * z - 0.02f * z, 0.0f, -z - 0.02f * z), v3(0.3f * z + 0.02f * z, 0.15f * z, -z + 0.02f * z));
-    place_sun(d, 40, 180, SCENE_SUN_DEG);
+    int k = 0;
+    for (float z = 2.0f; z <= 128.0f; z *= 2.0f, k++) {
+        const float x = (-0.33f + 0.1f * (float)k) * z, w = 0.02f * z;
+        mesh_add_box(m, v3(x - w, 0.0f, -z - w), v3(x + w, 0.1f * z, -z + w));
+    }
+    place_sun(d, 40, 135, SCENE_SUN_DEG);
     d->description = "Pickets at 2, 4, ..., 128 m along a 200 m view from eye height, each scaled with its "
-                     "distance, under the real sun from the right, 40 degrees up.";
+                     "distance, under the real sun from the front right, 40 degrees up.";
     d->shows = "perspective aliasing: the error against distance from the camera, one map against cascades";
     return 0;
 }
@@ -439,11 +443,12 @@ static int cascade_pancake(struct mesh_builder *m, struct gltf_scene_desc *d)
 
 /* A 1.5 m block 24 m away under the real sun from the left, 40 degrees
  * up, next to a split (the default practical split of four cascades over
- * the view falls near 25 m); its motion moves it along the view, across
- * the split, where its shadow's resolution changes at once. */
+ * the view falls near 25 m); its motion moves it along the view by 2.5
+ * texels of one map over the view a frame (half a metre), across the
+ * split, where its shadow's resolution changes at once. */
 static int cascade_pop(struct mesh_builder *m, struct gltf_scene_desc *d)
 {
-    static const char *const motions[] = {"caster_shift:block=8", NULL};
+    static const char *const motions[] = {"caster_shift:block=2.5", NULL};
     cascade_ground(m, d);
     mesh_begin_part(m, "block");
     mesh_add_box(m, v3(-3.75f, 0.0f, -24.75f), v3(-2.25f, 1.5f, -23.25f));
