@@ -376,7 +376,7 @@ static void cascade_ground(struct mesh_builder *m, struct gltf_scene_desc *d)
 }
 
 /* A pole 14 m tall beside the view under a 3-degree sun behind the
- * camera, 35 degrees up: its shadow runs from 12 m to 32 m away along the
+ * camera (10 degrees to its left), 35 degrees up: its shadow runs from 12 m to 32 m away along the
  * view, so it crosses a split there (three cascades over 200 m split at
  * 0.11 of it, 22 m: docs/cascades.md runs it so), and its penumbra, 2 h
  * tan(alpha) / sin(35) across at the pole's height h above the ground,
@@ -388,7 +388,7 @@ static int cascade_seam(struct mesh_builder *m, struct gltf_scene_desc *d)
     cascade_ground(m, d);
     mesh_begin_part(m, "pole");
     mesh_add_box(m, v3(-2.15f, 0.0f, -12.15f), v3(-1.85f, 14.0f, -11.85f));
-    place_sun(d, 35, -90, 3.0);
+    place_sun(d, 35, -80, 3.0);  /* 10 degrees off the view's axis: no face of the pole edge-on to it */
     d->description = "A 14 m pole 2 m left of a 200 m view from eye height, under a 3-degree sun behind the "
                      "camera, 35 degrees up: its shadow runs along the view from 12 m to 32 m.";
     d->shows = "a seam at a cascade split: the penumbra's width keeps its world size across it, or jumps "
@@ -441,8 +441,8 @@ static int cascade_pancake(struct mesh_builder *m, struct gltf_scene_desc *d)
     return 0;
 }
 
-/* A 1.5 m block 24 m away under the real sun from the left, 40 degrees
- * up, next to a split (the default practical split of four cascades over
+/* A 1.5 m block 24 m away under the real sun from the left (20 degrees
+ * to the front), 40 degrees up, next to a split (the default practical split of four cascades over
  * the view falls near 25 m); its motion moves it along the view by 2.5
  * texels of one map over the view a frame (half a metre), across the
  * split, where its shadow's resolution changes at once. */
@@ -452,7 +452,7 @@ static int cascade_pop(struct mesh_builder *m, struct gltf_scene_desc *d)
     cascade_ground(m, d);
     mesh_begin_part(m, "block");
     mesh_add_box(m, v3(-3.75f, 0.0f, -24.75f), v3(-2.25f, 1.5f, -23.25f));
-    place_sun(d, 40, 0, SCENE_SUN_DEG);
+    place_sun(d, 40, 20, SCENE_SUN_DEG);  /* 20 degrees off the view's normal: no face edge-on to it */
     d->description = "A 1.5 m block 24 m along a 200 m view from eye height under the real sun from the left, "
                      "40 degrees up; its motion moves it along the view.";
     d->shows = "pop: a caster crossing a cascade split (stability's caster_shift:block)";
