@@ -441,21 +441,24 @@ static int cascade_pancake(struct mesh_builder *m, struct gltf_scene_desc *d)
     return 0;
 }
 
-/* A 1.5 m block 24 m away under the real sun from the left (20 degrees
- * to the front), 40 degrees up, next to a split (the default practical split of four cascades over
- * the view falls near 25 m); its motion moves it along the view by 2.5
- * texels of one map over the view a frame (half a metre), across the
- * split, where its shadow's resolution changes at once. */
+/* A 2 m square plate 1.5 m above the ground, 8 m away, under the real
+ * sun from the left, 40 degrees up, its shadow 1.8 m to its right; its
+ * motion moves it along the view (the sun's x axis), 2.5 texels of one map
+ * over the view a frame (half a metre), so that its shadow leaves the
+ * near cascade of two split at 0.04 of the view (8 m; docs/cascades.md
+ * runs it so) for the far one, whose texels are some twenty times as
+ * wide: its error steps up at once. A horizontal plate, so that no face is
+ * edge-on to the sun. */
 static int cascade_pop(struct mesh_builder *m, struct gltf_scene_desc *d)
 {
     static const char *const motions[] = {"caster_shift:block=2.5", NULL};
     cascade_ground(m, d);
     mesh_begin_part(m, "block");
-    mesh_add_box(m, v3(-3.75f, 0.0f, -24.75f), v3(-2.25f, 1.5f, -23.25f));
-    place_sun(d, 40, 20, SCENE_SUN_DEG);  /* 20 degrees off the view's normal: no face edge-on to it */
-    d->description = "A 1.5 m block 24 m along a 200 m view from eye height under the real sun from the left, "
-                     "40 degrees up; its motion moves it along the view.";
-    d->shows = "pop: a caster crossing a cascade split (stability's caster_shift:block)";
+    plate(m, -3.0f, -9.0f, -1.0f, -7.0f, 1.5f);
+    place_sun(d, 40, 0, SCENE_SUN_DEG);
+    d->description = "A 2 m plate 1.5 m up, 8 m along a 200 m view from eye height, under the real sun from the "
+                     "left, 40 degrees up; its motion moves it along the view.";
+    d->shows = "pop: a caster crossing a cascade split, its error stepping at once (stability's caster_shift:block)";
     d->motions = motions;
     return 0;
 }

@@ -33,7 +33,7 @@ static void csv_number(struct strbuf *csv, double v, bool last)
 
 static const char csv_header[] =
     "scene,technique,mode,name,value,row,noise,accumulated,frames,flicker,flicker_p99,flicker_floor,"
-    "flicker_meaningful,flicker_penumbra,flicker_floor_penumbra,rmse_mean,rmse_max,mask_changes,rmse,penumbra_rmse,leak_fraction,dark_fraction,"
+    "flicker_meaningful,flicker_penumbra,flicker_floor_penumbra,rmse_mean,rmse_max,rmse_jump,mask_changes,rmse,penumbra_rmse,leak_fraction,dark_fraction,"
     "nonfinite,broken\n";
 
 static int write_data(struct stability_output *so, const cJSON *run)
@@ -74,6 +74,10 @@ static int write_data(struct stability_output *so, const cJSON *run)
         cJSON_AddBoolToObject(j, "flicker_meaningful", r->r.meaningful);
         add_number(j, "rmse_mean", r->r.rmse_mean);
         add_number(j, "rmse_max", r->r.rmse_max);
+        add_number(j, "rmse_jump", r->r.rmse_jump);
+        cJSON *fr = cJSON_AddArrayToObject(j, "frame_rmse");
+        for (int f = 0; r->frame_rmse && f < r->r.frames; f++)
+            cJSON_AddItemToArray(fr, isfinite(r->frame_rmse[f]) ? cJSON_CreateNumber(r->frame_rmse[f]) : cJSON_CreateNull());
         cJSON_AddNumberToObject(j, "pairs_pixels", (double)r->r.pairs_pixels);
         cJSON_AddNumberToObject(j, "mask_changes", (double)r->r.mask_changes);
         cJSON_AddNumberToObject(j, "nonfinite", (double)r->nonfinite);
@@ -91,6 +95,7 @@ static int write_data(struct stability_output *so, const cJSON *run)
         csv_number(&csv, r->r.floor_penumbra, false);
         csv_number(&csv, r->r.rmse_mean, false);
         csv_number(&csv, r->r.rmse_max, false);
+        csv_number(&csv, r->r.rmse_jump, false);
         strbuf_printf(&csv, "%ld,,,,,%ld,\n", r->r.mask_changes, r->nonfinite);
     }
     cJSON *vars = cJSON_AddArrayToObject(doc, "variations");
@@ -113,7 +118,7 @@ static int write_data(struct stability_output *so, const cJSON *run)
         report_csv_field(&csv, v->name);
         strbuf_printf(&csv, ",");
         report_csv_field(&csv, v->texts[p->value]);
-        strbuf_printf(&csv, ",%s,still,false,1,,,,,,,,,,", p->t->name);
+        strbuf_printf(&csv, ",%s,still,false,1,,,,,,,,,,,", p->t->name);
         csv_number(&csv, p->m.rmse, false);
         csv_number(&csv, p->m.penumbra_rmse, false);
         csv_number(&csv, p->m.leak_fraction, false);

@@ -244,6 +244,7 @@ int stability_motion(struct stability *st, int s, int m)
     for (int k = 0; k < n; k++) {
         struct live_row *L = &live[k];
         flicker_finish(&L->fl, &L->row->r);
+        L->row->frame_rmse = L->fl.frame_rmse, L->fl.frame_rmse = NULL;  /* the row's now */
         flicker_free(&L->fl);
         free(L->v), free(L->history), free(L->prev_history);
         const struct flicker_result *r = &L->row->r;
@@ -518,6 +519,8 @@ void stability_free(struct stability *st)
     for (int i = 0; i < st->var_count; i++)
         variation_free(&st->vars[i]);
     programs_free(&st->programs);
+    for (int i = 0; i < st->row_count; i++)
+        free(st->rows[i].frame_rmse);
     free(st->rows), free(st->points), free(st->motions);
     st->rows = NULL, st->points = NULL, st->motions = NULL;
     st->row_count = st->point_count = st->motion_count = st->var_count = 0;

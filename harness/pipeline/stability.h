@@ -78,6 +78,7 @@ struct motion_row {
     bool animated, accumulated;
     char label[64];  /* "pcf", "pcf+ema", "pcf~anim", "pcf~anim+ema": its folder */
     struct flicker_result r;
+    double *frame_rmse;  /* each frame's rmse (NAN: nothing scored), r.frames of them (owned) */
     long nonfinite;  /* NaN/Inf values over the frames */
 };
 

@@ -47,10 +47,15 @@ void flicker_add(struct flicker *f, const float *v_tech, const float *v_gt, cons
         f->prev_scored[i] = scored[i] > 0.5f && isfinite(e) ? 1.0f : 0.0f;
         f->prev_gt[i] = v_gt[i];
     }
+    f->frame_rmse = xrealloc(f->frame_rmse, sizeof(double) * (size_t)(f->frames + 1));
+    f->frame_rmse[f->frames] = n ? sqrt(sum / (double)n) : NAN;
     if (n) {
         const double rmse = sqrt(sum / (double)n);
         f->rmse_sum += rmse;
         f->rmse_max = f->scored_frames ? fmax(f->rmse_max, rmse) : rmse;
+        if (f->scored_frames)
+            f->rmse_jump = fmax(f->rmse_jump, fabs(rmse - f->rmse_last));
+        f->rmse_last = rmse;
         f->scored_frames++;
     }
     f->frames++;
@@ -71,6 +76,7 @@ void flicker_finish(struct flicker *f, struct flicker_result *r)
     r->scored_frames = f->scored_frames;
     r->rmse_mean = f->scored_frames ? f->rmse_sum / f->scored_frames : NAN;
     r->rmse_max = f->scored_frames ? f->rmse_max : NAN;
+    r->rmse_jump = f->scored_frames > 1 ? f->rmse_jump : NAN;
     r->band_pixels = f->band_count;
     r->flicker_penumbra = f->band_count ? f->band_sum / (double)f->band_count : NAN;
     r->floor_penumbra = f->band_count ? f->band_floor_sum / (double)f->band_count : NAN;
@@ -92,7 +98,7 @@ void flicker_finish(struct flicker *f, struct flicker_result *r)
 
 void flicker_free(struct flicker *f)
 {
-    free(f->d), free(f->prev_e), free(f->prev_noise), free(f->prev_scored), free(f->prev_gt);
+    free(f->d), free(f->prev_e), free(f->prev_noise), free(f->prev_scored), free(f->prev_gt), free(f->frame_rmse);
     memset(f, 0, sizeof *f);
 }
 

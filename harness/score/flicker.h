@@ -26,6 +26,8 @@ struct flicker {
     long band_count;
     long mask_changes; /* pixels scored in one frame of a pair only */
     double rmse_sum, rmse_max;  /* of the rmse of each frame with pixels scored */
+    double rmse_last, rmse_jump;  /* the last such frame's rmse; the largest change from one to the next */
+    double *frame_rmse;           /* each frame's rmse (NAN: nothing scored), frames of them */
     int frames, scored_frames;  /* frames added; of them, with pixels scored */
     float *prev_e, *prev_noise, *prev_scored, *prev_gt;  /* the last frame's */
 };
@@ -40,6 +42,8 @@ struct flicker_result {
                                                  the pair: where edges move. NAN if none */
     bool meaningful;     /* flicker > floor */
     double rmse_mean, rmse_max;  /* over the frames with pixels scored (each frame's rmse over them) */
+    double rmse_jump;    /* the largest change of that rmse from a frame to the next: a pop (a caster
+                            crossing a cascade split) stands out of a steady crawl. NAN: one frame */
     long pairs_pixels, band_pixels, mask_changes;
     int frames, scored_frames;  /* scored_frames < frames: some frame had nothing to score */
 };
