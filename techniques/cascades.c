@@ -25,10 +25,6 @@ static int fit_all(struct shadow_cascades *c, const struct scene *s, const struc
     c->count = light_frustum_splits(s, c->aspect, &c->settings, c->z);
     if (c->count < 1)
         return -1;
-    if (window && window->count != c->count) {
-        log_error("%s: %d cascades in this pose, %d in the first", s->path, c->count, window->count);
-        return -1;
-    }
     for (int k = 0; k < c->count; k++) {
         c->band[k] = light_frustum_band(&c->settings, c->z, k);
         if (light_frustum_fit_cascade(s, c->aspect, &c->settings, c->z, k, desc->size_texels, &maps[k]) != 0)
@@ -79,27 +75,6 @@ int shadow_cascades_refit(struct shadow_cascades *c, const struct scene *s, cons
     for (int k = 0; k < c->count; k++)
         shadowmap_set_frustum(&c->map[k], s, &maps[k]);
     return 0;
-}
-
-void shadow_cascades_describe(const struct cascade_settings *cs, struct strbuf *out)
-{
-    const int n = cs->count > 0 ? cs->count : 1;
-    strbuf_printf(out, "%d cascade%s", n, n == 1 ? "" : "s");
-    if (n > 1) {
-        strbuf_printf(out, ", %s", cascade_split_names[cs->split]);
-        if (cs->split == CASCADE_SPLIT_PRACTICAL)
-            strbuf_printf(out, ":%g", (double)cs->lambda);
-        if (cs->split == CASCADE_SPLIT_FRACTIONS)
-            for (int i = 0; i < n - 1; i++)
-                strbuf_printf(out, "%s%g", i ? "," : " ", (double)cs->fractions[i]);
-    }
-    if (cs->shadow_distance > 0)
-        strbuf_printf(out, " to %g", (double)cs->shadow_distance);
-    else
-        strbuf_printf(out, " over the view");
-    strbuf_printf(out, ", %s fit, snap %s, blend %g, depth clamp %s, %s widths",
-                  cs->fit == CASCADE_FIT_SPHERE ? "sphere" : "box", cs->snap ? "on" : "off", (double)cs->blend,
-                  cs->depth_clamp ? "on" : "off", cs->width == CASCADE_WIDTH_TEXEL ? "texel" : "world");
 }
 
 cJSON *cascade_settings_json(const struct cascade_settings *cs)

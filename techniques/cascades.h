@@ -31,13 +31,10 @@ int shadow_cascades_create(struct shadow_cascades *c, const struct scene *s, con
                            const struct cascade_settings *cs);
 
 /* Fits them to s in another pose. window (the frame-0 maps, NULL: none)
- * keeps each map's window: a light's or a caster's motion moves across a
- * still grid (shadowmap_refit); without it the sun's maps follow the
+ * keeps each map's window (light_frustum_set_window): a light's or a
+ * caster's motion moves across a still grid; without it the sun's maps follow the
  * camera, as an engine refits them every frame. Returns 0 or -1 (logged). */
 int shadow_cascades_refit(struct shadow_cascades *c, const struct scene *s, const struct shadow_cascades *window);
-
-/* The cascade settings in words ("4 cascades, practical:0.5 to 200 m, box fit, ..."), or "one map". */
-void shadow_cascades_describe(const struct cascade_settings *cs, struct strbuf *out);
 
 /* What c is, for run.json and every cell's metrics.json: the settings, and
  * for the sun the slices' view depths and each map's window and depth

@@ -494,10 +494,9 @@ void shadowmap_shader_defines(struct strbuf *out)
     }
 }
 
-static int fit(struct shadowmap *sm, const struct scene *s, const struct light_frustum *window)
+static int fit(struct shadowmap *sm, const struct scene *s)
 {
-    if ((window ? light_frustum_fit_window(s, sm->desc.aspect, window, &sm->frustum)
-                : light_frustum_fit(s, sm->desc.aspect, &sm->frustum)) != 0)
+    if (light_frustum_fit(s, sm->desc.aspect, &sm->frustum) != 0)
         return -1;
     if (sm->desc.near_scale > 1)
         light_frustum_widen(&sm->frustum, s, sm->desc.near_scale);
@@ -518,16 +517,6 @@ void shadowmap_set_frustum(struct shadowmap *sm, const struct scene *s, const st
     fill_block(sm, s);
     glBindBuffer(GL_UNIFORM_BUFFER, sm->ubo);
     glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof sm->block, &sm->block);
-}
-
-int shadowmap_refit(struct shadowmap *sm, const struct scene *s, const struct light_frustum *window)
-{
-    shadowmap_invalidate(sm);
-    if (fit(sm, s, window) != 0)
-        return -1;
-    glBindBuffer(GL_UNIFORM_BUFFER, sm->ubo);
-    glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof sm->block, &sm->block);
-    return 0;
 }
 
 int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct shadowmap_desc *desc)
@@ -552,7 +541,7 @@ int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct s
         sm->frustum = *desc->frustum;
         sm->desc.frustum = NULL;  /* copied: the caller's may go */
         fill_block(sm, s);
-    } else if (fit(sm, s, NULL) != 0) {
+    } else if (fit(sm, s) != 0) {
         return -1;
     }
     glGenBuffers(1, &sm->ubo);

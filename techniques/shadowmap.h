@@ -107,12 +107,6 @@ struct shadowmap {
  * block, the comparison sampler). Returns 0 or -1 (logged). */
 int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct shadowmap_desc *desc);
 
-/* Fits the frustum to s (the same scene in another pose: its light moved),
- * keeping window's angular window when window is given
- * (light_frustum_fit_window), and uploads the uniform block; the products
- * are rendered afresh by the next frame. Returns 0 or -1 (logged). */
-int shadowmap_refit(struct shadowmap *sm, const struct scene *s, const struct light_frustum *window);
-
 /* Sets the frustum to f (a cascade refitted to s in another pose) and
  * uploads the uniform block; the products are rendered afresh by the next
  * frame. */
@@ -148,8 +142,8 @@ bool shadowmap_ensure_product(struct shadowmap *sm, const struct scene_mesh *mes
                               const struct shadowmap_request *r);
 
 /* The pose changed (the geometry moved): no product is current.
- * shadowmap_refit calls it; so must a caller that moves the mesh without
- * refitting. */
+ * shadowmap_set_frustum calls it; so must a caller that moves the mesh
+ * without refitting. */
 void shadowmap_invalidate(struct shadowmap *sm);
 
 /* The block's fields of summed-area table product p (SM_PRODUCT_MOMENTS_SAT,

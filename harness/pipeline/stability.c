@@ -179,8 +179,8 @@ int stability_motion(struct stability *st, int s, int m)
      * (where snapping matters); an area light's map does not depend on
      * the camera. */
     const struct shadow_cascades window = ss.cascades;  /* its frusta only */
-    const bool follow = mo->kind == MOTION_CAMERA_SHIFT || mo->kind == MOTION_CAMERA_YAW;
-    const bool moving = follow;  /* the camera moves: pixels compared on the surface (flicker_add) */
+    const bool follow = mo->kind == MOTION_CAMERA_SHIFT || mo->kind == MOTION_CAMERA_YAW;  /* and pixels are
+                                                                   compared on the surface (flicker_add) */
     int *from = xmalloc(sizeof(int) * count);
     float *prev_distance = xmalloc(sizeof(float) * count);
     char where[640];  /* the posed scene's "path": its errors name the motion and frame */
@@ -222,7 +222,7 @@ int stability_motion(struct stability *st, int s, int m)
                 break;
             memcpy(L->v, ss.v, sizeof(float) * count);
             L->row->nonfinite += mt.nonfinite;
-            flicker_add(&L->fl, L->v, ss.gt.v, ss.gt.noise, ss.scored, moving ? from : NULL, count);
+            flicker_add(&L->fl, L->v, ss.gt.v, ss.gt.noise, ss.scored, follow ? from : NULL, count);
             if (st->on_frame)
                 rc = st->on_frame(st->user, L->row, frame, K, &ss, L->v);
         }
@@ -233,7 +233,7 @@ int stability_motion(struct stability *st, int s, int m)
             if (!L->row->accumulated)
                 continue;
             flicker_accumulate(L->history, L->prev_history, live[L->source].v, from, (float)st->accumulate, count);
-            flicker_add(&L->fl, L->history, ss.gt.v, ss.gt.noise, ss.scored, moving ? from : NULL, count);
+            flicker_add(&L->fl, L->history, ss.gt.v, ss.gt.noise, ss.scored, follow ? from : NULL, count);
             float *t = L->history;
             L->history = L->prev_history, L->prev_history = t;
         }

@@ -323,15 +323,6 @@ void light_frustum_set_window(struct light_frustum *f, const struct scene *s, co
     project(f, &s->light);
 }
 
-int light_frustum_fit_window(const struct scene *s, float aspect, const struct light_frustum *window,
-                             struct light_frustum *f)
-{
-    if (light_frustum_fit(s, aspect, f) != 0)
-        return -1;
-    light_frustum_set_window(f, s, window);
-    return 0;
-}
-
 void light_frustum_texel_ratio(struct light_frustum *f, const struct light_frustum *first)
 {
     const float k = (first->far_world - first->near_world) / (f->far_world - f->near_world);

@@ -97,17 +97,12 @@ float light_frustum_band(const struct cascade_settings *cs, const float *z, int 
 int light_frustum_fit_cascade(const struct scene *s, float aspect, const struct cascade_settings *cs,
                               const float *z, int c, int n, struct light_frustum *f);
 
-/* Fits near and far to s, and keeps window's angular window (its l/near,
- * r/near, b/near, t/near): the map's texel grid attached to the light, as a
- * spot light's shadow map moves with it, rather than refitted to the
- * scene's bounds (which holds the grid still on the scene). The sun's
- * window is kept as it is, in its own frame's world units. Returns 0 or
- * -1 (logged). */
-int light_frustum_fit_window(const struct scene *s, float aspect, const struct light_frustum *window,
-                             struct light_frustum *f);
-
-/* Keeps window's angular window in f (as light_frustum_fit_window does
- * after its fit). */
+/* After a fit of f (near and far fitted anew), keeps window's angular
+ * window (its l/near, r/near, b/near, t/near): the map's texel grid
+ * attached to the light, as a spot light's shadow map moves with it,
+ * rather than refitted to the scene's bounds (which holds the grid still
+ * on the scene). The sun's window is kept as it is, in its own frame's
+ * world units. */
 void light_frustum_set_window(struct light_frustum *f, const struct scene *s, const struct light_frustum *window);
 
 /* `--cascade-width texel`: f's light size in uv set so that a depth
