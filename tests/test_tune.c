@@ -163,11 +163,12 @@ static void expect_fail(const char *cmd, const char *line)
     strbuf_free(&err);
 }
 
-/* A small tune of hard on two scenes, then run with its settings. */
+/* A small tune of hard on two area-light scenes and two sun scenes, then run
+ * with its settings. */
 static void command(void)
 {
     char *cmd = util_printf("%s tune --technique hard --scene parallel_planes --scene contact_hardening "
-                            "--width 64 --height 64 --gt-samples 16 --frames 1 --no-cache -q --out %s/tune "
+                            "--scene sun_contact --scene sun_wide --width 64 --height 64 --gt-samples 16 --frames 1 --no-cache -q --out %s/tune "
                             "--write-tuned --allow-uncommitted --tuned %s/tuned", sb, dir, dir);
     struct strbuf err = {0};
     CHECK(run_cmd(cmd, &err, NULL) == 0, "tune: %s", err.data);
@@ -191,7 +192,36 @@ static void command(void)
     }
     CHECK(n >= 1, "an empty frontier");
     const cJSON *folds = cJSON_GetObjectItem(j, "folds");
-    CHECK(cJSON_GetArraySize(folds) == 2, "a fold per scene");
+    CHECK(cJSON_GetArraySize(folds) == 4, "a fold per scene");
+    /* A scene the tuning did not see gets its light kind's setting, else
+     * the all-scene one: made to differ, then read back by run. */
+    cJSON *by_light = cJSON_GetObjectItem(j, "settings_by_light");
+    CHECK(cJSON_GetObjectItem(by_light, "area") && cJSON_GetObjectItem(by_light, "sun") &&
+              cJSON_GetArraySize(by_light) == 2,
+          "settings_by_light holds area and sun");
+    cJSON_ReplaceItemInObject(cJSON_GetObjectItem(by_light, "area"), "slope_bias", cJSON_CreateNumber(1.5));
+    cJSON_ReplaceItemInObject(cJSON_GetObjectItem(by_light, "sun"), "slope_bias", cJSON_CreateNumber(2.5));
+    cJSON_ReplaceItemInObject(cJSON_GetObjectItem(j, "settings"), "slope_bias", cJSON_CreateNumber(0.5));
+    write_json(path, j);
+    const char *const unseen[][2] = {{"floating_box_sphere", "1.5"}, {"sun_grazing", "2.5"}};
+    for (int pass = 0; pass < 2; pass++) {  /* then without settings_by_light: the all-scene setting */
+        for (size_t k = 0; k < ARRAY_SIZE(unseen); k++) {
+            cmd = util_printf("%s run --technique hard --scene %s --settings tuned --width 32 --height 32 "
+                              "--gt-samples 4 --frames 1 --no-cache -q --tuned %s/tuned --out %s/unseen", sb,
+                              unseen[k][0], dir, dir);
+            CHECK(run_cmd(cmd, NULL, NULL) == 0, "%s", cmd);
+            free(cmd);
+            char *metrics = util_printf("%s/unseen/%s/hard@tuned/metrics.json", dir, unseen[k][0]);
+            cJSON *m = read_json(metrics);
+            const double want = pass ? 0.5 : atof(unseen[k][1]);
+            CHECK(m && cJSON_GetObjectItem(cJSON_GetObjectItem(m, "params"), "slope_bias")->valuedouble == want,
+                  "hard@tuned on the unseen %s: slope_bias is not %g", unseen[k][0], want);
+            cJSON_Delete(m);
+            free(metrics);
+        }
+        cJSON_DeleteItemFromObject(j, "settings_by_light");
+        write_json(path, j);
+    }
     /* The fold's setting is what run's hard@tuned cell uses on that scene:
      * made to differ from the all-scene setting and the other fold's. */
     cJSON_ReplaceItemInObject(cJSON_GetObjectItem(cJSON_GetArrayItem(folds, 0), "settings"), "slope_bias",
@@ -281,6 +311,17 @@ static void command(void)
     line = util_printf("shadowbench: error: %s: settings: hard.slope_bias: 99 is out of range [0.0, 16.0]\n", path);
     expect_fail(run, line);
     free(line);
+    cJSON *kinds = cJSON_AddObjectToObject(j, "settings_by_light");  /* a light kind's, the same */
+    cJSON_AddItemToObject(kinds, "sun", cJSON_Duplicate(settings, true));
+    write_json(path, j);
+    line = util_printf("shadowbench: error: %s: settings_by_light.sun: hard.slope_bias: 99 is out of range [0.0, "
+                       "16.0]\n", path);
+    cJSON_ReplaceItemInObject((cJSON *)settings, "slope_bias", cJSON_CreateNumber(1));
+    write_json(path, j);
+    expect_fail(run, line);
+    free(line);
+    cJSON_DeleteItemFromObject(j, "settings_by_light");
+    cJSON_ReplaceItemInObject((cJSON *)settings, "slope_bias", cJSON_CreateNumber(99));
     cJSON_DeleteItemFromObject((cJSON *)settings, "slope_bias");
     write_json(path, j);
     line = util_printf("shadowbench: error: %s: settings: lacks hard.slope_bias (recorded before the parameter "

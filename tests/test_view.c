@@ -339,6 +339,41 @@ int main(int argc, char **argv)
         CHECK(strstr(steps.data, at[i]) != NULL, "stepping logs '%s': %s", at[i], steps.data);
     strbuf_free(&steps);
 
+    /* C adds a cascade, and V switches the PCSS family's widths to texel on
+     * the cascade study's seam (3 cascades split at 0.11 and 0.3, where
+     * texel widths soften the far slices' penumbrae); each changes
+     * cascade_seam's picture (a 3-degree sun over 200 m). C is refused in a
+     * line on an area light and under given split fractions. Rendering is
+     * deterministic, so an unchanged picture differs nowhere; the counts of
+     * pixels off by more than 3 grey levels are printed. */
+    {
+        uint8_t *one = NULL, *four = NULL, *world = NULL, *texel = NULL;
+        struct strbuf s1 = {0}, s4 = {0}, sw = {0}, st = {0}, sa = {0};
+        const char *seam = "pcss_savsm --cascades 3 --cascade-split 0.11,0.3";  /* tools/cascade-study's */
+        view_scene("cascade_seam", "pcss_savsm", "cascades1", "0 H\n0 2\n", &s1, &one, NULL);
+        view_scene("cascade_seam", "pcss_savsm", "cascades4", "0 H\n0 2\n0 C\n0 C\n0 C\n", &s4, &four, NULL);
+        view_scene("cascade_seam", seam, "world", "0 H\n0 2\n0 C\n", &sw, &world, NULL);
+        view_scene("cascade_seam", seam, "texel", "0 H\n0 2\n0 V\n", &st, &texel, NULL);
+        view_scene("parallel_planes", "hard", "area_c", "0 C\n", &sa, NULL, NULL);
+        CHECK(strstr(s4.data, "4 cascades, widths world") != NULL, "three C presses: 4 cascades: %s", s4.data);
+        CHECK(strstr(sw.data, "the count stays 3") != NULL, "C under given fractions: %s", sw.data);
+        CHECK(strstr(st.data, "3 cascades, widths texel") != NULL, "V: texel widths: %s", st.data);
+        CHECK(strstr(sa.data, "cascades are the sun's") != NULL, "C on an area light: %s", sa.data);
+        if (one && four && world && texel) {
+            int by_count = 0, by_width = 0, count_any = 0, width_any = 0;
+            for (int i = 0; i < W * H; i++) {
+                by_count += abs(one[i] - four[i]) > 3, by_width += abs(world[i] - texel[i]) > 3;
+                count_any += one[i] != four[i], width_any += world[i] != texel[i];
+            }
+            printf("cascades in the viewer: %d pixels change from 1 to 4 cascades, %d from world to texel widths\n",
+                   by_count, by_width);
+            CHECK(count_any > 0, "4 cascades change the picture");
+            CHECK(width_any > 0, "texel widths change the picture");
+        }
+        free(one), free(four), free(world), free(texel);
+        strbuf_free(&s1), strbuf_free(&s4), strbuf_free(&sw), strbuf_free(&st), strbuf_free(&sa);
+    }
+
     /* The overlay's metrics are run's: the same cell, the same ground truth. */
     struct strbuf err = {0};
     char *cmd = util_printf("%s run --scene parallel_planes --technique pcss --settings default --width %d --height %d "

@@ -4,7 +4,7 @@
 
 #include "cli.h"
 
-#define CLI_DEFAULT_SIZE 512                  /* --width, --height, unless the command says */
+#define CLI_DEFAULT_SIZE 256                  /* --width, --height, unless the command says */
 #define CLI_DEFAULT_CACHE "results/cache"
 #define CLI_DEFAULT_CASCADE_LAMBDA 0.5f       /* three.js's CSM addon's practical split */
 #define CLI_DEFAULT_BASELINES "results/baselines"

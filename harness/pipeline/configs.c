@@ -200,7 +200,7 @@ void configs_free(struct config_set *s)
     memset(s, 0, sizeof *s);
 }
 
-const void *config_settings(const struct run_config *c, const char *scene_name)
+const void *config_settings(const struct run_config *c, const struct scene *s)
 {
-    return c->tuned ? tuned_settings(c->tuned, scene_name) : c->settings;
+    return c->tuned ? tuned_settings(c->tuned, s->name, s->light.shape == LIGHT_SUN) : c->settings;
 }

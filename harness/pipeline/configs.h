@@ -7,6 +7,7 @@
 #define SB_CONFIGS_H
 
 #include "base/util.h"
+#include "scene/scene.h"
 #include "techniques/technique.h"
 
 #define CONFIG_MAX 256        /* configurations in one run */
@@ -53,8 +54,8 @@ int configs_build(struct config_set *out, const struct config_desc *d);
 
 void configs_free(struct config_set *s);
 
-/* The settings of configuration c on the scene called scene_name: a tuned
- * cell's for that scene. */
-const void *config_settings(const struct run_config *c, const char *scene_name);
+/* The settings of configuration c on scene s: a tuned cell's for that scene
+ * (tuned_settings). */
+const void *config_settings(const struct run_config *c, const struct scene *s);
 
 #endif

@@ -2,6 +2,7 @@
 #include "base/log.h"
 #include "base/util.h"
 #include "score/frontier.h"
+#include "score/tuned.h"
 #include "techniques/params.h"
 
 #include <math.h>
@@ -204,8 +205,8 @@ static struct tune_sample sample_at(const struct tuner *tn, const int *point, in
     return tune_find(&tn->memo, point)->s[k];
 }
 
-static cJSON *technique_json(const struct tuner *tn, const int *start, const int *all, int (*fold)[TUNE_MAX_DIMS],
-                             int (*oracle)[TUNE_MAX_DIMS], double seconds)
+static cJSON *technique_json(const struct tuner *tn, const int *start, const int *all, int (*by_kind)[TUNE_MAX_DIMS],
+                             int (*fold)[TUNE_MAX_DIMS], int (*oracle)[TUNE_MAX_DIMS], double seconds)
 {
     const struct tune_options *o = tn->o;
     cJSON *j = cJSON_CreateObject();
@@ -233,6 +234,14 @@ static cJSON *technique_json(const struct tuner *tn, const int *start, const int
     cJSON_AddNumberToObject(j, "shadow_map_size", o->shadow_map_size);
     cJSON_AddNumberToObject(j, "frames", o->frames);
     cJSON_AddItemToObject(j, "settings", settings_json(tn, all));
+    static const char *const kinds[] = TUNED_KIND_NAMES;
+    cJSON *by_light = NULL;
+    for (int k = 0; k < 2; k++)
+        if (by_kind[k][0] >= 0) {
+            if (!by_light)
+                by_light = cJSON_AddObjectToObject(j, "settings_by_light");
+            cJSON_AddItemToObject(by_light, kinds[k], settings_json(tn, by_kind[k]));
+        }
 
     struct tune_sample sums[4] = {{0}};  /* default, tuned (held out), oracle, fitted on every scene */
     cJSON *folds = cJSON_AddArrayToObject(j, "folds");
@@ -347,7 +356,8 @@ enum tuner_result tuner_run(struct tuner *tn, cJSON **record)
 {
     const double start_ms = util_now_ms();
     const int *start = tn->start;
-    int all[TUNE_MAX_DIMS], fold[TUNE_MAX_SCENES][TUNE_MAX_DIMS], oracle[TUNE_MAX_SCENES][TUNE_MAX_DIMS];
+    int all[TUNE_MAX_DIMS], by_kind[2][TUNE_MAX_DIMS], fold[TUNE_MAX_SCENES][TUNE_MAX_DIMS],
+        oracle[TUNE_MAX_SCENES][TUNE_MAX_DIMS];
     double def, best, held_out[TUNE_MAX_SCENES];
     log_info("tune %s: %d parameters (%g settings in one round on %d scenes)", tn->t->name, tn->dim_count,
              tuner_size(tn) / tn->scene_count, tn->scene_count);
@@ -369,6 +379,19 @@ enum tuner_result tuner_run(struct tuner *tn, cJSON **record)
         tune_descend(&tn->memo, scenes, tn->scene_count, start, all, &best) != 0 ||
         tune_cross_validate(&tn->memo, start, kind, fold, held_out) != 0)
         return TUNER_FAILED;
+    /* For a scene it did not see, each light kind's setting, chosen on its
+     * scenes, when both kinds are here and the kind has two or more (a
+     * scene's fold is chosen the same way: on its kind's other scenes). */
+    for (int g = 0; g < 2; g++) {
+        int members[TUNE_MAX_SCENES], n = 0;
+        for (int k = 0; k < tn->scene_count; k++)
+            if (kind[k] == g)
+                members[n++] = k;
+        by_kind[g][0] = -1;
+        double fitted;
+        if (n >= 2 && n < tn->scene_count && tune_descend(&tn->memo, members, n, start, by_kind[g], &fitted) != 0)
+            return TUNER_FAILED;
+    }
     /* The oracle: on each scene, the best of every setting tried there. */
     double cv = 0, or = 0;
     for (int k = 0; k < tn->scene_count; k++) {
@@ -401,7 +424,7 @@ enum tuner_result tuner_run(struct tuner *tn, cJSON **record)
     p->cells_finished = p->cells;
     p->per_size = (double)p->cells / p->size_finished;
 
-    *record = technique_json(tn, start, all, fold, oracle, seconds);
+    *record = technique_json(tn, start, all, by_kind, fold, oracle, seconds);
     return TUNER_DONE;
 }
 

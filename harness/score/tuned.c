@@ -107,6 +107,20 @@ enum tuned_load_result tuned_load(const char *dir, const struct technique *t, st
     }
     if (!(out->settings = settings_from_json(t, cJSON_GetObjectItemCaseSensitive(d, "settings"), out->path, "settings")))
         goto fail;
+    /* Optional: the settings chosen on each light kind's scenes. */
+    const cJSON *by_light = cJSON_GetObjectItemCaseSensitive(d, "settings_by_light");
+    static const char *const kinds[] = TUNED_KIND_NAMES;
+    if (by_light && !cJSON_IsObject(by_light)) {
+        log_error("\"settings_by_light\" must be an object");
+        goto fail;
+    }
+    for (int k = 0; k < 2 && by_light; k++) {
+        const cJSON *o = cJSON_GetObjectItemCaseSensitive(by_light, kinds[k]);
+        char what[64];
+        snprintf(what, sizeof what, "settings_by_light.%s", kinds[k]);
+        if (o && !(out->kind_settings[k] = settings_from_json(t, o, out->path, what)))
+            goto fail;
+    }
     /* One fold per scene the tuning saw, in its order: a scene without its
      * fold would get the setting fitted on it. */
     const cJSON *scene_list = cJSON_GetObjectItemCaseSensitive(d, "scenes");
@@ -176,12 +190,13 @@ fail:
     return TUNED_ERROR;
 }
 
-const void *tuned_settings(const struct tuned *tu, const char *scene_name)
+const void *tuned_settings(const struct tuned *tu, const char *scene_name, bool sun)
 {
     for (int i = 0; i < tu->fold_count; i++)
         if (strcmp(tu->fold_scene[i], scene_name) == 0)
             return tu->fold_settings[i];
-    return tu->settings;
+    const void *kind = tu->kind_settings[sun ? TUNED_KIND_SUN : TUNED_KIND_AREA];
+    return kind ? kind : tu->settings;
 }
 
 int tuned_frontier(const struct tuned *tu, const char *scene_name, struct tuned_point **points,
@@ -216,6 +231,7 @@ void tuned_free(struct tuned *tu)
     for (int i = 0; i < tu->fold_count; i++)
         free(tu->fold_settings[i]);
     free(tu->fold_settings), free(tu->fold_scene), free(tu->settings), free(tu->path);
+    free(tu->kind_settings[0]), free(tu->kind_settings[1]);
     cJSON_Delete(tu->doc);
     memset(tu, 0, sizeof *tu);
 }

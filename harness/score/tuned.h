@@ -4,8 +4,10 @@
  *
  * A tuned file holds, besides its evidence, one setting per shipped scene:
  * the one the search chose on every other scene (leave-one-scene-out), so a
- * tuned cell is never scored on a scene its setting was fitted to; and the
- * setting chosen on every scene, for a scene the tuning did not see. */
+ * tuned cell is never scored on a scene its setting was fitted to; and, for
+ * a scene the tuning did not see, the setting chosen on every scene of its
+ * light's kind (area lights, the sun: "settings_by_light", when the tuning
+ * saw two or more of that kind), else the one chosen on every scene. */
 #ifndef SB_TUNED_H
 #define SB_TUNED_H
 
@@ -17,6 +19,10 @@
 #define TUNED_SUFFIX "@tuned"  /* a tuned cell's name: <technique>@tuned */
 #define TUNED_MAX_ERROR 1e3      /* what a file may hold: errors, */
 #define TUNED_MAX_FRONTIER 10000 /* and points in one frontier */
+
+/* The light kinds a tuning chooses apart ("settings_by_light"'s keys). */
+enum { TUNED_KIND_AREA, TUNED_KIND_SUN };
+#define TUNED_KIND_NAMES {"area", "sun"}
 
 /* A point of a frontier chart: mean error and time over scenes. */
 struct tuned_point {
@@ -30,6 +36,7 @@ struct tuned {
     int width, height, shadow_map_size;           /* the tuning's */
     const char *objective, *gl_renderer, *date;   /* into doc */
     void *settings;            /* chosen on every scene */
+    void *kind_settings[2];    /* chosen on every scene of a light kind (TUNED_KIND_*), or NULL */
     int fold_count;
     const char **fold_scene;   /* into doc */
     void **fold_settings;      /* chosen without that scene */
@@ -48,8 +55,9 @@ enum tuned_load_result {
  * again). */
 enum tuned_load_result tuned_load(const char *dir, const struct technique *t, struct tuned *out);
 
-/* The settings of t's tuned cell on the scene called name. */
-const void *tuned_settings(const struct tuned *tu, const char *scene_name);
+/* The settings of t's tuned cell on the scene called name, lit by the sun
+ * or not: its fold's, or (unseen) its light kind's, or the all-scene one. */
+const void *tuned_settings(const struct tuned *tu, const char *scene_name, bool sun);
 
 /* The frontier over every scene ("all") or one scene's, as points sorted by
  * time, with the labels of their settings; and the default and tuned
