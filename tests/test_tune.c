@@ -168,8 +168,9 @@ static void expect_fail(const char *cmd, const char *line)
 static void command(void)
 {
     char *cmd = util_printf("%s tune --technique hard --scene parallel_planes --scene contact_hardening "
-                            "--scene sun_contact --scene sun_wide --width 64 --height 64 --gt-samples 16 --frames 1 --no-cache -q --out %s/tune "
-                            "--write-tuned --allow-uncommitted --tuned %s/tuned", sb, dir, dir);
+                            "--scene sun_contact --scene sun_wide --width 64 --height 64 --gt-samples 16 "
+                            "--frames 1 --no-cache -q --out %s/tune --write-tuned --allow-uncommitted --tuned "
+                            "%s/tuned", sb, dir, dir);
     struct strbuf err = {0};
     CHECK(run_cmd(cmd, &err, NULL) == 0, "tune: %s", err.data);
     strbuf_free(&err);
@@ -193,8 +194,13 @@ static void command(void)
     CHECK(n >= 1, "an empty frontier");
     const cJSON *folds = cJSON_GetObjectItem(j, "folds");
     CHECK(cJSON_GetArraySize(folds) == 4, "a fold per scene");
-    /* A scene the tuning did not see gets its light kind's setting, else
-     * the all-scene one: made to differ, then read back by run. */
+    /* A scene the tuning saw gets its fold's setting; one it did not see
+     * its light kind's, else the all-scene one: each made to differ, then
+     * read back by run, with settings_by_light and without it. */
+    const cJSON *f0 = cJSON_GetArrayItem(folds, 0);
+    CHECK(strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(f0, "scene")), "parallel_planes") == 0,
+          "the folds in the order of --scene");
+    cJSON_ReplaceItemInObject(cJSON_GetObjectItem(f0, "settings"), "slope_bias", cJSON_CreateNumber(3.5));
     cJSON *by_light = cJSON_GetObjectItem(j, "settings_by_light");
     CHECK(cJSON_GetObjectItem(by_light, "area") && cJSON_GetObjectItem(by_light, "sun") &&
               cJSON_GetArraySize(by_light) == 2,
@@ -202,44 +208,42 @@ static void command(void)
     cJSON_ReplaceItemInObject(cJSON_GetObjectItem(by_light, "area"), "slope_bias", cJSON_CreateNumber(1.5));
     cJSON_ReplaceItemInObject(cJSON_GetObjectItem(by_light, "sun"), "slope_bias", cJSON_CreateNumber(2.5));
     cJSON_ReplaceItemInObject(cJSON_GetObjectItem(j, "settings"), "slope_bias", cJSON_CreateNumber(0.5));
-    write_json(path, j);
-    const char *const unseen[][2] = {{"floating_box_sphere", "1.5"}, {"sun_grazing", "2.5"}};
-    for (int pass = 0; pass < 2; pass++) {  /* then without settings_by_light: the all-scene setting */
-        for (size_t k = 0; k < ARRAY_SIZE(unseen); k++) {
+    const struct { const char *scene; double with_kinds, without; } cases[] = {
+        {"floating_box_sphere", 1.5, 0.5}, {"sun_grazing", 2.5, 0.5}, {"parallel_planes", 3.5, 3.5}};
+    for (int pass = 0; pass < 2; pass++) {  /* pass 1: without settings_by_light */
+        if (pass)
+            cJSON_DeleteItemFromObject(j, "settings_by_light");
+        write_json(path, j);
+        for (size_t k = 0; k < ARRAY_SIZE(cases); k++) {
             cmd = util_printf("%s run --technique hard --scene %s --settings tuned --width 32 --height 32 "
-                              "--gt-samples 4 --frames 1 --no-cache -q --tuned %s/tuned --out %s/unseen", sb,
-                              unseen[k][0], dir, dir);
+                              "--gt-samples 4 --frames 1 --no-cache -q --tuned %s/tuned --out %s/cases", sb,
+                              cases[k].scene, dir, dir);
             CHECK(run_cmd(cmd, NULL, NULL) == 0, "%s", cmd);
             free(cmd);
-            char *metrics = util_printf("%s/unseen/%s/hard@tuned/metrics.json", dir, unseen[k][0]);
+            char *metrics = util_printf("%s/cases/%s/hard@tuned/metrics.json", dir, cases[k].scene);
             cJSON *m = read_json(metrics);
-            const double want = pass ? 0.5 : atof(unseen[k][1]);
-            CHECK(m && cJSON_GetObjectItem(cJSON_GetObjectItem(m, "params"), "slope_bias")->valuedouble == want,
-                  "hard@tuned on the unseen %s: slope_bias is not %g", unseen[k][0], want);
+            const cJSON *slope = cJSON_GetObjectItem(cJSON_GetObjectItem(m, "params"), "slope_bias");
+            const double want = pass ? cases[k].without : cases[k].with_kinds;
+            CHECK(cJSON_IsNumber(slope) && slope->valuedouble == want, "hard@tuned on %s%s: slope_bias is not %g",
+                  cases[k].scene, pass ? " (no settings_by_light)" : "", want);
             cJSON_Delete(m);
             free(metrics);
         }
-        cJSON_DeleteItemFromObject(j, "settings_by_light");
-        write_json(path, j);
     }
-    /* The fold's setting is what run's hard@tuned cell uses on that scene:
-     * made to differ from the all-scene setting and the other fold's. */
-    cJSON_ReplaceItemInObject(cJSON_GetObjectItem(cJSON_GetArrayItem(folds, 0), "settings"), "slope_bias",
-                              cJSON_CreateNumber(3.5));
-    write_json(path, j);
-    cmd = util_printf("%s run --technique hard --scene parallel_planes --settings tuned --width 64 --height 64 "
-                      "--gt-samples 16 --frames 1 --warmup 0 --no-cache -q --tuned %s/tuned --out %s/run", sb, dir,
-                      dir);
-    CHECK(run_cmd(cmd, NULL, NULL) == 0, "run --settings tuned");
+    /* A kind of one scene gets no setting of its own (its scenes' fold and
+     * an unseen scene of it take every scene's): two area scenes, one sun. */
+    cmd = util_printf("%s tune --technique hard --scene parallel_planes --scene contact_hardening --scene "
+                      "sun_contact --width 32 --height 32 --gt-samples 4 --frames 1 --no-cache -q --out %s/tune3",
+                      sb, dir);
+    CHECK(run_cmd(cmd, NULL, NULL) == 0, "%s", cmd);
     free(cmd);
-    char *metrics = util_printf("%s/run/parallel_planes/hard@tuned/metrics.json", dir);
-    cJSON *m = read_json(metrics);
-    const cJSON *f0 = cJSON_GetArrayItem(folds, 0);
-    CHECK(m && strcmp(cJSON_GetObjectItem(f0, "scene")->valuestring, "parallel_planes") == 0 &&
-              cJSON_GetObjectItem(cJSON_GetObjectItem(m, "params"), "slope_bias")->valuedouble == 3.5,
-          "hard@tuned on parallel_planes does not use the setting chosen without it");
-    cJSON_Delete(m);
-    free(metrics);
+    char *three = util_printf("%s/tune3/hard.json", dir);
+    cJSON *t3 = read_json(three);
+    const cJSON *kinds3 = cJSON_GetObjectItem(t3, "settings_by_light");
+    CHECK(cJSON_GetObjectItem(kinds3, "area") && cJSON_GetArraySize(kinds3) == 1,
+          "a tuning of two area scenes and one sun scene: settings_by_light holds area alone");
+    cJSON_Delete(t3);
+    free(three);
 
     /* --settings auto, run's default: the tuned cell where a technique has a
      * tuned file (hard), its default cell where it has none (pcf); with a
@@ -311,17 +315,24 @@ static void command(void)
     line = util_printf("shadowbench: error: %s: settings: hard.slope_bias: 99 is out of range [0.0, 16.0]\n", path);
     expect_fail(run, line);
     free(line);
-    cJSON *kinds = cJSON_AddObjectToObject(j, "settings_by_light");  /* a light kind's, the same */
-    cJSON_AddItemToObject(kinds, "sun", cJSON_Duplicate(settings, true));
+    /* settings_by_light is read as strictly: a kind's setting out of range
+     * (settings itself in range), then a key that is no light kind */
+    cJSON *kinds = cJSON_AddObjectToObject(j, "settings_by_light");
+    cJSON_AddItemToObject(kinds, "sun", cJSON_Duplicate(settings, true));  /* slope_bias 99 */
+    cJSON_ReplaceItemInObject((cJSON *)settings, "slope_bias", cJSON_CreateNumber(1));
     write_json(path, j);
     line = util_printf("shadowbench: error: %s: settings_by_light.sun: hard.slope_bias: 99 is out of range [0.0, "
                        "16.0]\n", path);
-    cJSON_ReplaceItemInObject((cJSON *)settings, "slope_bias", cJSON_CreateNumber(1));
+    expect_fail(run, line);
+    free(line);
+    cJSON_DeleteItemFromObject(kinds, "sun");
+    cJSON_AddItemToObject(kinds, "Sun", cJSON_Duplicate(settings, true));
     write_json(path, j);
+    line = util_printf("shadowbench: error: %s: \"settings_by_light\" must be an object with keys area and sun "
+                       "only\n", path);
     expect_fail(run, line);
     free(line);
     cJSON_DeleteItemFromObject(j, "settings_by_light");
-    cJSON_ReplaceItemInObject((cJSON *)settings, "slope_bias", cJSON_CreateNumber(99));
     cJSON_DeleteItemFromObject((cJSON *)settings, "slope_bias");
     write_json(path, j);
     line = util_printf("shadowbench: error: %s: settings: lacks hard.slope_bias (recorded before the parameter "

@@ -159,7 +159,7 @@ const struct command_def commands[COMMAND_COUNT] = {
         .name = "tune", .main = tune_main, .synopsis = "tune [options]",
         .summary = "each technique's parameters explored: its frontier (error against time) and a setting "
                    "per scene chosen on the other scenes",
-        .size = 256, .frames = 3, .warmup = 0, .out = "results/tune/latest",
+        .size = CLI_DEFAULT_SIZE, .frames = 3, .warmup = 0, .out = "results/tune/latest",
         .about =
             "Explores each technique's parameters over the scenes, to answer: for a time\n"
             "budget, which technique and which setting is least wrong? The values explored\n"
@@ -235,7 +235,7 @@ const struct command_def commands[COMMAND_COUNT] = {
         .name = "view", .main = view_main, .synopsis = "view --scene S [options]",
         .summary = "one scene in a window (GLFW): switch techniques, move the light and the camera, step "
                    "parameters, the ground truth refining behind",
-        .one_scene = true, .needs_scene = true, .gt_samples = 256,
+        .one_scene = true, .needs_scene = true, .gt_samples = 256, .size = 512,
         .about =
             "Opens one scene in a window (GLFW, OpenGL 4.5 core) shaded by a technique:\n"
             "unshadowed shading (the area light's irradiance E, closed form) times V_tech.\n"
@@ -259,6 +259,8 @@ const struct command_def commands[COMMAND_COUNT] = {
             "  arrows                move the light along its own x and y\n"
             "  A D, W S, Q E         orbit the camera (yaw, pitch), move it closer, away\n"
             "  mouse                 left drag: orbit; right drag: move the light; wheel: closer\n"
+            "  C, Shift+C            the sun's cascades: one more, one fewer (1..8)\n"
+            "  V                     the PCSS family's widths per cascade: world, texel\n"
             "  R                     reset the light and the camera\n"
             "  H                     overlay on, off\n"
             "  Esc                   quit\n",

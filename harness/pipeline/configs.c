@@ -202,5 +202,5 @@ void configs_free(struct config_set *s)
 
 const void *config_settings(const struct run_config *c, const struct scene *s)
 {
-    return c->tuned ? tuned_settings(c->tuned, s->name, s->light.shape == LIGHT_SUN) : c->settings;
+    return c->tuned ? tuned_settings(c->tuned, s) : c->settings;
 }

@@ -34,7 +34,7 @@ static int parse_label(const char *label, const struct scene *s, const char *tun
             log_error("cell '%s': %s/%s.json does not exist", label, tuned_dir, (*t)->name);
         if (rc != TUNED_LOADED)
             return -1;
-        *settings = memcpy(xmalloc((*t)->settings_size), tuned_settings(&tu, s->name, s->light.shape == LIGHT_SUN), (*t)->settings_size);
+        *settings = memcpy(xmalloc((*t)->settings_size), tuned_settings(&tu, s), (*t)->settings_size);
         tuned_free(&tu);
         return 0;
     }

@@ -205,8 +205,9 @@ static struct tune_sample sample_at(const struct tuner *tn, const int *point, in
     return tune_find(&tn->memo, point)->s[k];
 }
 
-static cJSON *technique_json(const struct tuner *tn, const int *start, const int *all, int (*by_kind)[TUNE_MAX_DIMS],
-                             int (*fold)[TUNE_MAX_DIMS], int (*oracle)[TUNE_MAX_DIMS], double seconds)
+static cJSON *technique_json(const struct tuner *tn, const int *start, const int *all, const bool *have_kind,
+                             int (*by_kind)[TUNE_MAX_DIMS], int (*fold)[TUNE_MAX_DIMS],
+                             int (*oracle)[TUNE_MAX_DIMS], double seconds)
 {
     const struct tune_options *o = tn->o;
     cJSON *j = cJSON_CreateObject();
@@ -237,7 +238,7 @@ static cJSON *technique_json(const struct tuner *tn, const int *start, const int
     static const char *const kinds[] = TUNED_KIND_NAMES;
     cJSON *by_light = NULL;
     for (int k = 0; k < 2; k++)
-        if (by_kind[k][0] >= 0) {
+        if (have_kind[k]) {
             if (!by_light)
                 by_light = cJSON_AddObjectToObject(j, "settings_by_light");
             cJSON_AddItemToObject(by_light, kinds[k], settings_json(tn, by_kind[k]));
@@ -374,7 +375,7 @@ enum tuner_result tuner_run(struct tuner *tn, cJSON **record)
     }
     int scenes[TUNE_MAX_SCENES], kind[TUNE_MAX_SCENES];
     for (int k = 0; k < tn->scene_count; k++)
-        scenes[k] = k, kind[k] = tn->scenes[k].light.shape == LIGHT_SUN;
+        scenes[k] = k, kind[k] = tuned_kind(&tn->scenes[k]);
     if (tune_mean(&tn->memo, start, scenes, tn->scene_count, &def) != 0 ||
         tune_descend(&tn->memo, scenes, tn->scene_count, start, all, &best) != 0 ||
         tune_cross_validate(&tn->memo, start, kind, fold, held_out) != 0)
@@ -382,14 +383,15 @@ enum tuner_result tuner_run(struct tuner *tn, cJSON **record)
     /* For a scene it did not see, each light kind's setting, chosen on its
      * scenes, when both kinds are here and the kind has two or more (a
      * scene's fold is chosen the same way: on its kind's other scenes). */
+    bool have_kind[2] = {false, false};
     for (int g = 0; g < 2; g++) {
         int members[TUNE_MAX_SCENES], n = 0;
         for (int k = 0; k < tn->scene_count; k++)
             if (kind[k] == g)
                 members[n++] = k;
-        by_kind[g][0] = -1;
         double fitted;
-        if (n >= 2 && n < tn->scene_count && tune_descend(&tn->memo, members, n, start, by_kind[g], &fitted) != 0)
+        have_kind[g] = n >= 2 && n < tn->scene_count;
+        if (have_kind[g] && tune_descend(&tn->memo, members, n, start, by_kind[g], &fitted) != 0)
             return TUNER_FAILED;
     }
     /* The oracle: on each scene, the best of every setting tried there. */
@@ -424,7 +426,7 @@ enum tuner_result tuner_run(struct tuner *tn, cJSON **record)
     p->cells_finished = p->cells;
     p->per_size = (double)p->cells / p->size_finished;
 
-    *record = technique_json(tn, start, all, by_kind, fold, oracle, seconds);
+    *record = technique_json(tn, start, all, have_kind, by_kind, fold, oracle, seconds);
     return TUNER_DONE;
 }
 

@@ -110,8 +110,11 @@ enum tuned_load_result tuned_load(const char *dir, const struct technique *t, st
     /* Optional: the settings chosen on each light kind's scenes. */
     const cJSON *by_light = cJSON_GetObjectItemCaseSensitive(d, "settings_by_light");
     static const char *const kinds[] = TUNED_KIND_NAMES;
-    if (by_light && !cJSON_IsObject(by_light)) {
-        log_error("\"settings_by_light\" must be an object");
+    bool by_light_ok = !by_light || cJSON_IsObject(by_light);
+    for (const cJSON *k = by_light ? by_light->child : NULL; k && by_light_ok; k = k->next)
+        by_light_ok = strcmp(k->string, kinds[TUNED_KIND_AREA]) == 0 || strcmp(k->string, kinds[TUNED_KIND_SUN]) == 0;
+    if (!by_light_ok) {
+        log_error("\"settings_by_light\" must be an object with keys area and sun only");
         goto fail;
     }
     for (int k = 0; k < 2 && by_light; k++) {
@@ -190,12 +193,17 @@ fail:
     return TUNED_ERROR;
 }
 
-const void *tuned_settings(const struct tuned *tu, const char *scene_name, bool sun)
+int tuned_kind(const struct scene *s)
+{
+    return s->light.shape == LIGHT_SUN ? TUNED_KIND_SUN : TUNED_KIND_AREA;
+}
+
+const void *tuned_settings(const struct tuned *tu, const struct scene *s)
 {
     for (int i = 0; i < tu->fold_count; i++)
-        if (strcmp(tu->fold_scene[i], scene_name) == 0)
+        if (strcmp(tu->fold_scene[i], s->name) == 0)
             return tu->fold_settings[i];
-    const void *kind = tu->kind_settings[sun ? TUNED_KIND_SUN : TUNED_KIND_AREA];
+    const void *kind = tu->kind_settings[tuned_kind(s)];
     return kind ? kind : tu->settings;
 }
 

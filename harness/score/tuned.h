@@ -6,11 +6,13 @@
  * the one the search chose on every other scene (leave-one-scene-out), so a
  * tuned cell is never scored on a scene its setting was fitted to; and, for
  * a scene the tuning did not see, the setting chosen on every scene of its
- * light's kind (area lights, the sun: "settings_by_light", when the tuning
- * saw two or more of that kind), else the one chosen on every scene. */
+ * light's kind (area lights, the sun: "settings_by_light", written when the
+ * tuning saw both kinds, for a kind of two or more scenes), else the one
+ * chosen on every scene. */
 #ifndef SB_TUNED_H
 #define SB_TUNED_H
 
+#include "scene/scene.h"
 #include "techniques/technique.h"
 
 #include <cjson/cJSON.h>
@@ -23,6 +25,9 @@
 /* The light kinds a tuning chooses apart ("settings_by_light"'s keys). */
 enum { TUNED_KIND_AREA, TUNED_KIND_SUN };
 #define TUNED_KIND_NAMES {"area", "sun"}
+
+/* Scene s's kind, TUNED_KIND_*. */
+int tuned_kind(const struct scene *s);
 
 /* A point of a frontier chart: mean error and time over scenes. */
 struct tuned_point {
@@ -55,9 +60,9 @@ enum tuned_load_result {
  * again). */
 enum tuned_load_result tuned_load(const char *dir, const struct technique *t, struct tuned *out);
 
-/* The settings of t's tuned cell on the scene called name, lit by the sun
- * or not: its fold's, or (unseen) its light kind's, or the all-scene one. */
-const void *tuned_settings(const struct tuned *tu, const char *scene_name, bool sun);
+/* The settings of t's tuned cell on scene s: its fold's, or (a scene the
+ * tuning did not see) its light kind's, or the all-scene one. */
+const void *tuned_settings(const struct tuned *tu, const struct scene *s);
 
 /* The frontier over every scene ("all") or one scene's, as points sorted by
  * time, with the labels of their settings; and the default and tuned

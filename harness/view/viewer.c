@@ -119,30 +119,26 @@ static void step_param(struct viewer *v, int dir)
     free(before);
 }
 
-/* The sun's cascades made again with settings next (their count, or how
- * the PCSS family's widths are taken), then fitted to the pose; refused
- * (the old kept, said) where they cannot be. */
+/* The sun's cascades made again, fitted to the pose in effect, with settings
+ * next (their count, or how the PCSS family's widths are taken); refused
+ * (the old kept, said) where they cannot be. The ground truth stays: it
+ * depends on the pose and the camera's view, not on the cascades. */
 static void set_cascades(struct viewer *v, struct cascade_settings next)
 {
-    if (v->base->light.shape != LIGHT_SUN) {
-        say(v, "cascades are the sun's: this scene's light has one map");
-        return;
-    }
-    if (next.split == CASCADE_SPLIT_FRACTIONS && next.count != v->cascade.count) {
-        say(v, "cascades: --cascade-split gives %d splits; the count stays %d", v->cascade.count - 1,
-            v->cascade.count);
+    const struct cascade_settings *now = &v->cascades.settings;
+    if (next.split == CASCADE_SPLIT_FRACTIONS && next.count != now->count) {
+        say(v, "cascades: --cascade-split gives %d splits; the count stays %d", now->count - 1, now->count);
         return;
     }
     struct shadow_cascades made;
-    if (shadow_cascades_create(&made, v->base, &v->cascades_desc, &next) != 0) {
+    if (shadow_cascades_create(&made, &v->posed, &v->cascades_desc, &next) != 0) {
         shadow_cascades_destroy(&made);
-        say(v, "cascades: those settings cannot be made (logged): kept");
+        say(v, "cascades: those settings cannot be fitted to this pose (logged): kept");
         return;
     }
     shadow_cascades_destroy(&v->cascades);
-    v->cascades = made, v->cascade = next;
-    v->pose_dirty = true;  /* refitted to the pose; the ground truth asked again (the shadow distance's mask) */
-    say(v, "%d cascade%s, widths %s", next.count, next.count > 1 ? "s" : "",
+    v->cascades = made;
+    say(v, "%d cascade%s, widths %s", made.count, made.count > 1 ? "s" : "",
         next.width == CASCADE_WIDTH_TEXEL ? "texel (cascade 0's ratio)" : "world");
 }
 
@@ -194,20 +190,20 @@ void viewer_key(struct viewer *v, int key, int mods)
     }
     case GLFW_KEY_MINUS: step_param(v, -1); break;
     case GLFW_KEY_EQUAL: step_param(v, 1); break;
-    case GLFW_KEY_C: {
-        struct cascade_settings next = v->cascade;
-        next.count = (next.count ? next.count : 1) + dir;
-        if (next.count < 1 || next.count > CASCADES_MAX) {
-            say(v, "cascades: 1..%d", CASCADES_MAX);
-            break;
-        }
-        set_cascades(v, next);
-        break;
-    }
+    case GLFW_KEY_C:
     case GLFW_KEY_V: {
-        struct cascade_settings next = v->cascade;
-        next.width = next.width == CASCADE_WIDTH_WORLD ? CASCADE_WIDTH_TEXEL : CASCADE_WIDTH_WORLD;
-        set_cascades(v, next);
+        struct cascade_settings next = v->cascades.settings;
+        if (v->base->light.shape != LIGHT_SUN) {
+            say(v, "cascades are the sun's: this scene's light has one map");
+        } else if (key == GLFW_KEY_C && (next.count + dir < 1 || next.count + dir > CASCADES_MAX)) {
+            say(v, "cascades: 1..%d", CASCADES_MAX);
+        } else {
+            if (key == GLFW_KEY_C)
+                next.count += dir;
+            else
+                next.width = next.width == CASCADE_WIDTH_WORLD ? CASCADE_WIDTH_TEXEL : CASCADE_WIDTH_WORLD;
+            set_cascades(v, next);
+        }
         break;
     }
     case GLFW_KEY_H: v->overlay = !v->overlay; break;
@@ -258,8 +254,6 @@ int viewer_open(struct viewer *v, const struct viewer_desc *d, const struct scen
 {
     memset(v, 0, sizeof *v);
     v->d = *d, v->base = s, v->posed = *s;
-    v->cascade = d->cascades ? *d->cascades : (struct cascade_settings){0};
-    v->d.cascades = &v->cascade;
     v->w = d->width, v->h = d->height;
     for (int i = 0; i < d->technique_count; i++)
         v->settings[i] = memcpy(xmalloc(d->techniques[i]->settings_size), d->settings[i],
@@ -279,7 +273,7 @@ int viewer_open(struct viewer *v, const struct viewer_desc *d, const struct scen
         return -1;
     scene_mesh_upload(s, &v->mesh);
     v->cascades_desc = (struct shadowmap_desc){.size_texels = d->shadow_map_size, .aspect = (float)v->w / (float)v->h};
-    if (shadow_cascades_create(&v->cascades, s, &v->cascades_desc, &v->cascade) != 0 ||
+    if (shadow_cascades_create(&v->cascades, s, &v->cascades_desc, d->cascades) != 0 ||
         receiver_create(&v->receiver, s, v->w, v->h) != 0 ||
         irradiance_create(&v->irradiance_pass, s, v->w, v->h) != 0)
         return -1;

@@ -48,8 +48,7 @@ struct viewer {
     int w, h;
     float extent;  /* the scene's bounding-box diagonal: the unit of motion */
     struct scene_mesh mesh;
-    struct cascade_settings cascade;   /* the sun's, as C and V change them (d.cascades points here) */
-    struct shadowmap_desc cascades_desc;
+    struct shadowmap_desc cascades_desc;  /* of the maps, made again when C and V change the settings */
     struct shadow_cascades cascades;
     struct receiver receiver;
     struct stage_timer timer;
