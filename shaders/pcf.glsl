@@ -8,7 +8,7 @@ float shadow_visibility(ShadowInput s)
     vec2 radius_uv = PCF_RADIUS_TEXELS * sm.texel_size_uv;
     float lit;
 #if PCF_PATTERN == PCF_PATTERN_GRID
-    TapFrame f = sm_tap_frame(s, radius_uv, true, vec2(0.0), plane, sm_bias_hw(s, bias));
+    TapFrame f = sm_tap_frame(s, radius_uv, true, SM_PATTERN_GRID, PCF_SAMPLES, vec2(0.0), plane, sm_bias_hw(s, bias));
     const int side = int(round(sqrt(float(PCF_SAMPLES))));
     lit = 0.0;
     for (int j = 0; j < side; j++)
@@ -16,8 +16,8 @@ float shadow_visibility(ShadowInput s)
             lit += sm_lit_at(f, (vec2(i, j) + 0.5) * (2.0 / float(side)) - 1.0, hw_2x2);
     lit /= float(side * side);
 #else
-    TapFrame f = sm_tap_frame(s, radius_uv, false, sm_pixel_noise(s.frag_coord), plane,
-                              sm_bias_hw(s, bias));
+    TapFrame f = sm_tap_frame(s, radius_uv, false, SM_PATTERN_POISSON, PCF_SAMPLES, sm_pixel_noise(s.frag_coord),
+                              plane, sm_bias_hw(s, bias));
     SM_PCF(lit, f, PCF_SAMPLES, hw_2x2)
 #endif
     return lit;

@@ -37,6 +37,90 @@ vec2 sm_pixel_noise(vec2 frag_coord)
                 fract(k.z * fract(dot(frag_coord + vec2(47.0, 17.0), k.xy))));
 }
 
+// White noise in [0, 1)^2 per pixel (and frame): an integer hash of the
+// pixel, pcg2d (Jarzynski and Olano 2020, "Hash functions for GPU
+// rendering"); 24 bits of each word, so the float is below 1.
+vec2 sm_hash_noise(vec2 frag_coord)
+{
+    uvec2 v = uvec2(ivec2(floor(frag_coord))) ^ uvec2(uint(sm_noise_frame) * 0x9E3779B9u);
+    v = v * 1664525u + 1013904223u;
+    v.x += v.y * 1664525u;
+    v.y += v.x * 1664525u;
+    v ^= v >> 16u;
+    v.x += v.y * 1664525u;
+    v.y += v.x * 1664525u;
+    v ^= v >> 16u;
+    return vec2(v >> 8u) * (1.0 / 16777216.0);
+}
+
+// The noise a `rotation` parameter names (SM_ROTATION_*, techniques/technique.h's
+// TAP_ROTATIONS): 0 (the same taps everywhere), white, interleaved gradient
+// noise of the pixel, or of its 2 x 2 block (one rotation a block).
+vec2 sm_rotation_noise(vec2 frag_coord, int mode)
+{
+    if (mode == SM_ROTATION_NONE)
+        return vec2(0.0);
+    if (mode == SM_ROTATION_HASH)
+        return sm_hash_noise(frag_coord);
+    if (mode == SM_ROTATION_IGN_2X2)
+        frag_coord = floor(0.5 * frag_coord) + 0.5;
+    return sm_pixel_noise(frag_coord);
+}
+
+// Shirley and Chiu's concentric map (1997, "A low distortion map between
+// disk and square"), [-1, 1]^2 -> the unit disk, which keeps area; and its
+// inverse. The tap patterns are laid out in one and carried to the other.
+vec2 sm_square_to_disk(vec2 p)
+{
+    if (p == vec2(0.0))
+        return p;
+    const float quarter = 0.78539816;  // pi / 4
+    if (abs(p.x) > abs(p.y)) {
+        float phi = quarter * p.y / p.x;
+        return p.x * vec2(cos(phi), sin(phi));
+    }
+    float phi = 2.0 * quarter - quarter * p.x / p.y;
+    return p.y * vec2(cos(phi), sin(phi));
+}
+
+vec2 sm_disk_to_square(vec2 d)
+{
+    float r = length(d);
+    if (r == 0.0)
+        return d;
+    const float quarter = 0.78539816;
+    float phi = atan(d.y, d.x);  // (-pi, pi]
+    if (phi < -quarter)
+        phi += 8.0 * quarter;    // [-pi/4, 7 pi/4)
+    if (phi < quarter)
+        return vec2(r, phi * r / quarter);
+    if (phi < 3.0 * quarter)
+        return vec2((2.0 * quarter - phi) * r / quarter, r);
+    if (phi < 5.0 * quarter)
+        return vec2(-r, (phi - 4.0 * quarter) * -r / quarter);
+    return vec2((6.0 * quarter - phi) * -r / quarter, -r);
+}
+
+// Point i of n of a pattern (SM_PATTERN_*) before any rotation, on the
+// square (square) or the disk: poisson from the tables; grid the n x n
+// cell centres (n a square count); vogel the golden-angle spiral,
+// r = sqrt((i + 0.5) / n) (Vogel 1979). i and n are constants at every call
+// (SM_UNROLL), so all of it folds.
+vec2 sm_pattern_point(int pattern, bool square, int i, int n)
+{
+    if (pattern == SM_PATTERN_GRID) {
+        int side = int(round(sqrt(float(n))));
+        vec2 q = (vec2(i % side, i / side) + 0.5) * (2.0 / float(side)) - 1.0;
+        return square ? q : sm_square_to_disk(q);
+    }
+    if (pattern == SM_PATTERN_VOGEL) {
+        float a = 2.39996323 * float(i);  // the golden angle, pi (3 - sqrt 5)
+        vec2 d = sqrt((float(i) + 0.5) / float(n)) * vec2(cos(a), sin(a));
+        return square ? sm_disk_to_square(d) : d;
+    }
+    return square ? sample_square[i] : sample_disk[i];
+}
+
 // SM_UNROLL(n, F) expands to F(0) F(1) ... F(n-1) for a tap count n (0 or
 // one of TAP_COUNTS in techniques/technique.h, or a macro naming one): the
 // layer defines SM_UNROLL_<n> from that list in blocks of the SM_T* below.
@@ -58,21 +142,24 @@ struct TapFrame {
     vec2 uv;
     mat2 axes;          // pattern space -> uv offset (scale, and the disk's rotation)
     bool square;        // square pattern, else disk (a constant at every call site)
+    int pattern, count; // SM_PATTERN_*, and the taps (constants at every call site)
     vec2 shift;         // square: Cranley-Patterson shift, 1 + 2 noise
     float ref;          // receiver hardware depth + bias
     vec2 ref_gradient;  // receiver plane in pattern space (0 without the plane)
 };
 
-// The frame of a pattern scaled to half_uv: the square set shifted by
-// 2 noise modulo [-1, 1]^2 (keeps its toroidal spacing), or the disk set
-// rotated by 2 pi noise.x. With `plane`, the reference follows the
+// The frame of count taps of a pattern scaled to half_uv: the square set
+// shifted by 2 noise modulo [-1, 1]^2 (keeps the poisson set's toroidal
+// spacing), or the disk set rotated by 2 pi noise.x. With `plane`, the reference follows the
 // receiver's plane (receiver-plane depth bias, Isidoro 2006), evaluated at
 // the tap; half a texel of its slope is added to the bias, since the
 // nearest texel's centre, where the map's depth was taken, lies up to half
 // a texel away.
-TapFrame sm_tap_frame(ShadowInput s, vec2 half_uv, bool square, vec2 noise, bool plane, float bias_hw)
+TapFrame sm_tap_frame(ShadowInput s, vec2 half_uv, bool square, int pattern, int count, vec2 noise, bool plane,
+                      float bias_hw)
 {
     TapFrame f;
+    f.pattern = pattern, f.count = count;
     float a = 6.28318531 * noise.x;
     mat2 rotation = square ? mat2(1.0) : mat2(cos(a), sin(a), -sin(a), cos(a));
     f.uv = s.uv;
@@ -89,9 +176,10 @@ TapFrame sm_tap_frame(ShadowInput s, vec2 half_uv, bool square, vec2 noise, bool
 // wrap is a compare and subtract: p + shift lies in [0, 4).
 vec2 sm_tap_point(TapFrame f, int i)
 {
+    vec2 p = sm_pattern_point(f.pattern, f.square, i, f.count);
     if (!f.square)
-        return sample_disk[i];
-    vec2 q = sample_square[i] + f.shift;
+        return p;
+    vec2 q = p + f.shift;
     return q - 2.0 * step(2.0, q) - 1.0;
 }
 

@@ -27,6 +27,18 @@
      offsetof(settings, light_size_scale), PARAM_FLOAT, 1.0, 0.01, 10.0, NULL,               \
      TUNE(0.5, 0.75, 1.0, 1.25, 1.5, 2.0)}
 
+/* The tap loops' layout and per-pixel noise (technique.h's TAP_PATTERNS,
+ * TAP_ROTATIONS); not tuned: the choices are measured as named cells. */
+#define PARAM_ROW_TAP_PATTERN(settings)                                                    \
+    {"pattern", "tap layout over the light's shape: poisson (best-candidate set), grid (n x n, " \
+     "a square tap count), vogel (golden-angle spiral)", offsetof(settings, pattern), PARAM_ENUM, \
+     TAP_PATTERN_POISSON, 0, 0, tap_pattern_names, NULL}
+
+#define PARAM_ROW_TAP_ROTATION(settings)                                                   \
+    {"rotation", "per-pixel noise turning (disk) or shifting (square) the taps: none "       \
+     "(banding), hash (white), ign (interleaved gradient noise), ign_2x2 (one per 2 x 2 block)", \
+     offsetof(settings, rotation), PARAM_ENUM, TAP_ROTATION_IGN, 0, 0, tap_rotation_names, NULL}
+
 #define PARAM_ROW_MIN_VARIANCE(settings)                                                   \
     {"min_variance", "floor on the variance, linear depth units squared",                  \
      offsetof(settings, min_variance), PARAM_FLOAT, 1e-5, 0.0, 0.01, NULL, TUNE(1e-6, 1e-5, 1e-4, 1e-3)}

@@ -224,6 +224,25 @@ static void upper(char *dst, const char *src, size_t n)
     dst[i] = '\0';
 }
 
+int params_grid_taps(const char *name, int taps, char *why, size_t why_size)
+{
+    int side = 1;
+    while (side * side < taps)
+        side++;
+    if (side * side == taps)
+        return 0;
+    struct strbuf squares = {0};
+    for (int i = 0; i < TAP_COUNT_KINDS; i++) {
+        for (side = 1; side * side < tap_counts[i]; side++)
+            ;
+        if (side * side == tap_counts[i])
+            strbuf_list_printf(&squares, ", ", "%d", tap_counts[i]);
+    }
+    snprintf(why, why_size, "pattern=grid needs a square %s (%s), not %d", name, squares.data, taps);
+    strbuf_free(&squares);
+    return -1;
+}
+
 void params_defines(const struct technique *t, const void *settings, struct strbuf *out)
 {
     char tech[64], name[64], choice[64];

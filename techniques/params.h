@@ -36,6 +36,10 @@ double params_get(const struct technique_param *p, const void *settings);
  * Returns 0, or -1 after logging "<technique>: <reason>". */
 int params_check(const struct technique *t, const void *settings);
 
+/* For a technique's check: 0 when taps is a square count (the grid
+ * pattern's n x n); else -1 and, in why, what `name` needs. */
+int params_grid_taps(const char *name, int taps, char *why, size_t why_size);
+
 /* Appends "#define <TECH>_<PARAM> <value>" lines (and, for enums, one
  * "#define <TECH>_<PARAM>_<CHOICE> <index>" per choice). */
 void params_defines(const struct technique *t, const void *settings, struct strbuf *out);

@@ -29,6 +29,7 @@
  * than the bias covers self-shadows sloped receivers (acne); the plane is
  * wrong across curved receivers and at their silhouettes. */
 #include "param_rows.h"
+#include "params.h"
 
 #include "base/util.h"
 
@@ -64,27 +65,10 @@ static const struct technique_param pcf_params[] = {
     {NULL},
 };
 
-static bool is_square(int n)
-{
-    int side = 1;
-    while (side * side < n)
-        side++;
-    return side * side == n;
-}
-
 static int pcf_check(const void *settings, char *why, size_t why_size)
 {
     const struct pcf_settings *s = settings;
-    if (s->pattern != PCF_GRID || is_square(s->samples))
-        return 0;
-    struct strbuf squares = {0};
-    for (int i = 0; i < TAP_COUNT_KINDS; i++)
-        if (is_square(tap_counts[i]))
-            strbuf_list_printf(&squares, ", ", "%d", tap_counts[i]);
-    snprintf(why, why_size, "pattern=grid needs a square sample count (%s), not %d", squares.data,
-             s->samples);
-    strbuf_free(&squares);
-    return -1;
+    return s->pattern == PCF_GRID ? params_grid_taps("sample count", s->samples, why, why_size) : 0;
 }
 
 static const struct technique_cell pcf_cells[] = {

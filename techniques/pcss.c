@@ -16,7 +16,17 @@
  * Parameters:
  *   blocker_samples, filter_samples  taps of steps 1 and 3.
  *   light_size_scale     multiplies the scene's light size (1 = the light
- *                        the ground truth uses).
+ *                        the ground truth uses), in both steps unless:
+ *   search_light_size_scale, filter_light_size_scale
+ *                        the blocker search's and the filter's own scales
+ *                        (seed 003's two radii); 0 = light_size_scale.
+ *   pattern              the taps' layout over the light's shape: poisson
+ *                        (progressive best-candidate), grid (n x n: a square
+ *                        tap count; seed 003's first version), vogel
+ *                        (golden-angle spiral).
+ *   rotation             the per-pixel noise that turns (disk) or shifts
+ *                        (square) both steps' taps: none, hash, ign,
+ *                        ign_2x2 (shaders/shadow_taps.glsl).
  *   receiver_plane_bias  compare against the receiver's plane at each tap
  *                        (both steps); the search region is wide, so without
  *                        it sloped receivers find themselves as blockers.
@@ -30,11 +40,16 @@
  * with the light and the receiver's distance, so a fixed tap count
  * undersamples large lights; cost grows with both tap counts. */
 #include "param_rows.h"
+#include "params.h"
 
 struct pcss_settings {
     int blocker_samples;      /* TAP_COUNTS */
     int filter_samples;       /* TAP_COUNTS */
     float light_size_scale;   /* [0.01, 10] */
+    float search_light_size_scale;  /* [0, 10], 0: light_size_scale */
+    float filter_light_size_scale;  /* [0, 10], 0: light_size_scale */
+    int pattern;              /* TAP_PATTERN_* */
+    int rotation;             /* TAP_ROTATION_* */
     int receiver_plane_bias;  /* bool */
     float constant_bias;      /* linear depth units, [0, 0.1] */
     float slope_bias;         /* texels of depth slope, [0, 16] */
@@ -46,18 +61,36 @@ static const struct technique_param pcss_params[] = {
     {"filter_samples", "taps of the PCF over the estimated penumbra",
      offsetof(struct pcss_settings, filter_samples), PARAM_TAPS, 32, 0, 0, NULL, TUNE_CHOICES},
     PARAM_ROW_LIGHT_SIZE_SCALE(struct pcss_settings),
+    {"search_light_size_scale", "the blocker search's own light size scale (0 = light_size_scale)",
+     offsetof(struct pcss_settings, search_light_size_scale), PARAM_FLOAT, 0.0, 0.0, 10.0, NULL, NULL},
+    {"filter_light_size_scale", "the filter's own light size scale (0 = light_size_scale)",
+     offsetof(struct pcss_settings, filter_light_size_scale), PARAM_FLOAT, 0.0, 0.0, 10.0, NULL, NULL},
+    PARAM_ROW_TAP_PATTERN(struct pcss_settings),
+    PARAM_ROW_TAP_ROTATION(struct pcss_settings),
     PARAM_ROW_RECEIVER_PLANE_BIAS(struct pcss_settings),
     PARAM_ROW_CONSTANT_BIAS(struct pcss_settings),
     PARAM_ROW_SLOPE_BIAS(struct pcss_settings, " (unused with receiver_plane_bias)"),
     {NULL},
 };
 
+static int pcss_check(const void *settings, char *why, size_t why_size)
+{
+    const struct pcss_settings *s = settings;
+    if (s->pattern != TAP_PATTERN_GRID)
+        return 0;
+    return params_grid_taps("blocker_samples", s->blocker_samples, why, why_size) ||
+           params_grid_taps("filter_samples", s->filter_samples, why, why_size);
+}
+
 static const struct technique_cell pcss_cells[] = {
-    {"contact_hardening", {"blocker_samples=16,filter_samples=64"}},
-    {"parallel_planes", {"light_size_scale=0.5"}},
+    {"contact_hardening", {"blocker_samples=16,filter_samples=64", "search_light_size_scale=1.5",
+                           "filter_light_size_scale=0.75"}},
+    {"parallel_planes", {"light_size_scale=0.5", "pattern=grid,blocker_samples=25,filter_samples=25",
+                         "pattern=vogel,rotation=ign_2x2", "rotation=none", "rotation=hash"}},
+    {"parallel_planes_disk", {"pattern=vogel"}},
     {"grazing_receiver", {"receiver_plane_bias=false", "receiver_plane_bias=false,slope_bias=4", "constant_bias=0.005"}},
     {NULL},
 };
 
-TECHNIQUE(pcss, .needs = SM_DEPTH, .regression = pcss_cells,
+TECHNIQUE(pcss, .needs = SM_DEPTH, .check = pcss_check, .regression = pcss_cells,
           .summary = "blocker search, penumbra by similar triangles, PCF of that width");

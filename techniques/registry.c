@@ -27,6 +27,20 @@ const char *const sat_format_names[] = {
     NULL,
 };
 
+const char *const tap_pattern_names[] = {
+#define X(id, name) name,
+    TAP_PATTERNS(X)
+#undef X
+    NULL,
+};
+
+const char *const tap_rotation_names[] = {
+#define X(id, name) name,
+    TAP_ROTATIONS(X)
+#undef X
+    NULL,
+};
+
 const struct technique *technique_find(const char *name)
 {
     for (const struct technique *const *t = technique_list; *t; t++)

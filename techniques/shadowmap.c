@@ -475,6 +475,12 @@ void shadowmap_shader_defines(struct strbuf *out)
 #define X(id, name) strbuf_printf(out, "#define SM_SAT_" #id " %d\n", SAT_##id);
     SAT_FORMATS(X)
 #undef X
+#define X(id, name) strbuf_printf(out, "#define SM_PATTERN_" #id " %d\n", TAP_PATTERN_##id);
+    TAP_PATTERNS(X)
+#undef X
+#define X(id, name) strbuf_printf(out, "#define SM_ROTATION_" #id " %d\n", TAP_ROTATION_##id);
+    TAP_ROTATIONS(X)
+#undef X
     strbuf_printf(out, "#define SM_MAX_BLUR_RADIUS %d\n#define SM_MSM_QUANTISATION_FACTOR %s\n",
                   SM_MAX_BLUR_RADIUS_TEXELS, UTIL_STR(SM_MSM_QUANTISATION_FACTOR));
     /* SM_UNROLL_n(F): F(0) ... F(n-1) in blocks of 32, 16, 4 and 1 (the

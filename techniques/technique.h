@@ -60,6 +60,40 @@ enum sat_format {
 /* Their parameter spellings, by enum value, NULL-terminated. */
 extern const char *const sat_format_names[];
 
+/* Tap layouts of the PCF family's loops (the `pattern` parameter): X(ID,
+ * name). Each is a set over the light's shape: [-1, 1]^2 for a rect light,
+ * the unit disk for a disk light and the sun, one mapped onto the other by
+ * Shirley and Chiu's concentric map, which keeps area (shadow_taps.glsl).
+ * GLSL sees SM_PATTERN_<ID>. */
+#define TAP_PATTERNS(X)                                                                  \
+    X(POISSON, "poisson") /* progressive best-candidate set (tools/sample_patterns.c) */ \
+    X(GRID, "grid")       /* n x n cell centres of the square (seed 003's 7 x 7) */      \
+    X(VOGEL, "vogel")     /* golden-angle spiral in the disk (Vogel 1979) */
+
+enum tap_pattern {
+#define X(id, name) TAP_PATTERN_##id,
+    TAP_PATTERNS(X)
+#undef X
+};
+
+/* Per-pixel noise that rotates (disk) or shifts (square) a pattern (the
+ * `rotation` parameter): X(ID, name). GLSL sees SM_ROTATION_<ID>. */
+#define TAP_ROTATIONS(X)                                                                 \
+    X(NONE, "none")       /* the same taps at every pixel: banding */                    \
+    X(HASH, "hash")       /* white noise, an integer hash of the pixel (and frame) */    \
+    X(IGN, "ign")         /* interleaved gradient noise (Jimenez 2014) of the pixel */   \
+    X(IGN_2X2, "ign_2x2") /* the same of its 2 x 2 block: one rotation a block (seed 003) */
+
+enum tap_rotation {
+#define X(id, name) TAP_ROTATION_##id,
+    TAP_ROTATIONS(X)
+#undef X
+};
+
+/* Their parameter spellings, by enum value, NULL-terminated. */
+extern const char *const tap_pattern_names[];
+extern const char *const tap_rotation_names[];
+
 /* The moments product's widest Gaussian prefilter (GLSL: SM_MAX_BLUR_RADIUS). */
 #define SM_MAX_BLUR_RADIUS_TEXELS 32
 

@@ -146,6 +146,12 @@ int main(int argc, char **argv)
            "pcf: pattern=grid needs a square sample count (16, 25, 64, 100), not 32");
     expect(2, "bench --set pcf.pattern=grid --set pcf.samples=128",
            "pcf: pattern=grid needs a square sample count (16, 25, 64, 100), not 128");
+    expect(2, "run --set pcss.pattern=grid --set pcss.blocker_samples=25",
+           "pcss: pattern=grid needs a square filter_samples (16, 25, 64, 100), not 32");
+    expect(2, "run --set pcss.pattern=spiral",
+           "pcss.pattern: 'spiral' is not one of: poisson, grid, vogel");
+    expect(2, "run --set pcss.rotation=blue",
+           "pcss.rotation: 'blue' is not one of: none, hash, ign, ign_2x2");
     expect(2, "run --set savsm.sat_format=fp16",
            "savsm.sat_format: 'fp16' is not one of: fp32, fp32_centered, int32");
     expect(2, "run --set vsm.bleed_reduction=1", "vsm.bleed_reduction: 1 is out of range [0.0, 0.99]");

@@ -19,6 +19,10 @@
  *     light, and bleed_reduction reduces it; evsm and msm, at the same
  *     filter, bleed far less, without darkening; evsm4's negative warp
  *     closes what evsm2's positive one leaks;
+ *   - pcss's tap layouts and rotations (seed 003's choices) on the closed
+ *     form, rect and disk light: every one follows the ramp within pcss's
+ *     tap-noise bound; its two radii set alike are light_size_scale, bit
+ *     for bit, and the search's alone changes the picture;
  *   - every technique on every shipped scene: no NaN or Inf; nor the moment
  *     family (the SAT ones too) at the depth-range extremes of `stability
  *     --vary depth_range`. */
@@ -466,5 +470,58 @@ static void depth_range_finite(void)
     free(cmd);
 }
 
-TEST_MAIN(dir, penumbra_order, sun_penumbra, vsm_bleeding, soft_leak, vssm_adaptive, vssm_adaptive_levels, all_finite,
+/* pcss's layouts and rotations at 64 + 64 taps on parallel_planes (rect:
+ * the square patterns) and parallel_planes_disk (the disk ones); measured
+ * at 192²: 0.013-0.051, the worst the grid shifted per pixel on the rect
+ * light (an axis-aligned edge over a shifted grid counts whole rows),
+ * rotation none at or below the rotated ones there (its error is banding,
+ * systematic, not larger). Then the two radii. */
+static void pcss_layouts(void)
+{
+    const char *scenes[] = {"parallel_planes", "parallel_planes_disk"};
+    for (int k = 0; k < 2; k++) {
+        char *name = util_printf("layouts_%s", scenes[k]);
+        char *args = util_printf("--scene %s --technique pcss --settings default --set pcss.blocker_samples=64 "
+                                 "--set pcss.filter_samples=64 --sweep pcss.pattern=poisson,grid,vogel --sweep "
+                                 "pcss.rotation=none,hash,ign,ign_2x2 --width 192 --height 192 --gt-samples 1024",
+                                 scenes[k]);
+        cJSON *m = run_cells(name, args, 0);
+        const cJSON *c;
+        int cells = 0;
+        cJSON_ArrayForEach(c, cJSON_GetObjectItem(m, "cells")) {
+            const double e = cJSON_GetNumberValue(cJSON_GetObjectItem(c, "penumbra_rmse"));
+            const char *cell = cJSON_GetStringValue(cJSON_GetObjectItem(c, "cell"));
+            printf("%s %s: penumbra_rmse %.4f\n", scenes[k], cell, e);
+            /* the bound pcss's 32 poisson taps meet above (penumbra_order) */
+            CHECK(e < 0.072, "%s %s must follow the ramp within pcss's tap noise: %.4f", scenes[k], cell, e);
+            cells++;
+        }
+        CHECK(cells == 12, "%s: 12 layout cells, not %d", scenes[k], cells);
+        if (m)
+            no_nonfinite(m, name);
+        cJSON_Delete(m);
+        free(name), free(args);
+    }
+    /* search_light_size_scale and filter_light_size_scale both 1.25 are
+     * light_size_scale 1.25 (every metric equal, as from the same image);
+     * the search's alone moves the picture */
+    const char *const runs[] = {"--set pcss.light_size_scale=1.25",
+                                "--set pcss.search_light_size_scale=1.25 --set pcss.filter_light_size_scale=1.25",
+                                "--set pcss.search_light_size_scale=1.25"};
+    double rmse[3], pen[3];
+    for (int i = 0; i < 3; i++) {
+        char *name = util_printf("radii%d", i);
+        char *args = util_printf("--scene contact_hardening --technique pcss %s --width 96 --height 96 "
+                                 "--gt-samples 64", runs[i]);
+        cJSON *m = run_cells(name, args, 0);
+        rmse[i] = metric(m, "pcss", "rmse"), pen[i] = metric(m, "pcss", "penumbra_rmse");
+        cJSON_Delete(m);
+        free(name), free(args);
+    }
+    CHECK(rmse[0] == rmse[1] && pen[0] == pen[1], "both radii at 1.25 must be light_size_scale 1.25: rmse %.6f "
+          "against %.6f", rmse[1], rmse[0]);
+    CHECK(rmse[2] != rmse[0], "the search's radius alone must change the picture (rmse %.6f both)", rmse[2]);
+}
+
+TEST_MAIN(dir, penumbra_order, sun_penumbra, pcss_layouts, vsm_bleeding, soft_leak, vssm_adaptive, vssm_adaptive_levels, all_finite,
           depth_range_finite)

@@ -9,6 +9,7 @@
 #include "check.h"
 #include "run_cmd.h"
 #include "base/image.h"
+#include "techniques/technique.h"
 #include "view/viewer.h"
 
 #include <cjson/cJSON.h>
@@ -293,13 +294,17 @@ int main(int argc, char **argv)
         CHECK(both_off == 0, "after B the split screen is pcss | pcss exactly (%d pixels differ)", both_off);
         /* the overlay (on by default, H turns it off) writes white text at
          * the top left and nothing elsewhere */
-        int text = 0, elsewhere = 0;
+        int text = 0, elsewhere = 0, params = 0;
+        while (technique_find("pcss")->params[params].name)
+            params++;
+        const int below = 4 + 11 * (3 + params);  /* its lines (title, the parameters, ms, rmse) of 11 pixels */
+        CHECK(below < H - 8, "the overlay's %d lines leave a strip to check below them", 3 + params);
         for (int y = 0; y < H; y++)
             for (int x = 0; x < W; x++) {
                 const int i = y * W + x;
                 if (y < 40 && x < 120)
                     text += shaded[i] == 255 && plain[i] != 255;
-                else if (y >= 110)  /* below its 9 lines (title, 6 parameters, ms, rmse) of 11 pixels, 4 + 99 */
+                else if (y >= below)
                     elsewhere += shaded[i] != plain[i];
             }
         CHECK(text > 50, "the overlay's text is there: %d white pixels", text);

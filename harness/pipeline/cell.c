@@ -27,10 +27,14 @@ void cell_set_times(struct cell *c, const struct stage_times *t)
 
 void cell_note_search(struct cell *c, const void *settings, const struct shadow_cascades *cs)
 {
-    for (const struct technique_param *p = c->technique->params; p->name; p++) {
-        if (strcmp(p->name, "light_size_scale") != 0)
-            continue;
-        const double scale = params_get(p, settings);
+    double scale = -1;  /* the search's light size scale: its own (pcss), else light_size_scale */
+    for (const struct technique_param *p = c->technique->params; p->name; p++)
+        if (strcmp(p->name, "light_size_scale") == 0 && scale < 0)
+            scale = params_get(p, settings);
+    for (const struct technique_param *p = c->technique->params; p->name; p++)
+        if (strcmp(p->name, "search_light_size_scale") == 0 && params_get(p, settings) > 0)
+            scale = params_get(p, settings);
+    if (scale >= 0) {
         for (int k = 0; k < cs->count; k++) {
             const int map_size = cs->map[k].desc.size_texels;
             const float side = light_frustum_search_box_texels(&cs->map[k].frustum, (float)scale, map_size);
