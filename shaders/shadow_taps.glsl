@@ -37,12 +37,10 @@ vec2 sm_pixel_noise(vec2 frag_coord)
                 fract(k.z * fract(dot(frag_coord + vec2(47.0, 17.0), k.xy))));
 }
 
-// White noise in [0, 1)^2 per pixel (and frame): an integer hash of the
-// pixel, pcg2d (Jarzynski and Olano 2020, "Hash functions for GPU
-// rendering"); 24 bits of each word, so the float is below 1.
-vec2 sm_hash_noise(vec2 frag_coord)
+// pcg2d (Jarzynski and Olano 2020, "Hash functions for GPU rendering") of
+// v, as two numbers in [0, 1) (24 bits of each word, so the float is below 1).
+vec2 sm_pcg2d(uvec2 v)
 {
-    uvec2 v = uvec2(ivec2(floor(frag_coord))) ^ uvec2(uint(sm_noise_frame) * 0x9E3779B9u);
     v = v * 1664525u + 1013904223u;
     v.x += v.y * 1664525u;
     v.y += v.x * 1664525u;
@@ -51,6 +49,12 @@ vec2 sm_hash_noise(vec2 frag_coord)
     v.y += v.x * 1664525u;
     v ^= v >> 16u;
     return vec2(v >> 8u) * (1.0 / 16777216.0);
+}
+
+// White noise in [0, 1)^2 per pixel (and frame): pcg2d of the pixel.
+vec2 sm_hash_noise(vec2 frag_coord)
+{
+    return sm_pcg2d(uvec2(ivec2(floor(frag_coord))) ^ uvec2(uint(sm_noise_frame) * 0x9E3779B9u));
 }
 
 // The noise a `rotation` parameter names (SM_ROTATION_*, techniques/technique.h's
@@ -104,8 +108,10 @@ vec2 sm_disk_to_square(vec2 d)
 // Point i of n of a pattern (SM_PATTERN_*) before any rotation, on the
 // square (square) or the disk: poisson from the tables; grid the n x n
 // cell centres (n a square count); vogel the golden-angle spiral,
-// r = sqrt((i + 0.5) / n) (Vogel 1979). i and n are constants at every call
-// (SM_UNROLL), so all of it folds.
+// r = sqrt((i + 0.5) / n) (Vogel 1979); uniform_disk point i drawn alone,
+// r = sqrt(u), angle 2 pi v for (u, v) = pcg2d(i), as GAMES202's
+// uniformDiskSamples draws them (the same first points at every n). i and
+// n are constants at every call (SM_UNROLL), so all of it folds.
 vec2 sm_pattern_point(int pattern, bool square, int i, int n)
 {
     if (pattern == SM_PATTERN_GRID) {
@@ -116,6 +122,11 @@ vec2 sm_pattern_point(int pattern, bool square, int i, int n)
     if (pattern == SM_PATTERN_VOGEL) {
         float a = 2.39996323 * float(i);  // the golden angle, pi (3 - sqrt 5)
         vec2 d = sqrt((float(i) + 0.5) / float(n)) * vec2(cos(a), sin(a));
+        return square ? sm_disk_to_square(d) : d;
+    }
+    if (pattern == SM_PATTERN_UNIFORM_DISK) {
+        vec2 uv = sm_pcg2d(uvec2(i, 0x5EEDu));
+        vec2 d = sqrt(uv.x) * vec2(cos(6.28318531 * uv.y), sin(6.28318531 * uv.y));
         return square ? sm_disk_to_square(d) : d;
     }
     return square ? sample_square[i] : sample_disk[i];

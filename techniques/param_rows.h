@@ -31,7 +31,7 @@
  * TAP_ROTATIONS); not tuned: the choices are measured as named cells. */
 #define PARAM_ROW_TAP_PATTERN(settings)                                                    \
     {"pattern", "tap layout over the light's shape: poisson (best-candidate set), grid (n x n, " \
-     "a square tap count), vogel (golden-angle spiral)", offsetof(settings, pattern), PARAM_ENUM, \
+     "a square tap count), vogel (golden-angle spiral), uniform_disk (independent uniform points)", offsetof(settings, pattern), PARAM_ENUM, \
      TAP_PATTERN_POISSON, 0, 0, tap_pattern_names, NULL}
 
 #define PARAM_ROW_TAP_ROTATION(settings)                                                   \

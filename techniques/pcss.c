@@ -23,7 +23,8 @@
  *   pattern              the taps' layout over the light's shape: poisson
  *                        (progressive best-candidate), grid (n x n: a square
  *                        tap count; seed 003's first version), vogel
- *                        (golden-angle spiral).
+ *                        (golden-angle spiral), uniform_disk (independent
+ *                        uniform points, seed 002's).
  *   rotation             the per-pixel noise that turns (disk) or shifts
  *                        (square) both steps' taps: none, hash, ign,
  *                        ign_2x2 (shaders/shadow_taps.glsl).
@@ -87,7 +88,7 @@ static const struct technique_cell pcss_cells[] = {
                            "filter_light_size_scale=0.75"}},
     {"parallel_planes", {"light_size_scale=0.5", "pattern=grid,blocker_samples=25,filter_samples=25",
                          "pattern=vogel,rotation=ign_2x2", "rotation=none", "rotation=hash"}},
-    {"parallel_planes_disk", {"pattern=vogel"}},
+    {"parallel_planes_disk", {"pattern=vogel", "pattern=uniform_disk"}},
     {"grazing_receiver", {"receiver_plane_bias=false", "receiver_plane_bias=false,slope_bias=4", "constant_bias=0.005"}},
     {NULL},
 };

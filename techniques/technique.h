@@ -68,7 +68,9 @@ extern const char *const sat_format_names[];
 #define TAP_PATTERNS(X)                                                                  \
     X(POISSON, "poisson") /* progressive best-candidate set (tools/sample_patterns.c) */ \
     X(GRID, "grid")       /* n x n cell centres of the square (seed 003's 7 x 7) */      \
-    X(VOGEL, "vogel")     /* golden-angle spiral in the disk (Vogel 1979) */
+    X(VOGEL, "vogel")     /* golden-angle spiral in the disk (Vogel 1979) */              \
+    X(UNIFORM_DISK, "uniform_disk") /* independent uniform points in the disk (seed 002's \
+                                       GAMES202 uniformDiskSamples): no spreading */
 
 enum tap_pattern {
 #define X(id, name) TAP_PATTERN_##id,

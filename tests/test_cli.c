@@ -149,7 +149,7 @@ int main(int argc, char **argv)
     expect(2, "run --set pcss.pattern=grid --set pcss.blocker_samples=25",
            "pcss: pattern=grid needs a square filter_samples (16, 25, 64, 100), not 32");
     expect(2, "run --set pcss.pattern=spiral",
-           "pcss.pattern: 'spiral' is not one of: poisson, grid, vogel");
+           "pcss.pattern: 'spiral' is not one of: poisson, grid, vogel, uniform_disk");
     expect(2, "run --set pcss.rotation=blue",
            "pcss.rotation: 'blue' is not one of: none, hash, ign, ign_2x2");
     expect(2, "run --set savsm.sat_format=fp16",

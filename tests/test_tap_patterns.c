@@ -4,7 +4,7 @@
  *   - rotation: none is 0 everywhere; ign_2x2 gives one value to each 2 x 2
  *     block and differs between blocks; ign differs between neighbours;
  *     hash is in [0, 1) with a mean near 1/2;
- *   - pattern: every point of poisson, grid and vogel at every tap count
+ *   - pattern: every point of poisson, grid, vogel and uniform_disk at every tap count
  *     lies in its shape (the square [-1, 1]^2 or the unit disk), no two
  *     coincide, and their second moments are those of the uniform
  *     distribution over the shape (disk 1/2, square 2/3 for x² + y²)
@@ -84,8 +84,8 @@ static void noise_checks(GLuint program)
 static void pattern_checks(GLuint program)
 {
     static float r[TAPS_W * 4];
-    const int patterns[3] = {TAP_PATTERN_POISSON, TAP_PATTERN_GRID, TAP_PATTERN_VOGEL};
-    for (int k = 0; k < 3; k++)
+    const int patterns[4] = {TAP_PATTERN_POISSON, TAP_PATTERN_GRID, TAP_PATTERN_VOGEL, TAP_PATTERN_UNIFORM_DISK};
+    for (int k = 0; k < 4; k++)
         for (int square = 0; square < 2; square++)
             for (int c = 0; c < TAP_COUNT_KINDS; c++) {
                 const int n = tap_counts[c], side = (int)lround(sqrt((double)n));
@@ -115,9 +115,16 @@ static void pattern_checks(GLuint program)
                  * shape (0.81 times the moment, 0.095 off on the disk)
                  * fails at every count. */
                 const double want = square ? 2.0 / 3.0 : 0.5;
+                /* uniform_disk's points are independent: its moment is a
+                 * mean of n draws, within 4 of its standard deviations,
+                 * sqrt(1/12 / n) on the disk (r² is uniform) and
+                 * sqrt(8/45 / n) on the square */
+                const double bound = patterns[k] == TAP_PATTERN_UNIFORM_DISK
+                                         ? 4.0 * sqrt((square ? 8.0 / 45.0 : 1.0 / 12.0) / n)
+                                         : 1.25 / n;
                 CHECK(outside == 0 && coincide == 0, "%s %s %d: %d outside, %d coinciding", name, shape, n, outside,
                       coincide);
-                CHECK(fabs(r2 - want) <= 1.25 / n, "%s %s %d: mean x² + y² %.4f, uniform's %.4f", name, shape, n, r2,
+                CHECK(fabs(r2 - want) <= bound, "%s %s %d: mean x² + y² %.4f, uniform's %.4f", name, shape, n, r2,
                       want);
                 /* float trigonometry: a few ulps of 1 */
                 CHECK(round_trip < 1e-5, "%s %s %d: the concentric map and its inverse differ by %g", name, shape,
