@@ -79,8 +79,9 @@ static int pcss_check(const void *settings, char *why, size_t why_size)
     const struct pcss_settings *s = settings;
     if (s->pattern != TAP_PATTERN_GRID)
         return 0;
-    return params_grid_taps("blocker_samples", s->blocker_samples, why, why_size) ||
-           params_grid_taps("filter_samples", s->filter_samples, why, why_size);
+    if (params_grid_taps("blocker_samples", s->blocker_samples, why, why_size) != 0)
+        return -1;
+    return params_grid_taps("filter_samples", s->filter_samples, why, why_size);
 }
 
 static const struct technique_cell pcss_cells[] = {
