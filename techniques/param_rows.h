@@ -31,8 +31,8 @@
  * TAP_ROTATIONS); not tuned: the choices are measured as named cells. */
 #define PARAM_ROW_TAP_PATTERN(settings)                                                    \
     {"pattern", "tap layout over the light's shape: poisson (best-candidate set), grid (n x n, " \
-     "a square tap count), vogel (golden-angle spiral), uniform_disk (independent uniform points)", offsetof(settings, pattern), PARAM_ENUM, \
-     TAP_PATTERN_POISSON, 0, 0, tap_pattern_names, NULL}
+     "a square tap count), vogel (golden-angle spiral), uniform_disk (independent uniform points)", \
+     offsetof(settings, pattern), PARAM_ENUM, TAP_PATTERN_POISSON, 0, 0, tap_pattern_names, NULL}
 
 #define PARAM_ROW_TAP_ROTATION(settings)                                                   \
     {"rotation", "per-pixel noise turning (disk) or shifting (square) the taps: none "       \

@@ -52,7 +52,7 @@ static int not_one_of(const struct technique *t, const struct technique_param *p
     return -1;
 }
 
-static const struct technique_param *find(const struct technique *t, const char *name)
+const struct technique_param *params_find(const struct technique *t, const char *name)
 {
     for (const struct technique_param *p = t->params; p->name; p++)
         if (strcmp(p->name, name) == 0)
@@ -117,7 +117,7 @@ static void format_value(const struct technique_param *p, double v, char *buf, s
 
 int params_set(const struct technique *t, void *settings, const char *name, const char *value)
 {
-    const struct technique_param *p = find(t, name);
+    const struct technique_param *p = params_find(t, name);
     if (!p) {
         struct strbuf known = {0};
         for (const struct technique_param *q = t->params; q->name; q++)
@@ -323,7 +323,7 @@ fail:
 int params_value_text(const struct technique *t, const void *settings, const char *name, char *buf,
                       size_t size)
 {
-    const struct technique_param *p = find(t, name);
+    const struct technique_param *p = params_find(t, name);
     if (!p)
         return -1;
     format_value(p, get(p, settings), buf, size);

@@ -36,6 +36,9 @@ double params_get(const struct technique_param *p, const void *settings);
  * Returns 0, or -1 after logging "<technique>: <reason>". */
 int params_check(const struct technique *t, const void *settings);
 
+/* t's parameter called name, or NULL. */
+const struct technique_param *params_find(const struct technique *t, const char *name);
+
 /* For a technique's check: 0 when taps is a square count (the grid
  * pattern's n x n); else -1 and, in why, what `name` needs. */
 int params_grid_taps(const char *name, int taps, char *why, size_t why_size);

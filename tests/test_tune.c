@@ -1,8 +1,10 @@
 /* Protects `shadowbench tune` (docs/tuning.md): the search is deterministic;
  * leave-one-scene-out never looks at the held-out scene; every technique's
  * tune values are in range and hold its default; the frontier it writes is
- * a Pareto front; run's tuned cells use each scene's fold setting; a stale
- * or out-of-range tuned file is one line naming it, exit 2. */
+ * a Pareto front; run's tuned cells use each scene's fold setting, and a
+ * scene the tuning did not see its light kind's (settings_by_light), else
+ * the all-scene one; a stale or out-of-range tuned file is one line naming
+ * it, exit 2. */
 #include "check.h"
 #include "read_json.h"
 #include "run_cmd.h"

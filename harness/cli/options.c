@@ -354,7 +354,8 @@ const struct option_row option_rows[] = {
     {"settings", 0, "auto|tuned|default|both", ON(RUN), OPTION_NONE, 0, 0, 0, set_settings_mode,
      "which cells of each technique: T@tuned, the settings --tuned DIR/T.json holds for each scene, chosen by "
      "'shadowbench tune' on the other scenes of its light kind (a scene it did not see gets the setting chosen "
-     "on its light kind's scenes, else on all); T at its defaults (with --set, --sweep); or both. auto (default): T@tuned, or T's default cells when T has no "
+     "on its light kind's scenes, else on all); T at its defaults (with --set, --sweep); or both. auto (default): "
+     "T@tuned, or T's default cells when T has no "
      "tuned file or when any --set or --sweep is given (then every technique's)"},
     {"tuned", 0, "DIR", ON(RUN) | ON(CHECK) | ON(TUNE), OPTION_FOLDER, FIELD(tuned_dir), 0, 0, set_tuned,
      "where the tuned settings are (default {D})"},

@@ -27,13 +27,12 @@ void cell_set_times(struct cell *c, const struct stage_times *t)
 
 void cell_note_search(struct cell *c, const void *settings, const struct shadow_cascades *cs)
 {
-    double scale = -1;  /* the search's light size scale: its own (pcss), else light_size_scale */
-    for (const struct technique_param *p = c->technique->params; p->name; p++)
-        if (strcmp(p->name, "light_size_scale") == 0 && scale < 0)
-            scale = params_get(p, settings);
-    for (const struct technique_param *p = c->technique->params; p->name; p++)
-        if (strcmp(p->name, "search_light_size_scale") == 0 && params_get(p, settings) > 0)
-            scale = params_get(p, settings);
+    /* the search's light size scale: its own (pcss) when set, else light_size_scale */
+    const struct technique_param *own = params_find(c->technique, "search_light_size_scale"),
+                                 *both = params_find(c->technique, "light_size_scale");
+    const double scale = own && params_get(own, settings) > 0 ? params_get(own, settings)
+                         : both                               ? params_get(both, settings)
+                                                              : -1;
     if (scale >= 0) {
         for (int k = 0; k < cs->count; k++) {
             const int map_size = cs->map[k].desc.size_texels;

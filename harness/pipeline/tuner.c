@@ -235,13 +235,12 @@ static cJSON *technique_json(const struct tuner *tn, const int *start, const int
     cJSON_AddNumberToObject(j, "shadow_map_size", o->shadow_map_size);
     cJSON_AddNumberToObject(j, "frames", o->frames);
     cJSON_AddItemToObject(j, "settings", settings_json(tn, all));
-    static const char *const kinds[] = TUNED_KIND_NAMES;
     cJSON *by_light = NULL;
     for (int k = 0; k < 2; k++)
         if (have_kind[k]) {
             if (!by_light)
                 by_light = cJSON_AddObjectToObject(j, "settings_by_light");
-            cJSON_AddItemToObject(by_light, kinds[k], settings_json(tn, by_kind[k]));
+            cJSON_AddItemToObject(by_light, tuned_kind_names[k], settings_json(tn, by_kind[k]));
         }
 
     struct tune_sample sums[4] = {{0}};  /* default, tuned (held out), oracle, fitted on every scene */

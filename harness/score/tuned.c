@@ -8,6 +8,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+const char *const tuned_kind_names[2] = {"area", "sun"};
+
 /* Settings from the object `what` of file path, or NULL after one line
  * naming both. */
 static void *settings_from_json(const struct technique *t, const cJSON *o, const char *path, const char *what)
@@ -109,18 +111,18 @@ enum tuned_load_result tuned_load(const char *dir, const struct technique *t, st
         goto fail;
     /* Optional: the settings chosen on each light kind's scenes. */
     const cJSON *by_light = cJSON_GetObjectItemCaseSensitive(d, "settings_by_light");
-    static const char *const kinds[] = TUNED_KIND_NAMES;
     bool by_light_ok = !by_light || cJSON_IsObject(by_light);
     for (const cJSON *k = by_light ? by_light->child : NULL; k && by_light_ok; k = k->next)
-        by_light_ok = strcmp(k->string, kinds[TUNED_KIND_AREA]) == 0 || strcmp(k->string, kinds[TUNED_KIND_SUN]) == 0;
+        by_light_ok = strcmp(k->string, tuned_kind_names[TUNED_KIND_AREA]) == 0 ||
+                      strcmp(k->string, tuned_kind_names[TUNED_KIND_SUN]) == 0;
     if (!by_light_ok) {
         log_error("\"settings_by_light\" must be an object with keys area and sun only");
         goto fail;
     }
     for (int k = 0; k < 2 && by_light; k++) {
-        const cJSON *o = cJSON_GetObjectItemCaseSensitive(by_light, kinds[k]);
+        const cJSON *o = cJSON_GetObjectItemCaseSensitive(by_light, tuned_kind_names[k]);
         char what[64];
-        snprintf(what, sizeof what, "settings_by_light.%s", kinds[k]);
+        snprintf(what, sizeof what, "settings_by_light.%s", tuned_kind_names[k]);
         if (o && !(out->kind_settings[k] = settings_from_json(t, o, out->path, what)))
             goto fail;
     }

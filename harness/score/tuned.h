@@ -24,7 +24,7 @@
 
 /* The light kinds a tuning chooses apart ("settings_by_light"'s keys). */
 enum { TUNED_KIND_AREA, TUNED_KIND_SUN };
-#define TUNED_KIND_NAMES {"area", "sun"}
+extern const char *const tuned_kind_names[2];  /* by TUNED_KIND_* */
 
 /* Scene s's kind, TUNED_KIND_*. */
 int tuned_kind(const struct scene *s);
