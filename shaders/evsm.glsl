@@ -14,6 +14,7 @@ float evsm_bound(vec2 m, float t, float slope)
 
 float shadow_visibility(ShadowInput s)
 {
+    SM_FETCHED(1);
     vec4 m = textureGrad(sm_evsm, s.uv, s.uv_dx, s.uv_dy);  // trilinear at the footprint
     vec2 e = sm_evsm_warp(sm_moment_depth(s.depth), vec2(EVSM_POSITIVE_EXPONENT, EVSM_NEGATIVE_EXPONENT));
     float p = evsm_bound(m.xy, e.x, 2.0 * EVSM_POSITIVE_EXPONENT * e.x);

@@ -4,6 +4,7 @@
 
 float shadow_visibility(ShadowInput s)
 {
+    SM_FETCHED(1);
     vec4 b = textureGrad(sm_msm, s.uv, s.uv_dx, s.uv_dy);  // trilinear at the footprint
     float z = sm_moment_depth(s.depth - MSM_DEPTH_BIAS);
 #if MSM_BOUND == MSM_BOUND_HAUSDORFF

@@ -16,9 +16,9 @@ float shadow_visibility(ShadowInput s)
 
     // 1. Blocker share and mean depth over the search box.
     if (!sat_box_mean(s.uv, sm_search_half_uv(s, MSM_SOFT_LIGHT_SIZE_SCALE), b))
-        return 1.0;
+        SM_EARLY_OUT(1.0);
     if (msm_occlusion(msm_bias(b, alpha), z, z_blocker) < MSM_SOFT_MIN_BLOCKER_FRACTION)
-        return 1.0;
+        SM_EARLY_OUT(1.0);
     float d_blocker = clamp(0.5 * (z_blocker + 1.0), 0.0, s.depth);
 
     // 2. Penumbra as PCSS; 3. 4MSM over it.

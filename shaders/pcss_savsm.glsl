@@ -12,10 +12,10 @@ float shadow_visibility(ShadowInput s)
     // 1. Blocker depth from the search box's moments.
     if (!sat_mean_variance(s.uv, sm_search_half_uv(s, PCSS_SAVSM_LIGHT_SIZE_SCALE), mean_var)
         || t <= mean_var.x)
-        return 1.0;
+        SM_EARLY_OUT(1.0);
     float alpha = chebyshev_upper_bound(mean_var.x, mean_var.y, t, PCSS_SAVSM_MIN_VARIANCE);
     if (1.0 - alpha < PCSS_SAVSM_MIN_BLOCKER_FRACTION)
-        return 1.0;
+        SM_EARLY_OUT(1.0);
     float z_occ = clamp((mean_var.x - alpha * t) / (1.0 - alpha), 0.0, t);
 
     // 2. Penumbra as PCSS; 3. VSM over it.

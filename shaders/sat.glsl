@@ -10,6 +10,7 @@ layout(std430, binding = SAT_BINDING) readonly buffer SatBuffer { SAT_UVEC sat[]
 
 SAT_UVEC sat_at(int x, int y)
 {
+    SM_FETCHED(1);
     return sat[y * (int(sm.map_size_texels) + 1) + x];
 }
 

@@ -22,6 +22,30 @@
 // mode, a texelFetch must clamp its coordinate to the map.
 SM_PRODUCT_SAMPLERS
 
+// Fetch counting (docs/metrics.md: fetches_per_pixel, expensive_fraction).
+// A program's counting variant (SM_COUNT_FETCHES 1: compiled for scoring,
+// never timed) adds up every read of a shadow-map product through
+// SM_FETCHED(n), one per read instruction whatever the texels the unit
+// filters (a texture or texelFetch, a bilinear comparison, a storage-buffer
+// element), and a technique notes with SM_SHORTCUT() that it decided the
+// pixel without its full filter (an early-out). Without counting both are
+// nothing.
+#if SM_COUNT_FETCHES
+float sm_fetches;
+bool sm_shortcut;
+#define SM_FETCHED(n) sm_fetches += float(n)
+#define SM_SHORTCUT() sm_shortcut = true
+#else
+#define SM_FETCHED(n)
+#define SM_SHORTCUT()
+#endif
+// return v, an early-out's answer (a statement)
+#define SM_EARLY_OUT(v) \
+    { \
+        SM_SHORTCUT(); \
+        return v; \
+    }
+
 struct ShadowInput {
     vec3 pos_world;          // receiver point
     vec3 normal_world;       // geometric normal, facing the camera

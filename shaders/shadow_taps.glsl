@@ -16,6 +16,7 @@ float sm_bias_hw(ShadowInput s, float bias)
 // reference hardware depth ref (GEQUAL: 1 = lit).
 float sm_lit_2x2(vec2 uv, float ref)
 {
+    SM_FETCHED(1);
     return textureLod(sm_depth_compare, vec3(uv, ref), 0.0);
 }
 
@@ -198,6 +199,7 @@ vec2 sm_tap_point(TapFrame f, int i)
 // is that texel's hardware depth.
 bool sm_occluded_at(TapFrame f, vec2 q, out float stored)
 {
+    SM_FETCHED(1);
     stored = textureLod(sm_depth, f.uv + f.axes * q, 0.0).r;
     return stored > f.ref + dot(f.ref_gradient, q);
 }

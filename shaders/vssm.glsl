@@ -119,10 +119,10 @@ float shadow_visibility(ShadowInput s)
     // trusted, the mean of the sub-boxes' estimates.
     vec2 search_uv = sm_search_half_uv(s, VSSM_LIGHT_SIZE_SCALE);
     if (!sat_mean_variance(s.uv, search_uv, mean_var))
-        return 1.0;
+        SM_EARLY_OUT(1.0);
     vec2 blockers = vssm_box(s, search_uv, mean_var, true);
     if (!(blockers.x > 0.0) || blockers.x < VSSM_MIN_BLOCKER_FRACTION)  // none: lit, also at a fraction of 0
-        return 1.0;
+        SM_EARLY_OUT(1.0);
     float z_occ = blockers.y / blockers.x;
 
     // 2. Penumbra as PCSS; 3. VSM over it, again subdivided where not to

@@ -64,4 +64,24 @@
     {"sat_format", "summed-area table precision: fp32, fp32_centered (sums of d - 0.5), "  \
      "int32 (exact)", offsetof(settings, sat_format), PARAM_ENUM, SAT_INT32, 0, 0, sat_format_names, TUNE_CHOICES}
 
+/* The screen-space stages around the receiver pass (docs/techniques.md,
+ * render/receiver.h's receiver_stages_of): a technique declares a stage by
+ * having its rows, and the harness reads them by these names (a
+ * contract: scripts set them). Not tuned: measured as named settings. */
+#define PARAM_ROWS_DENOISE(settings)                                                       \
+    {"denoise_radius_px", "bilateral denoiser after the receiver pass: radius in pixels, " \
+     "separable, weighted by world distance (0 = off)",                                   \
+     offsetof(settings, denoise_radius_px), PARAM_INT, 0, 0, 8, NULL, NULL},               \
+    {"denoise_sigma_world", "the denoiser's world-distance weight: its sigma, world units", \
+     offsetof(settings, denoise_sigma_world), PARAM_FLOAT, 0.1, 0.001, 100.0, NULL, NULL}
+
+/* The technique defines shadow_classify() (shaders/penumbra_mask.frag). */
+#define PARAM_ROWS_PENUMBRA_MASK(settings)                                                 \
+    {"penumbra_mask", "a quarter-resolution pre-pass classifies 4 x 4 blocks as lit, umbra " \
+     "or penumbra; the full filter runs only on penumbra blocks",                          \
+     offsetof(settings, penumbra_mask), PARAM_BOOL, 0, 0, 1, NULL, NULL},                  \
+    {"mask_dilate_blocks", "the mask's dilation: a block stays lit or umbra only if every "  \
+     "block this many blocks around agrees",                                               \
+     offsetof(settings, mask_dilate_blocks), PARAM_INT, 1, 0, 4, NULL, NULL}
+
 #endif

@@ -195,6 +195,33 @@ int params_set(const struct technique *t, void *settings, const char *name, cons
     return 0;
 }
 
+int params_apply(const struct technique *t, void *settings, const char *list, const char *label)
+{
+    char *copy = xstrdup(list), *rest = copy, *names[64];
+    int rc = 0, given = 0;
+    for (char *item = strsep(&rest, ","); item && !rc; item = strsep(&rest, ",")) {
+        char *eq = strchr(item, '=');
+        if (!eq) {
+            log_error("cell '%s': '%s' is not parameter=value", label, item);
+            rc = -1;
+            break;
+        }
+        *eq = '\0';
+        /* Each parameter once: "p=1,p=2" would be two cells in one name. */
+        for (int i = 0; i < given && !rc; i++)
+            if (strcmp(names[i], item) == 0) {
+                log_error("cell '%s': %s is given twice", label, item);
+                rc = -1;
+            }
+        if (given < (int)(sizeof names / sizeof *names))
+            names[given++] = item;
+        if (!rc)
+            rc = params_set(t, settings, item, eq + 1);
+    }
+    free(copy);
+    return rc;
+}
+
 int params_taps(const struct technique *t, const void *settings, int *taps, int max)
 {
     int n = 0;

@@ -17,6 +17,11 @@ void *params_defaults(const struct technique *t);
  * "<technique>.<name>: <problem>" (unknown name, bad value, out of range). */
 int params_set(const struct technique *t, void *settings, const char *name, const char *value);
 
+/* Sets the parameters of a list as a cell's name spells them,
+ * "name=value,name=value", each at most once. Returns 0, or -1 after
+ * logging one line that names `label` (the cell). */
+int params_apply(const struct technique *t, void *settings, const char *list, const char *label);
+
 /* The values of t's PARAM_TAPS parameters (its loops of depth-map fetches),
  * in table order, into taps[0..max-1]; returns how many t has (0: none). */
 int params_taps(const struct technique *t, const void *settings, int *taps, int max);

@@ -15,6 +15,9 @@
  *   hardware_2x2         each tap is a bilinear 2x2 comparison by the texture
  *                        unit (sampler2DShadow, linear): smoother for the
  *                        same tap count.
+ *   denoise_radius_px, denoise_sigma_world
+ *                        the bilateral denoiser after the receiver pass
+ *                        (render/receiver.h), which any technique may declare.
  *   receiver_plane_bias  compare against the receiver's plane (fitted from
  *                        screen-space derivatives) at each tap, instead of
  *                        its depth at the centre: no acne across wide kernels
@@ -41,6 +44,8 @@ struct pcf_settings {
     int pattern;              /* PCF_GRID, PCF_POISSON */
     int samples;              /* TAP_COUNTS */
     int hardware_2x2;         /* bool */
+    int denoise_radius_px;    /* [0, 8], 0: off */
+    float denoise_sigma_world;
     int receiver_plane_bias;  /* bool */
     float constant_bias;      /* linear depth units, [0, 0.1] */
     float slope_bias;         /* texels of depth slope, [0, 16] */
@@ -59,6 +64,7 @@ static const struct technique_param pcf_params[] = {
      offsetof(struct pcf_settings, samples), PARAM_TAPS, 32, 0, 0, NULL, TUNE_CHOICES},
     {"hardware_2x2", "each tap a bilinear 2x2 hardware comparison (sampler2DShadow)",
      offsetof(struct pcf_settings, hardware_2x2), PARAM_BOOL, 0, 0, 1, NULL, TUNE_CHOICES},
+    PARAM_ROWS_DENOISE(struct pcf_settings),
     PARAM_ROW_RECEIVER_PLANE_BIAS(struct pcf_settings),
     PARAM_ROW_CONSTANT_BIAS(struct pcf_settings),
     PARAM_ROW_SLOPE_BIAS(struct pcf_settings, " (unused with receiver_plane_bias)"),
@@ -72,7 +78,8 @@ static int pcf_check(const void *settings, char *why, size_t why_size)
 }
 
 static const struct technique_cell pcf_cells[] = {
-    {"parallel_planes", {"radius_texels=8", "pattern=grid,samples=25", "samples=64", "hardware_2x2=true"}},
+    {"parallel_planes", {"radius_texels=8", "pattern=grid,samples=25", "samples=64", "hardware_2x2=true",
+                         "denoise_radius_px=2,denoise_sigma_world=0.5"}},
     {"grazing_receiver",
      {"receiver_plane_bias=false", "receiver_plane_bias=false,slope_bias=4", "constant_bias=0.005"}},
     {NULL},

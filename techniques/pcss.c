@@ -28,6 +28,15 @@
  *   rotation             the per-pixel noise that turns (disk) or shifts
  *                        (square) both steps' taps: none, hash, ign,
  *                        ign_2x2 (shaders/shadow_taps.glsl).
+ *   early_bail           8 of the search's taps first (NVIDIA's PCSS
+ *                        integration); where they agree (all lit, all
+ *                        blocked), that is the answer.
+ *   penumbra_mask, mask_dilate_blocks
+ *                        seed 003's quarter-resolution pre-pass
+ *                        (shadow_classify: 16 search taps widened by the
+ *                        block); the full filter runs on penumbra blocks only.
+ *   denoise_radius_px, denoise_sigma_world
+ *                        seed 003's bilateral blur after the receiver pass.
  *   receiver_plane_bias  compare against the receiver's plane at each tap
  *                        (both steps); the search region is wide, so without
  *                        it sloped receivers find themselves as blockers.
@@ -51,6 +60,11 @@ struct pcss_settings {
     float filter_light_size_scale;  /* [0, 10], 0: light_size_scale */
     int pattern;              /* TAP_PATTERN_* */
     int rotation;             /* TAP_ROTATION_* */
+    int early_bail;           /* bool */
+    int penumbra_mask;        /* bool */
+    int mask_dilate_blocks;   /* [0, 4] */
+    int denoise_radius_px;    /* [0, 8], 0: off */
+    float denoise_sigma_world;
     int receiver_plane_bias;  /* bool */
     float constant_bias;      /* linear depth units, [0, 0.1] */
     float slope_bias;         /* texels of depth slope, [0, 16] */
@@ -68,6 +82,10 @@ static const struct technique_param pcss_params[] = {
      offsetof(struct pcss_settings, filter_light_size_scale), PARAM_FLOAT, 0.0, 0.0, 10.0, NULL, NULL},
     PARAM_ROW_TAP_PATTERN(struct pcss_settings),
     PARAM_ROW_TAP_ROTATION(struct pcss_settings),
+    {"early_bail", "8 probe taps of the search first; where they agree, that is the answer",
+     offsetof(struct pcss_settings, early_bail), PARAM_BOOL, 0, 0, 1, NULL, NULL},
+    PARAM_ROWS_PENUMBRA_MASK(struct pcss_settings),
+    PARAM_ROWS_DENOISE(struct pcss_settings),
     PARAM_ROW_RECEIVER_PLANE_BIAS(struct pcss_settings),
     PARAM_ROW_CONSTANT_BIAS(struct pcss_settings),
     PARAM_ROW_SLOPE_BIAS(struct pcss_settings, " (unused with receiver_plane_bias)"),
@@ -88,11 +106,35 @@ static const struct technique_cell pcss_cells[] = {
     {"contact_hardening", {"blocker_samples=16,filter_samples=64", "search_light_size_scale=1.5",
                            "filter_light_size_scale=0.75"}},
     {"parallel_planes", {"light_size_scale=0.5", "pattern=grid,blocker_samples=25,filter_samples=25",
-                         "pattern=vogel,rotation=ign_2x2", "rotation=none", "rotation=hash"}},
+                         "pattern=vogel,rotation=ign_2x2", "rotation=none", "rotation=hash", "early_bail=true",
+                         "denoise_radius_px=2,denoise_sigma_world=0.5"}},
+    {"thin_features", {"penumbra_mask=true", "penumbra_mask=true,mask_dilate_blocks=0"}},
     {"parallel_planes_disk", {"pattern=vogel", "pattern=uniform_disk"}},
     {"grazing_receiver", {"receiver_plane_bias=false", "receiver_plane_bias=false,slope_bias=4", "constant_bias=0.005"}},
     {NULL},
 };
 
-TECHNIQUE(pcss, .needs = SM_DEPTH, .check = pcss_check, .regression = pcss_cells,
+/* Seed 003's PCSS (docs/techniques.md, "Seed 003's pipeline"), step by step:
+ * each a named cell of the default run, so "what each shortcut buys" is
+ * measured on every scene; poisson16_ign is the textbook pcss at their
+ * tap count. */
+static const struct technique_preset pcss_presets[] = {
+    {"grid7x7", "pattern=grid,blocker_samples=49,filter_samples=49,rotation=none",
+     "seed 003's first version: a 7 x 7 grid in both steps, 49 + 49 taps"},
+    {"poisson16", "blocker_samples=16,filter_samples=16,rotation=none",
+     "16 + 16 Poisson taps, the same at every pixel (banding)"},
+    {"poisson16_hash", "blocker_samples=16,filter_samples=16,rotation=hash",
+     "16 + 16 Poisson taps, rotated per pixel by white noise"},
+    {"poisson16_ign", "blocker_samples=16,filter_samples=16",
+     "the textbook pcss at 16 + 16 taps (interleaved gradient noise per pixel)"},
+    {"poisson16_2x2", "blocker_samples=16,filter_samples=16,rotation=ign_2x2",
+     "16 + 16 Poisson taps, one rotation per 2 x 2 block"},
+    {"poisson16_2x2_denoise", "blocker_samples=16,filter_samples=16,rotation=ign_2x2,denoise_radius_px=1",
+     "and the bilateral 3 x 3 blur"},
+    {"seed003", "blocker_samples=16,filter_samples=16,rotation=ign_2x2,denoise_radius_px=1,penumbra_mask=true",
+     "seed 003 as it ships: and the penumbra mask"},
+    {NULL},
+};
+
+TECHNIQUE(pcss, .needs = SM_DEPTH, .check = pcss_check, .regression = pcss_cells, .presets = pcss_presets,
           .summary = "blocker search, penumbra by similar triangles, PCF of that width");

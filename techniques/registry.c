@@ -87,3 +87,11 @@ void sat_request_search_box(struct sat_request *r, int format, float light_size_
     r->format = (enum sat_format)format;
     r->max_box_texels = light_frustum_search_box_texels(c->frustum, light_size_scale, c->map_size_texels);
 }
+
+const struct technique_preset *technique_preset_find(const struct technique *t, const char *name)
+{
+    for (const struct technique_preset *p = t->presets; p && p->name; p++)
+        if (strcmp(p->name, name) == 0)
+            return p;
+    return NULL;
+}

@@ -6,9 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The uniform block's binding (GLSL: SM_BINDING_BLOCK), and the texture
- * unit a full-screen pass reads its input from (SM_BINDING_PASS_SOURCE). */
-enum { BLOCK_BINDING = 0, PASS_SOURCE_BINDING = 0 };
+/* The uniform block's binding (GLSL: SM_BINDING_BLOCK). */
+enum { BLOCK_BINDING = 0, PASS_SOURCE_BINDING = SHADOWMAP_PASS_SOURCE_UNIT };
 
 /* One product: how it is stored, where shaders find it, how it is made.
  * Its name is SM_PRODUCTS'; its binding follows from its place in the
@@ -446,6 +445,14 @@ static const struct product_kind kinds[SM_PRODUCT_COUNT] = {
 
 /* ---- the layer ------------------------------------------------------------ */
 
+int shadowmap_screen_binding(void)
+{
+    int units = 0;
+    for (int p = 0; p < SM_PRODUCT_COUNT; p++)
+        units += kinds[p].format ? (kinds[p].compare_sampler ? 2 : 1) : 0;
+    return units;
+}
+
 void shadowmap_shader_defines(struct strbuf *out)
 {
     strbuf_printf(out, "#define SM_BINDING_BLOCK %d\n#define SM_BINDING_PASS_SOURCE %d\n",
@@ -461,6 +468,8 @@ void shadowmap_shader_defines(struct strbuf *out)
                           kinds[p].compare_sampler);
     }
     strbuf_printf(out, "\n");
+    /* the texture units past the products', for the screen-space stages' inputs */
+    strbuf_printf(out, "#define SM_BINDING_SCREEN %d\n", shadowmap_screen_binding());
     for (int p = 0; p < SM_PRODUCT_COUNT; p++) {
         strbuf_printf(out, "#define SM_PRODUCT_%s %d\n#define SM_BINDING_%s %d\n", product_ids[p], p, product_ids[p],
                       binding_of(p));
@@ -608,6 +617,32 @@ bool shadowmap_ensure_product(struct shadowmap *sm, const struct scene_mesh *mes
         return false;
     shadowmap_render_product(sm, mesh, p, r);
     return true;
+}
+
+/* The Gaussian radius r asks of blurred product p. */
+static int blur_radius_of(int p, const struct shadowmap_request *r)
+{
+    return p == SM_PRODUCT_MOMENTS ? r->moments.blur_radius_texels
+           : p == SM_PRODUCT_EVSM  ? r->evsm.blur_radius_texels
+                                   : r->msm.blur_radius_texels;
+}
+
+double shadowmap_prep_texels(const struct shadowmap *sm, int p, const struct shadowmap_request *r)
+{
+    const double n = sm->desc.size_texels, texels = n * n;
+    if (p == SM_PRODUCT_DEPTH)
+        return 0;
+    if (kinds[p].sat_channels)  /* rows: a depth texel read, an element written (and the zero column);
+                                   columns: each element read and written (sat_build.comp) */
+        return 2 * texels + n + 2 * texels;
+    /* moments_blur.frag: 2r + 1 reads and a write a texel, rows then
+     * columns (radius 0: the rows pass alone, one read); then the mip
+     * chain, each texel of a level 4 reads of the level above and a write */
+    const int radius = blur_radius_of(p, r);
+    double total = radius > 0 ? 2 * texels * (2 * radius + 2) : 2 * texels;
+    for (int side = sm->desc.size_texels / 2; side >= 1; side /= 2)
+        total += 5.0 * side * side;
+    return total;
 }
 
 struct shadowmap_sat_block *shadowmap_sat_fields(struct shadowmap *sm, int p)

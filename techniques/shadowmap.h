@@ -122,6 +122,20 @@ void shadowmap_set_frustum(struct shadowmap *sm, const struct scene *s, const st
  * SM_UNROLL_<n> for n in TAP_COUNTS and 0. */
 void shadowmap_shader_defines(struct strbuf *out);
 
+/* Texels read and written per frame by the passes that build product p
+ * (not the depth pass, 0) for request r: the blurs, the SAT scans, the
+ * mip chains, counted from the passes' shaders (docs/metrics.md:
+ * prep_texels). */
+double shadowmap_prep_texels(const struct shadowmap *sm, int p, const struct shadowmap_request *r);
+
+/* The texture unit a full-screen pass reads its input from (GLSL:
+ * SM_BINDING_PASS_SOURCE; a second input the unit after it). */
+enum { SHADOWMAP_PASS_SOURCE_UNIT = 0 };
+
+/* The first texture unit past the products' (GLSL: SM_BINDING_SCREEN): where
+ * a receiver pass finds a screen-space stage's input (the penumbra mask). */
+int shadowmap_screen_binding(void);
+
 /* Creates what the products of r need (textures, buffers, programs), so
  * rendering them later does no set-up work, and checks r's options.
  * Returns 0 or -1 (logged). */

@@ -137,7 +137,7 @@ struct shadowmap_request {
 /* The tap counts a tap-based technique may use (PARAM_TAPS). The parameter
  * choices, the shaders' SM_UNROLL_<n> expansions and the length of the
  * sample tables (tools/sample_patterns.c) all come from this list. */
-#define TAP_COUNTS(X) X(16) X(25) X(32) X(64) X(100) X(128)
+#define TAP_COUNTS(X) X(16) X(25) X(32) X(49) X(64) X(100) X(128)
 
 /* The largest of them: the size of a union of one array per count. */
 union tap_count_max {
@@ -198,6 +198,15 @@ struct technique_cell {
                                                        ("pattern=grid,samples=25"); NULL ends */
 };
 
+/* A named setting a technique ships with (e.g. seed 003's steps as
+ * pcss@grid7x7 ... pcss@seed003): a cell of the default run and of the
+ * check on every scene, named <technique>@<name>. */
+struct technique_preset {
+    const char *name;     /* after the '@': not a parameter=value list, not "tuned" */
+    const char *params;   /* its parameters away from the defaults, as a cell's name spells them */
+    const char *summary;  /* one line: what it is, for list and the report */
+};
+
 /* What a request is made for: the scene's light frustum and the map's size. */
 struct request_context {
     const struct light_frustum *frustum;
@@ -220,7 +229,12 @@ struct technique {
     int (*check)(const void *settings, char *why, size_t why_size);
     /* Its regression cells, scene by scene, ending with {NULL}. */
     const struct technique_cell *regression;
+    /* Optional: its presets, ending with {NULL}. */
+    const struct technique_preset *presets;
 };
+
+/* t's preset called name, or NULL. */
+const struct technique_preset *technique_preset_find(const struct technique *t, const char *name);
 
 /* The descriptor that ends techniques/<name>.c: its name, its parameter
  * table <name>_params, its settings struct <name>_settings and its shader

@@ -140,14 +140,14 @@ int main(int argc, char **argv)
     expect(2, "run --set msm.depth_bias=1e-500", "msm.depth_bias: 1e-500 is too close to 0 for a float (write 0)");
     expect(2, "run --set hard", "--set: 'hard' is not technique.parameter=value");
     expect(2, "run --set pcss.blocker_samples=30",
-           "pcss.blocker_samples: 30 is not one of: 16, 25, 32, 64, 100, 128");
+           "pcss.blocker_samples: 30 is not one of: 16, 25, 32, 49, 64, 100, 128");
     expect(2, "run --set pcf.pattern=hexagon", "pcf.pattern: 'hexagon' is not one of: grid, poisson");
     expect(2, "run --set pcf.pattern=grid",
-           "pcf: pattern=grid needs a square sample count (16, 25, 64, 100), not 32");
+           "pcf: pattern=grid needs a square sample count (16, 25, 49, 64, 100), not 32");
     expect(2, "bench --set pcf.pattern=grid --set pcf.samples=128",
-           "pcf: pattern=grid needs a square sample count (16, 25, 64, 100), not 128");
+           "pcf: pattern=grid needs a square sample count (16, 25, 49, 64, 100), not 128");
     expect(2, "run --set pcss.pattern=grid --set pcss.blocker_samples=25",
-           "pcss: pattern=grid needs a square filter_samples (16, 25, 64, 100), not 32");
+           "pcss: pattern=grid needs a square filter_samples (16, 25, 49, 64, 100), not 32");
     expect(2, "run --set pcss.pattern=spiral",
            "pcss.pattern: 'spiral' is not one of: poisson, grid, vogel, uniform_disk");
     expect(2, "run --set pcss.rotation=blue",
@@ -180,7 +180,7 @@ int main(int argc, char **argv)
     /* --sweep: each value as --set takes it, each parameter and value once,
      * only selected techniques, every combination consistent. */
     expect(2, "run --sweep pcss.blocker_samples=16,30",
-           "pcss.blocker_samples: 30 is not one of: 16, 25, 32, 64, 100, 128");
+           "pcss.blocker_samples: 30 is not one of: 16, 25, 32, 49, 64, 100, 128");
     expect(2, "run --sweep pcss.blocker_samples=16,16",
            "--sweep: pcss.blocker_samples: 16 is listed twice");
     expect(2, "run --sweep foo.x=1", "--sweep: unknown technique 'foo'");
@@ -189,7 +189,7 @@ int main(int argc, char **argv)
     expect(2, "run --sweep pcss.blocker_samples=16 --sweep pcss.blocker_samples=32",
            "--sweep: pcss.blocker_samples is swept twice");
     expect(2, "run --sweep pcf.pattern=grid,poisson",
-           "pcf: pattern=grid needs a square sample count (16, 25, 64, 100), not 32");
+           "pcf: pattern=grid needs a square sample count (16, 25, 49, 64, 100), not 32");
     expect(2, "run --sweep pcss.blocker_samples=",
            "--sweep: 'pcss.blocker_samples=' is not technique.parameter=value,value,...");
     expect(2, "gt --scene parallel_planes --sweep pcss.blocker_samples=16",
@@ -238,7 +238,7 @@ int main(int argc, char **argv)
     expect_stdout_has("bench --help", "texture-fetch limit");
     expect_stdout_has("list", "slope_bias       float default 1.0        range [0.0, 16.0]");
     expect_stdout_has("list", "floating_box_sphere");
-    expect_stdout_has("list", "samples          int   default 32         one of 16|25|32|64|100|128");
+    expect_stdout_has("list", "samples          int   default 32         one of 16|25|32|49|64|100|128");
     expect_stdout_has("list", "sat_format       enum  default int32      one of fp32|fp32_centered|int32");
 
     remove_tree(dir);

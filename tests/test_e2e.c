@@ -16,7 +16,8 @@
 #define H 80
 
 static const char *sb;
-static int technique_count;  /* a default run has one cell per registered technique */
+static int technique_count;  /* a default run has one cell per registered technique, */
+static int preset_count;     /* and one per preset */
 static char dir[] = "/tmp/sb_test_e2e_XXXXXX";
 
 static bool exists(const char *folder, const char *file)
@@ -162,7 +163,8 @@ static void check_outputs(const char *out)
     cJSON *matrix = read_json_in(out, "matrix.json");
     if (matrix) {
         const cJSON *cells = cJSON_GetObjectItem(matrix, "cells");
-        CHECK(cJSON_GetArraySize(cells) == technique_count, "one cell per technique, got %d",
+        CHECK(cJSON_GetArraySize(cells) == technique_count + preset_count,
+              "one cell per technique and per preset (%d + %d), got %d", technique_count, preset_count,
               cJSON_GetArraySize(cells));
         cJSON_Delete(matrix);
     }
@@ -174,8 +176,8 @@ static void check_outputs(const char *out)
         int lines = 0;
         for (size_t i = 0; i < size; i++)
             lines += text[i] == '\n';
-        CHECK(lines == 1 + technique_count, "matrix.csv: header + a row per technique, got %d lines",
-              lines);
+        CHECK(lines == 1 + technique_count + preset_count,
+              "matrix.csv: header + a row per technique and preset, got %d lines", lines);
         CHECK(strncmp(text, "scene,technique,params,rmse,", 28) == 0, "matrix.csv header");
     }
     free(text), free(csv);
@@ -231,8 +233,9 @@ int main(int argc, char **argv)
 {
     if (!(sb = test_begin(argc, argv, dir)))
         return 1;
-    while (technique_list[technique_count])
-        technique_count++;
+    for (; technique_list[technique_count]; technique_count++)
+        for (const struct technique_preset *p = technique_list[technique_count]->presets; p && p->name; p++)
+            preset_count++;
 
     char *out1 = util_printf("%s/run1", dir), *out2 = util_printf("%s/run2", dir),
          *out3 = util_printf("%s/run3", dir);

@@ -128,9 +128,10 @@ static void timer_queries(void)
     CHECK(out.data && strstr(out.data, "timed by GL_TIME_ELAPSED queries"), "bench must name its method: %s",
           out.data);
     const char *vsm = out.data ? strstr(out.data, "\nvsm ") : NULL;
-    double sm = NAN, prep = NAN, recv = NAN, total = NAN;
-    CHECK(vsm && sscanf(vsm, "\nvsm %lf %lf %lf %lf", &sm, &prep, &recv, &total) == 4, "bench: no vsm row: %s",
-          out.data);
+    double sm = NAN, prep = NAN, recv = NAN, screen = NAN, total = NAN;
+    CHECK(vsm && sscanf(vsm, "\nvsm %lf %lf %lf %lf %lf", &sm, &prep, &recv, &screen, &total) == 5,
+          "bench: no vsm row: %s", out.data);
+    CHECK(screen == 0, "vsm has no screen-space stage (%g ms)", screen);
     CHECK(sm > 0 && prep > 0 && recv > 0 && fabs(sm + prep + recv - total) <= 0.02 + 1e-9,
           "queries: vsm's stages %g + %g + %g must be positive and make its total %g", sm, prep, recv, total);
     strbuf_free(&out), strbuf_free(&err);

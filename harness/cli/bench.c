@@ -99,33 +99,36 @@ int bench_main(const struct options *o)
     int probe_of[CLI_MAX_TECHNIQUES], cell_count = n;  /* probe_of[i]: cell index or -1 */
     for (int i = 0; i < n; i++) {
         const struct technique *t = o->techniques[i];
-        cells[i] = (struct stage_timer_cell){t, cli_settings(o, t), 0};
+        cells[i] = (struct stage_timer_cell){t, cli_settings(o, t), {0}};
         int loops[2] = {0, 0}, taps = params_taps(t, cells[i].settings, loops, 2);
         if (taps > 2)
             log_warn("%s: %d tap loops; the fetch probe counts the first two", t->name, taps);
         probe_of[i] = taps ? cell_count : -1;
         if (taps) {
             probes[i] = (struct probe_settings){loops[0], loops[1]};
-            cells[cell_count++] = (struct stage_timer_cell){&fetch_probe, &probes[i], 0};
+            cells[cell_count++] = (struct stage_timer_cell){&fetch_probe, &probes[i], {0}};
         }
     }
     struct stage_times times[2 * CLI_MAX_TECHNIQUES];
-    for (int i = 0; i < cell_count; i++)
-        if (!(cells[i].program = receiver_program(cells[i].technique, cells[i].settings, s.light.shape)))
+    for (int i = 0; i < cell_count; i++) {
+        receiver_programs_make(cells[i].technique, cells[i].settings, s.light.shape, false, &cells[i].programs);
+        if (!cells[i].programs.receiver)
             goto out_free_programs;
+    }
     printf("scene %s, %dx%d, %d^2 shadow map, median of %d frames after %d warm-up, interleaved, on %s (%s, %s), "
            "timed by %s\n", s.name, o->width, o->height, o->shadow_map_size, o->frames, o->warmup,
            gl_context_renderer(), gl_context_vendor(), gl_context_platform(), stage_timing_text(o->timing));
     if (stage_timer_run(&timer, cells, cell_count, times) != 0)
         goto out_free_programs;
 
-    printf("%-11s %12s %12s %12s %10s %15s  %s\n", "technique", "shadow map", "filter prep",
-           "receiver", "total", "total q1-q3", "(ms)  parameters");
+    printf("%-11s %12s %12s %12s %12s %10s %15s  %s\n", "technique", "shadow map", "filter prep",
+           "receiver", "mask+denoise", "total", "total q1-q3", "(ms)  parameters");
     for (int i = 0; i < n; i++) {
         struct strbuf text = {0};
         params_summary(cells[i].technique, cells[i].settings, &text);
-        printf("%-11s %12.2f %12.2f %12.2f %10.2f %7.2f-%-7.2f  %s\n", cells[i].technique->name,
+        printf("%-11s %12.2f %12.2f %12.2f %12.2f %10.2f %7.2f-%-7.2f  %s\n", cells[i].technique->name,
                times[i].shadowmap_ms, times[i].filter_prep_ms, times[i].receiver_ms,
+               times[i].mask_ms + times[i].denoise_ms,
                times[i].total_ms, times[i].total_q1_ms, times[i].total_q3_ms,
                text.data ? text.data : "");
         strbuf_free(&text);
@@ -151,8 +154,7 @@ int bench_main(const struct options *o)
 
 out_free_programs:
     for (int i = 0; i < cell_count; i++)
-        if (cells[i].program)
-            glDeleteProgram(cells[i].program);
+        receiver_programs_delete(&cells[i].programs);
 out_free_gl:
     receiver_destroy(&rcv);
     shadow_cascades_destroy(&cascades);

@@ -92,7 +92,7 @@ static int run_scene(struct run *r, const struct scene *scene, struct scene_setu
     for (int i = 0; i < n && !rc; i++, r->cell_count++) {
         const struct run_config *c = &r->configs.configs[i];
         const void *settings = config_settings(c, scene);
-        tc[i] = (struct stage_timer_cell){c->technique, settings, scene_setup_program(ss, c->technique, settings)};
+        tc[i] = scene_setup_timer_cell(ss, c->technique, settings);
         cell_describe(&cells[i], scene->name, c->technique, settings, c->label);
         cell_note_search(&cells[i], settings, &ss->cascades);
         char *cell_dir = util_printf("%s/%s", dir, c->label);
@@ -231,8 +231,10 @@ int run_main(const struct options *o)
     for (int s = 0; s < scene_count; s++)  /* every program first: a compile error fails at once */
         for (int i = 0; i < r.configs.count; i++) {
             const struct run_config *c = &r.configs.configs[i];
-            if (!programs_get(&r.programs, c->technique, config_settings(c, &scenes[s]), scenes[s].light.shape))
-                goto out_gl;
+            for (int counting = 0; counting <= 1; counting++)  /* scored by the one, timed by the other */
+                if (!programs_get(&r.programs, c->technique, config_settings(c, &scenes[s]), scenes[s].light.shape,
+                                  counting).receiver)
+                    goto out_gl;
         }
     r.cells_total = scene_count * r.configs.count;
     say_estimate(o, r.cells_total);

@@ -101,13 +101,24 @@ GLuint gl_texture_2d(GLenum format, int width, int height, const char *label)
     return t;
 }
 
-void gl_read_red(GLenum attachment, int width, int height, float *out)
+static void read_rows(GLenum attachment, GLenum format, int channels, int width, int height, float *out)
 {
     glReadBuffer(attachment);
     glPixelStorei(GL_PACK_ALIGNMENT, 4);
-    float *tmp = xmalloc(sizeof(float) * (size_t)width * (size_t)height);
-    glReadPixels(0, 0, width, height, GL_RED, GL_FLOAT, tmp);
+    const size_t row = (size_t)channels * (size_t)width;
+    float *tmp = xmalloc(sizeof(float) * row * (size_t)height);
+    glReadPixels(0, 0, width, height, format, GL_FLOAT, tmp);
     for (int y = 0; y < height; y++)
-        memcpy(out + (size_t)y * width, tmp + (size_t)(height - 1 - y) * width, sizeof(float) * (size_t)width);
+        memcpy(out + (size_t)y * row, tmp + (size_t)(height - 1 - y) * row, sizeof(float) * row);
     free(tmp);
+}
+
+void gl_read_red(GLenum attachment, int width, int height, float *out)
+{
+    read_rows(attachment, GL_RED, 1, width, height, out);
+}
+
+void gl_read_rgba(GLenum attachment, int width, int height, float *out)
+{
+    read_rows(attachment, GL_RGBA, 4, width, height, out);
 }

@@ -24,6 +24,8 @@
     X(PFNGLDELETETEXTURESPROC, glDeleteTextures) \
     X(PFNGLBINDTEXTUREPROC, glBindTexture) \
     X(PFNGLTEXSTORAGE2DPROC, glTexStorage2D) \
+    X(PFNGLTEXSTORAGE3DPROC, glTexStorage3D) \
+    X(PFNGLFRAMEBUFFERTEXTURELAYERPROC, glFramebufferTextureLayer) \
     X(PFNGLTEXPARAMETERIPROC, glTexParameteri) \
     X(PFNGLBINDTEXTUREUNITPROC, glBindTextureUnit) \
     X(PFNGLGENERATEMIPMAPPROC, glGenerateMipmap) \
@@ -133,5 +135,8 @@ GLuint gl_texture_2d(GLenum format, int width, int height, const char *label);
 /* The red channel of the read framebuffer's attachment as floats, top
  * row first (GL's rows start at the bottom). */
 void gl_read_red(GLenum attachment, int width, int height, float *out);
+
+/* The same of all four channels (out: 4 floats a pixel). */
+void gl_read_rgba(GLenum attachment, int width, int height, float *out);
 
 #endif

@@ -182,7 +182,7 @@ static int emit_chart(const struct report *r, const char *name, struct strbuf *s
 struct chart_points {
     int n;
     struct chart_item *items;
-    double *ms, *q1, *q3, *rmse, *pen, *shaded, *leak, *dark;
+    double *ms, *q1, *q3, *rmse, *pen, *shaded, *leak, *dark, *fetches;
     int *count;
 };
 
@@ -190,7 +190,7 @@ static void points_alloc(struct chart_points *p, int capacity)
 {
     size_t n = (size_t)capacity;
     *p = (struct chart_points){.items = xcalloc(n, sizeof *p->items), .count = xcalloc(n, sizeof(int))};
-    double **arrays[] = {&p->ms, &p->q1, &p->q3, &p->rmse, &p->pen, &p->shaded, &p->leak, &p->dark};
+    double **arrays[] = {&p->ms, &p->q1, &p->q3, &p->rmse, &p->pen, &p->shaded, &p->leak, &p->dark, &p->fetches};
     for (size_t i = 0; i < ARRAY_SIZE(arrays); i++)
         *arrays[i] = xcalloc(n, sizeof(double));
 }
@@ -198,7 +198,7 @@ static void points_alloc(struct chart_points *p, int capacity)
 static void points_free(struct chart_points *p)
 {
     free(p->items), free(p->ms), free(p->q1), free(p->q3), free(p->rmse), free(p->pen);
-    free(p->shaded), free(p->leak), free(p->dark), free(p->count);
+    free(p->shaded), free(p->leak), free(p->dark), free(p->fetches), free(p->count);
 }
 
 /* The subtitle of a chart: its device, and what the times mean there. */
@@ -265,9 +265,12 @@ static int scene_charts(const struct report *r, const char *scene, const char *d
         p.ms[p.n] = c->m.ms_total, p.q1[p.n] = c->m.ms_total_q1, p.q3[p.n] = c->m.ms_total_q3;
         p.rmse[p.n] = c->m.rmse, p.pen[p.n] = c->m.penumbra_rmse, p.shaded[p.n] = c->m.shaded_rmse;
         p.leak[p.n] = c->m.leak_fraction, p.dark[p.n] = c->m.dark_fraction;
+        p.fetches[p.n] = c->m.fetches_per_pixel;
         p.n++;
     }
     const struct chart_series time = {"ms_total", "ms", p.ms, p.q1, p.q3, NULL, NAN};
+    const struct chart_series fetches = {"fetches_per_pixel", "shadow-map fetches per covered pixel", p.fetches,
+                                         NULL, NULL, NULL, NAN};
     const struct chart_series bars[] = {{"rmse", "visibility", p.rmse, NULL, NULL, NULL, NAN},  /* the first two: errors */
                                         {"penumbra_rmse", "visibility", p.pen, NULL, NULL, NULL, NAN},
                                         {"shaded_rmse", "share of mean irradiance", p.shaded, NULL, NULL, NULL, NAN},
@@ -278,6 +281,13 @@ static int scene_charts(const struct report *r, const char *scene, const char *d
     chart_tradeoff_svg(&svg, title, sub, p.items, p.n, &time, bars, 2);
     char *name = util_printf("%s_tradeoff", scene);
     int rc = emit_chart(r, name, &svg, html);
+    free(title), free(name);
+    /* the same against the counted cost, which holds on any device */
+    title = util_printf("%s: error against fetches per pixel", scene);
+    chart_tradeoff_svg(&svg, title, "shadow-map fetches counted on the device (receiver pass and mask): a cost "
+                       "that holds on any GPU", p.items, p.n, &fetches, bars, 2);
+    name = util_printf("%s_fetches", scene);
+    rc |= emit_chart(r, name, &svg, html);
     free(title), free(name);
     title = util_printf("%s: error and failure metrics per technique", scene);
     chart_bars_svg(&svg, title, sub, p.items, p.n, bars, (int)ARRAY_SIZE(bars));
@@ -293,8 +303,8 @@ static int scene_charts(const struct report *r, const char *scene, const char *d
  * a penumbra band (NAN with none); complete when every scene scored it. */
 struct config_mean {
     const struct cell *first;
-    double ms, q1, q3, pen, rmse;
-    int n, pen_n;
+    double ms, q1, q3, pen, rmse, fetches, expensive, misclassified;
+    int n, pen_n, misclassified_n;
     bool complete;
 };
 
@@ -314,13 +324,18 @@ static int config_means(const struct report *r, struct config_mean *out)
         if (isfinite(c->m.penumbra_rmse))  /* none: the scene has no penumbra band */
             m->pen += c->m.penumbra_rmse, m->pen_n++;
         m->rmse += c->m.rmse;
+        m->fetches += c->m.fetches_per_pixel, m->expensive += c->m.expensive_fraction;
+        if (isfinite(c->m.misclassified_fraction))  /* none: nothing decided early */
+            m->misclassified += c->m.misclassified_fraction, m->misclassified_n++;
         m->n++;
     }
     for (int k = 0; k < n; k++) {
         struct config_mean *m = &out[k];
         m->complete &= m->n == r->scene_count;
         m->ms /= m->n, m->q1 /= m->n, m->q3 /= m->n, m->rmse /= m->n;
+        m->fetches /= m->n, m->expensive /= m->n;
         m->pen = m->pen_n ? m->pen / m->pen_n : NAN;
+        m->misclassified = m->misclassified_n ? m->misclassified / m->misclassified_n : NAN;
     }
     return n;
 }
@@ -647,6 +662,45 @@ static void budget_table(const struct report *r, const char *device, struct strb
     free(m);
 }
 
+/* "What each shortcut buys": each technique's presets (seed 003's steps
+ * for pcss) in their order, their mean cost and error over the scenes. */
+static void shortcut_table(const struct report *r, struct strbuf *h)
+{
+    struct config_mean *m = xcalloc((size_t)r->cell_count + 1, sizeof *m);
+    const int n = config_means(r, m);
+    bool any = false;
+    for (int k = 0; k < n; k++) {
+        const struct cell *c = m[k].first;
+        const char *at = strchr(c->label, '@');
+        if (!at || !technique_preset_find(c->technique, at + 1))
+            continue;
+        if (!any)
+            strbuf_printf(h, "<h2 id=\"shortcuts\">What each shortcut buys</h2>\n<p>The presets, in their "
+                             "order (for <code>pcss</code>, seed 003's steps from a 7 &times; 7 grid to its "
+                             "shipped pipeline), as means over the %d scene(s). Fetches are counted on the device "
+                             "and carry to a GPU; the milliseconds are this device's.</p>\n<table id=\"shortcuts-table\">"
+                             "<thead><tr><th>cell</th><th>what</th><th>mean ms_total</th><th>fetches_per_pixel</th>"
+                             "<th>mean penumbra_rmse</th><th>mean rmse</th><th>expensive_fraction</th>"
+                             "<th>misclassified_fraction</th></tr></thead><tbody>\n",
+                          r->scene_count);
+        any = true;
+        strbuf_printf(h, "<tr><td class=\"l\">");
+        strbuf_xml(h, c->label);
+        strbuf_printf(h, "</td><td class=\"l\">");
+        strbuf_xml(h, technique_preset_find(c->technique, at + 1)->summary);
+        strbuf_printf(h, "</td><td>%.2f</td><td>%.1f</td><td>%.4f</td><td>%.4f</td><td>%.3f</td><td>", m[k].ms,
+                      m[k].fetches, m[k].pen, m[k].rmse, m[k].expensive);
+        if (isfinite(m[k].misclassified))
+            strbuf_printf(h, "%.4f", m[k].misclassified);
+        else
+            strbuf_printf(h, "&mdash;");
+        strbuf_printf(h, "</td></tr>\n");
+    }
+    if (any)
+        strbuf_printf(h, "</tbody></table>\n");
+    free(m);
+}
+
 /* The WORST_SHOWN cells with the largest value of a failure metric (above
  * 0), each its visibility and heatmap. */
 #define WORST_SHOWN 3
@@ -767,6 +821,7 @@ static int write_html(const struct report *r)
     failed_cells(r, &h);
     budget_table(r, device, &h);
     int rc = overall_chart(r, device, &h);
+    shortcut_table(r, &h);
     strbuf_printf(&h, "<h2 id=\"worst\">Worst failures</h2>\n<p>Heatmaps share one scale: blue too dark, red "
                       "too bright, grey not scored.</p>\n");
     heatmap_legend(&h, -1);

@@ -21,7 +21,8 @@ void cell_describe(struct cell *c, const char *scene, const struct technique *t,
 void cell_set_times(struct cell *c, const struct stage_times *t)
 {
     c->m.ms_shadowmap = t->shadowmap_ms, c->m.ms_filter_prep = t->filter_prep_ms;
-    c->m.ms_receiver = t->receiver_ms, c->m.ms_total = t->total_ms;
+    c->m.ms_mask = t->mask_ms, c->m.ms_receiver = t->receiver_ms, c->m.ms_denoise = t->denoise_ms;
+    c->m.ms_total = t->total_ms;
     c->m.ms_total_q1 = t->total_q1_ms, c->m.ms_total_q3 = t->total_q3_ms;
 }
 
@@ -90,6 +91,7 @@ int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct
     ss->v = xmalloc(sizeof(float) * count);
     ss->distance = xmalloc(sizeof(float) * count);
     ss->scored = xcalloc(count, sizeof(float));  /* written whole even before any cell is scored */
+    ss->shortcut = xmalloc(sizeof(float) * count);
     ss->timer = (struct stage_timer){.cascades = &ss->cascades, .mesh = &ss->mesh, .receiver = &ss->receiver};
     return 0;
 }
@@ -111,17 +113,24 @@ void scene_setup_truth_posed(struct scene_setup *ss)
         }
 }
 
-GLuint scene_setup_program(struct scene_setup *ss, const struct technique *t, const void *settings)
+struct stage_timer_cell scene_setup_timer_cell(struct scene_setup *ss, const struct technique *t,
+                                               const void *settings)
 {
-    return programs_get(ss->programs, t, settings, ss->scene->light.shape);
+    return (struct stage_timer_cell){t, settings,
+                                     programs_get(ss->programs, t, settings, ss->scene->light.shape, false)};
 }
 
 int scene_setup_cell(struct scene_setup *ss, const struct technique *t, const void *settings, struct metrics *m)
 {
-    const GLuint program = scene_setup_program(ss, t, settings);
-    if (!program || stage_timer_render(&ss->timer, &(struct stage_timer_cell){t, settings, program}) != 0)
+    const struct stage_timer_cell cell = {t, settings,
+                                          programs_get(ss->programs, t, settings, ss->scene->light.shape, true)};
+    if (!cell.programs.receiver || stage_timer_render(&ss->timer, &cell, true) != 0)
         return -1;
     scene_setup_score(ss, m);
+    struct receiver_cost cost;
+    receiver_read_cost(&ss->receiver, &cost, ss->shortcut);
+    metrics_cost(cost.fetches, cost.covered, cost.expensive, ss->shortcut, &ss->gt, ss->scored, ss->width * ss->height, m);
+    m->prep_texels = stage_timer_prep_texels(&ss->timer, &cell);
     return 0;
 }
 
@@ -150,6 +159,6 @@ void scene_setup_free(struct scene_setup *ss)
     receiver_destroy(&ss->receiver);
     shadow_cascades_destroy(&ss->cascades);
     scene_mesh_destroy(&ss->mesh);
-    free(ss->v), free(ss->distance), free(ss->scored), free(ss->view_depth);
+    free(ss->v), free(ss->distance), free(ss->scored), free(ss->view_depth), free(ss->shortcut);
     memset(ss, 0, sizeof *ss);
 }

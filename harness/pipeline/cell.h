@@ -84,6 +84,7 @@ struct scene_setup {
     struct receiver receiver;
     struct stage_timer timer;      /* untimed: frames and warm-up unset */
     float *v, *distance, *scored;  /* the last cell's V_tech, GL distance, scored mask */
+    float *shortcut;               /* the last scored cell's pixels an early-out or the mask decided */
     struct depth_metrics depth;    /* the last cell's error by view depth */
     float *view_depth;             /* each pixel's view depth (the truth's hit along the camera's
                                       axis; -1: none), what cascades are cut by */
@@ -99,17 +100,21 @@ int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct
  * (scene_setup_open calls it). */
 void scene_setup_truth_posed(struct scene_setup *ss);
 
-/* The receiver program of technique t at settings on this scene; 0 after a
- * logged compile error. */
-GLuint scene_setup_program(struct scene_setup *ss, const struct technique *t, const void *settings);
+/* Technique t at settings on this scene, to be timed: its programs (not
+ * the counting ones); .programs.receiver 0 after a logged compile error. */
+struct stage_timer_cell scene_setup_timer_cell(struct scene_setup *ss, const struct technique *t,
+                                               const void *settings);
 
-/* Renders a cell once, untimed, reads it back (ss->v, ss->distance) and
- * scores it into m (the accuracy metrics; its timing fields are left as
- * they are). Returns 0 or -1 (logged). */
+/* Renders a cell once, untimed, with its counting programs, reads it back
+ * (ss->v, ss->distance) and scores it into m: the accuracy metrics and the
+ * counted costs (fetches_per_pixel, prep_texels, expensive_fraction,
+ * misclassified_fraction); its timing fields are left as they are.
+ * Returns 0 or -1 (logged). */
 int scene_setup_cell(struct scene_setup *ss, const struct technique *t, const void *settings, struct metrics *m);
 
 /* Scores what the receiver holds now (the last frame rendered) into m,
- * and its error by view depth into ss->depth. */
+ * and its error by view depth into ss->depth: the accuracy metrics, not
+ * the counted costs. */
 void scene_setup_score(struct scene_setup *ss, struct metrics *m);
 
 /* How a scene's cells are timed (stage_timer.h): warmup untimed rounds,

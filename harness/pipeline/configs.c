@@ -142,6 +142,24 @@ static int add_tuned(struct config_set *out, const struct config_desc *o, const 
     return 0;
 }
 
+/* Appends t's presets, <t>@<name>: its defaults and the preset's values. */
+static int add_presets(struct config_set *out, const struct technique *t)
+{
+    for (const struct technique_preset *p = t->presets; p && p->name; p++) {
+        if (out->count == CONFIG_MAX) {
+            log_error("more than %d technique configurations in one run", CONFIG_MAX);
+            return -1;
+        }
+        struct run_config *c = &out->configs[out->count++];
+        c->technique = t;
+        c->settings = params_defaults(t);
+        c->label = util_printf("%s@%s", t->name, p->name);
+        if (params_apply(t, c->settings, p->params, c->label) != 0 || params_check(t, c->settings) != 0)
+            return -1;
+    }
+    return 0;
+}
+
 int configs_build(struct config_set *out, const struct config_desc *o)
 {
     memset(out, 0, sizeof *out);
@@ -172,6 +190,8 @@ int configs_build(struct config_set *out, const struct config_desc *o)
             rc = add_tuned(out, o, o->techniques[i]);
         if (!rc && o->mode == CONFIG_AUTO && out->count == before)  /* no tuned file */
             rc = add_configs(out, o, ti, sweeps, count);
+        if (!rc && (o->mode == CONFIG_AUTO || o->mode == CONFIG_BOTH))  /* the named settings */
+            rc = add_presets(out, o->techniques[i]);
     }
     for (int i = 0; i < count; i++)
         sweep_clear(&sweeps[i]);

@@ -1,8 +1,9 @@
 /* The technique configurations of a run: every selected technique with its
  * settings (defaults and --set), and for a technique named by --sweep
  * T.P=v1,v2,... one configuration per combination of its swept values (the
- * cartesian product of its sweeps); and each technique's tuned cell,
- * <technique>@tuned, whose settings differ by scene (score/tuned.h). */
+ * cartesian product of its sweeps); each technique's tuned cell,
+ * <technique>@tuned, whose settings differ by scene (score/tuned.h); and
+ * its presets, <technique>@<name> (technique.h), in the default run. */
 #ifndef SB_CONFIGS_H
 #define SB_CONFIGS_H
 
@@ -25,7 +26,8 @@ struct run_config {
 
 /* Which cells of each technique a run makes (--settings). CONFIG_AUTO, the
  * default: the tuned cell, or the default cells when --set or --sweep
- * changes them or the technique has no tuned file. */
+ * changes them or the technique has no tuned file; and without --set or
+ * --sweep, its presets (so with CONFIG_BOTH). */
 enum config_mode { CONFIG_AUTO, CONFIG_BOTH, CONFIG_DEFAULT, CONFIG_TUNED };
 
 struct config_desc {

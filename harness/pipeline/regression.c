@@ -10,8 +10,8 @@
 #include <string.h>
 
 /* "pcf@radius_texels=8,pattern=grid" -> technique and settings (defaults
- * plus the values); "pcf@tuned" -> pcf's tuned settings for scene s (from
- * tuned_dir). Returns 0 or -1 (logged). */
+ * plus the values); "pcss@seed003" -> a preset's; "pcf@tuned" -> pcf's
+ * tuned settings for scene s (from tuned_dir). Returns 0 or -1 (logged). */
 static int parse_label(const char *label, const struct scene *s, const char *tuned_dir,
                        const struct technique **t, void **settings)
 {
@@ -39,28 +39,8 @@ static int parse_label(const char *label, const struct scene *s, const char *tun
         return 0;
     }
     *settings = params_defaults(*t);
-    char *list = xstrdup(at ? at + 1 : ""), *rest = list, *names[64];
-    int rc = 0, given = 0;
-    for (char *item = strsep(&rest, ","); at && item && !rc; item = strsep(&rest, ",")) {
-        char *eq = strchr(item, '=');
-        if (!eq) {
-            log_error("cell '%s': '%s' is not parameter=value", label, item);
-            rc = -1;
-            break;
-        }
-        *eq = '\0';
-        /* Each parameter once: "p=1,p=2" would be two cells in one name. */
-        for (int i = 0; i < given && !rc; i++)
-            if (strcmp(names[i], item) == 0) {
-                log_error("cell '%s': %s is given twice", label, item);
-                rc = -1;
-            }
-        if (given < (int)(sizeof names / sizeof *names))
-            names[given++] = item;
-        if (!rc)
-            rc = params_set(*t, *settings, item, eq + 1);
-    }
-    free(list);
+    const struct technique_preset *preset = at ? technique_preset_find(*t, at + 1) : NULL;
+    int rc = at ? params_apply(*t, *settings, preset ? preset->params : at + 1, label) : 0;
     if (!rc)
         rc = params_check(*t, *settings);
     if (rc) {
@@ -152,6 +132,14 @@ int regression_collect(struct regression *r, const struct scene *scenes, int sce
             if (rc)
                 return -1;
         }
+        for (int i = 0; i < technique_count; i++)  /* the presets, as the run has them */
+            for (const struct technique_preset *p = techniques[i]->presets; p && p->name; p++) {
+                char *label = util_printf("%s@%s", techniques[i]->name, p->name);
+                const int rc = add_cell(r, techniques, technique_count, &scenes[s], label, false);
+                free(label);
+                if (rc)
+                    return -1;
+            }
         /* in registry order, whatever the order of the selection */
         for (const struct technique *const *t = technique_list; *t; t++)
             for (const struct technique_cell *d = (*t)->regression; d && d->scene; d++)

@@ -119,7 +119,7 @@ static int add_rows(struct stability *st, int s, int m, size_t count, struct liv
     int n = 0;
     for (int i = 0; i < st->technique_count; i++) {
         const struct technique *t = st->techniques[i];
-        const GLuint program = programs_get(&st->programs, t, st->settings[i], st->scenes[s].light.shape);
+        const GLuint program = programs_get(&st->programs, t, st->settings[i], st->scenes[s].light.shape, true).receiver;
         if (!program) {  /* the rows so far go too */
             for (int k = 0; k < n; k++)
                 free(live[k].v), free(live[k].history), free(live[k].prev_history);

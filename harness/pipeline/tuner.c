@@ -33,18 +33,17 @@ static void *settings_of(const struct tuner *tn, const int *point)
     return s;
 }
 
-/* The program of these settings for scene k's light; a new one is
- * rendered once on scene k, untimed, before any frame of it is timed. 0 on
- * failure. */
-static GLuint program_for(struct tuner *tn, const void *settings, int k)
+/* The cell of these settings for scene k's light; a new program is
+ * rendered once on scene k, untimed, before any frame of it is timed.
+ * .programs.receiver 0 on failure. */
+static struct stage_timer_cell cell_for(struct tuner *tn, const void *settings, int k)
 {
     struct scene_setup *ss = &tn->setups[k];
     const int known = ss->programs->count;
-    const GLuint program = scene_setup_program(ss, tn->t, settings);
-    if (program && ss->programs->count > known &&
-        stage_timer_render(&ss->timer, &(struct stage_timer_cell){tn->t, settings, program}) != 0)
-        return 0;
-    return program;
+    struct stage_timer_cell cell = scene_setup_timer_cell(ss, tn->t, settings);
+    if (cell.programs.receiver && ss->programs->count > known && stage_timer_render(&ss->timer, &cell, false) != 0)
+        cell.programs.receiver = 0;
+    return cell;
 }
 
 static void show_progress(const struct tune_progress *p, const char *technique)
@@ -69,10 +68,10 @@ static int measure(struct tuner *tn, const int *point, int k, int warmup, int fr
 {
     void *s = settings_of(tn, point);
     struct scene_setup *ss = &tn->setups[k];
-    const struct stage_timer_cell cell = {tn->t, s, program_for(tn, s, k)};
+    const struct stage_timer_cell cell = cell_for(tn, s, k);
     struct stage_times times;
     const struct scene_setup_timing how = {.warmup = warmup, .frames = frames, .timing = tn->o->timing};
-    int rc = !cell.program || scene_setup_time(ss, &how, &cell, 1, &times) != 0;
+    int rc = !cell.programs.receiver || scene_setup_time(ss, &how, &cell, 1, &times) != 0;
     free(s);
     if (rc)
         return -1;

@@ -5,7 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-enum { STAGE_SHADOWMAP, STAGE_FILTER_PREP, STAGE_RECEIVER, STAGE_COUNT };
+enum { STAGE_SHADOWMAP, STAGE_FILTER_PREP, STAGE_MASK, STAGE_RECEIVER, STAGE_DENOISE, STAGE_COUNT };
 
 static const char *const timing_names[] = {"auto", "wall", "query"};
 
@@ -60,7 +60,8 @@ static double stage_end(struct stage_clock *k)
 
 /* One timed frame of a cell with requests r (one per cascade), its stages'
  * ms added to ms by clock k: every product of every cascade rendered
- * afresh (a frame's cost is all of its work), then the receiver pass. */
+ * afresh (a frame's cost is all of its work), then the screen-space stages
+ * and the receiver pass, each timed only where the cell has it. */
 static void timed_frame(const struct stage_timer *t, const struct stage_timer_cell *c,
                         const struct shadowmap_request *r, struct stage_clock *k, double ms[STAGE_COUNT])
 {
@@ -72,9 +73,20 @@ static void timed_frame(const struct stage_timer *t, const struct stage_timer_ce
                 shadowmap_render_product(&cs->map[m], t->mesh, p, &r[m]);
                 ms[p == SM_PRODUCT_DEPTH ? STAGE_SHADOWMAP : STAGE_FILTER_PREP] += stage_end(k);
             }
+    const struct receiver_programs *p = &c->programs;
+    if (p->mask) {
+        stage_begin(k);
+        receiver_render_mask(t->receiver, p, t->mesh, cs, false);
+        ms[STAGE_MASK] += stage_end(k);
+    }
     stage_begin(k);
-    receiver_render(t->receiver, c->program, t->mesh, cs);
+    receiver_render(t->receiver, p, t->mesh, cs, false);
     ms[STAGE_RECEIVER] += stage_end(k);
+    if (p->stages.denoise_radius_px) {
+        stage_begin(k);
+        receiver_render_denoise(t->receiver, p);
+        ms[STAGE_DENOISE] += stage_end(k);
+    }
 }
 
 /* The cell's request of each cascade's map (its options follow the map's
@@ -89,7 +101,7 @@ static int request(const struct stage_timer *t, const struct stage_timer_cell *c
         if (shadowmap_prepare(sm, &r[m]) != 0)
             return -1;
     }
-    return 0;
+    return receiver_prepare(t->receiver, &c->programs);
 }
 
 int stage_timer_run(const struct stage_timer *t, const struct stage_timer_cell *cells, int n,
@@ -121,12 +133,17 @@ int stage_timer_run(const struct stage_timer *t, const struct stage_timer_cell *
     }
     for (int i = 0; i < n && !rc; i++) {
         double *stage = &samples[i * STAGE_COUNT * frames];
-        for (int f = 0; f < frames; f++)
-            totals[f] = stage[f] + stage[frames + f] + stage[2 * frames + f];
+        for (int f = 0; f < frames; f++) {
+            totals[f] = 0;
+            for (int st = 0; st < STAGE_COUNT; st++)
+                totals[f] += stage[st * frames + f];
+        }
         out[i] = (struct stage_times){
-            .shadowmap_ms = util_quantile(stage, frames, 0.5),
-            .filter_prep_ms = util_quantile(stage + frames, frames, 0.5),
-            .receiver_ms = util_quantile(stage + 2 * frames, frames, 0.5),
+            .shadowmap_ms = util_quantile(stage + STAGE_SHADOWMAP * frames, frames, 0.5),
+            .filter_prep_ms = util_quantile(stage + STAGE_FILTER_PREP * frames, frames, 0.5),
+            .mask_ms = util_quantile(stage + STAGE_MASK * frames, frames, 0.5),
+            .receiver_ms = util_quantile(stage + STAGE_RECEIVER * frames, frames, 0.5),
+            .denoise_ms = util_quantile(stage + STAGE_DENOISE * frames, frames, 0.5),
             .total_ms = util_quantile(totals, frames, 0.5),
             .total_q1_ms = util_quantile(totals, frames, 0.25),
             .total_q3_ms = util_quantile(totals, frames, 0.75),
@@ -140,7 +157,7 @@ int stage_timer_run(const struct stage_timer *t, const struct stage_timer_cell *
     return rc;
 }
 
-int stage_timer_render(const struct stage_timer *t, const struct stage_timer_cell *c)
+int stage_timer_render(const struct stage_timer *t, const struct stage_timer_cell *c, bool counting)
 {
     struct shadowmap_request r[CASCADES_MAX];
     if (request(t, c, r) != 0)
@@ -149,6 +166,23 @@ int stage_timer_render(const struct stage_timer *t, const struct stage_timer_cel
         for (int p = 0; p < SM_PRODUCT_COUNT; p++)
             if (r[m].products & (1u << p))
                 shadowmap_ensure_product(&t->cascades->map[m], t->mesh, p, &r[m]);
-    receiver_render(t->receiver, c->program, t->mesh, t->cascades);
+    receiver_render_mask(t->receiver, &c->programs, t->mesh, t->cascades, counting);
+    receiver_render(t->receiver, &c->programs, t->mesh, t->cascades, counting);
+    receiver_render_denoise(t->receiver, &c->programs);
     return 0;
+}
+
+double stage_timer_prep_texels(const struct stage_timer *t, const struct stage_timer_cell *c)
+{
+    double texels = 0;
+    for (int m = 0; m < t->cascades->count; m++) {
+        const struct shadowmap *sm = &t->cascades->map[m];
+        struct shadowmap_request r;
+        technique_request(c->technique, c->settings, &(struct request_context){&sm->frustum, sm->desc.size_texels},
+                          &r);
+        for (int p = 0; p < SM_PRODUCT_COUNT; p++)
+            if (p != SM_PRODUCT_DEPTH && (r.products & (1u << p)))
+                texels += shadowmap_prep_texels(sm, p, &r);
+    }
+    return texels;
 }

@@ -163,3 +163,17 @@ double metrics_value(const struct metrics *m, int k)
     }
     return NAN;
 }
+
+void metrics_cost(double fetches, long covered, long expensive, const float *shortcut, const struct gt_image *gt,
+                  const float *scored, int count, struct metrics *m)
+{
+    m->fetches_per_pixel = covered ? fetches / (double)covered : NAN;
+    m->expensive_fraction = covered ? (double)expensive / (double)covered : NAN;
+    long decided = 0, in_band = 0;
+    for (int i = 0; i < count; i++)
+        if (scored[i] != 0 && shortcut[i] != 0) {
+            decided++;
+            in_band += gt->v[i] > METRICS_PENUMBRA_LO && gt->v[i] < METRICS_PENUMBRA_HI;
+        }
+    m->misclassified_fraction = decided ? (double)in_band / (double)decided : NAN;
+}

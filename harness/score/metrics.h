@@ -54,10 +54,18 @@
     X(penumbra_pixels, long, "%.0f", false, "pixels in the penumbra band")                       \
     X(ms_shadowmap, double, "%.2f", true, "median ms per frame: the depth pass")                 \
     X(ms_filter_prep, double, "%.2f", true, "median ms per frame: the products filtered from it") \
+    X(ms_mask, double, "%.2f", false, "median ms per frame: the penumbra mask's pre-pass (0: none)") \
     X(ms_receiver, double, "%.2f", true, "median ms per frame: the receiver pass")                \
+    X(ms_denoise, double, "%.2f", false, "median ms per frame: the denoiser (0: none)")          \
     X(ms_total, double, "%.2f", true, "median ms of a whole frame (all its stages)")             \
     X(ms_total_q1, double, "%.2f", false, "first quartile of the frames' ms_total")              \
     X(ms_total_q3, double, "%.2f", false, "third quartile of the frames' ms_total")               \
+    X(fetches_per_pixel, double, "%.1f", true, "shadow-map fetches per covered pixel (receiver pass and mask), " \
+      "counted on the device")                                                                   \
+    X(prep_texels, double, "%.0f", false, "texels read and written per frame by the passes that build the products") \
+    X(expensive_fraction, double, "%.3f", false, "share of covered pixels that ran the full filter")  \
+    X(misclassified_fraction, double, "%.4f", false, "of the pixels an early-out or the mask decided, the share " \
+      "in the true penumbra")                                                                    \
     X(gt_noise_rmse, double, "%.4f", false, "the ground truth's own rms error over the scored pixels") \
     X(gt_noise_penumbra_rmse, double, "%.4f", true, "the ground truth's own rms error over the band")
 
@@ -101,6 +109,15 @@ void metrics_compute(const float *v_tech, const struct gt_image *gt, const float
  * (METRICS_PENUMBRA_LO, METRICS_PENUMBRA_HI), dilated by
  * METRICS_PENUMBRA_DILATE pixels; else 0. */
 void metrics_penumbra_band(const float *v_gt, const float *scored, int width, int height, float *band);
+
+/* The counted costs of docs/metrics.md from a counting frame
+ * (render/receiver.h's receiver_cost): fetches over the covered pixels (fetches_per_pixel), the share of them that ran
+ * the full filter (expensive_fraction), and of the scored pixels a
+ * shortcut decided (shortcut[i] != 0), the share whose V_gt lies in
+ * (METRICS_PENUMBRA_LO, METRICS_PENUMBRA_HI) (misclassified_fraction; NAN
+ * when none was decided so). */
+void metrics_cost(double fetches, long covered, long expensive, const float *shortcut, const struct gt_image *gt,
+                  const float *scored, int count, struct metrics *m);
 
 /* Whether the cell had anything to score (its error metrics are numbers). */
 bool metrics_scored(const struct metrics *m);

@@ -15,10 +15,10 @@ static int render_side(struct viewer *v, int k)
 {
     const struct technique *t = viewer_technique(v, k);
     const void *settings = viewer_settings(v, k);
-    GLuint program = programs_get(&v->programs, t, settings, v->posed.light.shape);
+    const struct stage_timer_cell cell = {t, settings, programs_get(&v->programs, t, settings, v->posed.light.shape,
+                                                                    false)};
     struct stage_times now;
-    if (!program ||
-        stage_timer_run(&v->timer, &(struct stage_timer_cell){t, settings, program}, 1, &now) != 0)
+    if (!cell.programs.receiver || stage_timer_run(&v->timer, &cell, 1, &now) != 0)
         return -1;
     receiver_read(&v->receiver, v->v[k], v->distance[k]);
     struct stage_times *avg = &v->times[k];
