@@ -39,7 +39,7 @@ static int synthetic_eval(void *user, const int *p, int k, struct tune_sample *s
     e += 0.5 * (p[0] - p[1]) * (p[0] - p[1]) * (k % 2);
     if (k == y->scene_poisoned)
         e = 1000 - 37 * p[0] + 11 * p[2] * p[1];  /* another optimum altogether */
-    *s = (struct tune_sample){e, 1.0 + p[0], 0.9 + p[0], 1.1 + p[0], false};
+    *s = (struct tune_sample){e, 1.0 + p[0], 0.9 + p[0], 1.1 + p[0], NAN, false};
     y->calls[k]++;
     size_t n = strlen(y->order);
     snprintf(y->order + n, sizeof y->order - n, "%d:%d,%d,%d;", k, p[0], p[1], p[2]);
@@ -416,4 +416,50 @@ static void command(void)
     free(bad);
 }
 
-TEST_MAIN(dir, search, tables, command)
+/* tune --cost fetches: every point counts its fetches, the frontiers are
+ * Pareto fronts of error against them, the file says so, and run draws the
+ * frontier chart by fetches. pcf's samples set its fetches exactly, so
+ * the front is a staircase over tap counts. */
+static void cost_fetches(void)
+{
+    char *cmd = util_printf("%s tune --technique pcf --cost fetches --scene parallel_planes --scene contact_hardening "
+                            "--width 48 --height 48 --gt-samples 16 --frames 1 --no-cache -q --out %s/tune_fetches "
+                            "--write-tuned --allow-uncommitted --tuned %s/tuned_fetches", sb, dir, dir);
+    struct strbuf err = {0};
+    CHECK(run_cmd(cmd, &err, NULL) == 0, "tune --cost fetches: %s", err.data);
+    strbuf_free(&err);
+    free(cmd);
+    char *path = util_printf("%s/tuned_fetches/pcf.json", dir);
+    cJSON *j = read_json(path);
+    CHECK(j && strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(j, "cost")), "fetches") == 0,
+          "%s: cost fetches", path);
+    const cJSON *p;
+    double last = -1, last_error = INFINITY;
+    int n = 0;
+    cJSON_ArrayForEach(p, cJSON_GetObjectItem(cJSON_GetObjectItem(j, "frontier"), "all")) {
+        const cJSON *f = cJSON_GetObjectItem(p, "fetches");
+        const double e = cJSON_GetObjectItem(p, "error")->valuedouble;
+        CHECK(cJSON_IsNumber(f) && f->valuedouble >= last && e < last_error,
+              "fetches frontier point %d: %g fetches, %g after %g, %g", n, cJSON_GetNumberValue(f), e, last,
+              last_error);
+        /* pcf: its tap count on every pixel of these scenes inside the map */
+        CHECK(cJSON_IsNumber(f) && f->valuedouble <= 128 && f->valuedouble >= 15, "pcf's fetches are its taps: %g",
+              cJSON_GetNumberValue(f));
+        last = cJSON_GetNumberValue(f), last_error = e, n++;
+    }
+    CHECK(n >= 1, "an empty frontier");
+    cJSON_Delete(j);
+    free(path);
+    cmd = util_printf("%s run --technique pcf --scene parallel_planes --scene contact_hardening --width 32 --height 32 "
+                      "--gt-samples 4 --frames 1 --no-cache -q --tuned %s/tuned_fetches --out %s/run_fetches", sb, dir,
+                      dir);
+    CHECK(run_cmd(cmd, NULL, NULL) == 0, "%s", cmd);
+    free(cmd);
+    char *svg = util_printf("%s/run_fetches/charts/frontier.svg", dir), *text = NULL;
+    size_t size;
+    CHECK(util_read_file(svg, &text, &size) == 0 && strstr(text, "fetches per covered pixel"),
+          "%s: the frontier chart's axis is fetches", svg);
+    free(text), free(svg);
+}
+
+TEST_MAIN(dir, search, tables, command, cost_fetches)

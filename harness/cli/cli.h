@@ -72,6 +72,7 @@ struct options {
     bool tuned_given;                    /* --tuned was given */
     enum config_mode settings_mode;      /* run: default, tuned or both cells */
     int objective;                       /* tune: the metric minimised (METRIC_*) */
+    bool cost_fetches;                   /* tune --cost fetches: the frontiers by counted fetches */
     bool write_tuned;                    /* tune: write tuned_dir/<technique>.json */
     const char *motions[CLI_MAX_MOTIONS];  /* stability: --motion specs as given */
     int motion_count;

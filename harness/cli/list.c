@@ -14,6 +14,9 @@ int list_main(const struct options *o)
     for (const struct technique *const *t = technique_list; *t; t++) {
         printf("  %-10s %s\n", (*t)->name, (*t)->summary);
         params_print(*t, stdout);
+        for (const struct technique_preset *p = (*t)->presets; p && p->name; p++)
+            printf("%s    %s@%-22s %s\n      = %s\n", p == (*t)->presets ? "    presets (cells of the default run):\n" : "",
+                   (*t)->name, p->name, p->summary, p->params);
         printf("\n");
     }
     char **paths;

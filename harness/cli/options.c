@@ -209,6 +209,15 @@ static int set_settings_mode(struct options *o, const char *arg)
 
 static const char *const objective_names[] = {"penumbra_rmse", "rmse", "shaded_rmse", NULL};
 
+static const char *const cost_names[] = {"ms", "fetches", NULL};
+static int set_cost(struct options *o, const char *arg)
+{
+    int k = 0;
+    const int rc = options_choice("cost", arg, cost_names, &k);
+    o->cost_fetches = rc ? o->cost_fetches : k == 1;
+    return rc;
+}
+
 static int set_objective(struct options *o, const char *arg)
 {
     static const int metrics[] = {METRIC_penumbra_rmse, METRIC_rmse, METRIC_shaded_rmse};
@@ -426,6 +435,9 @@ const struct option_row option_rows[] = {
     {"allow-uncommitted", 0, NULL, ON(CHECK) | ON(TUNE), OPTION_FLAG, FIELD(allow_uncommitted), 0, 0, NULL,
      "record (--update, --write-tuned) from a source tree whose code that renders or scores has uncommitted "
      "changes, which is refused otherwise; the files say so (their source_tree and command_line)"},
+    {"cost", 0, "C", ON(TUNE), OPTION_NONE, 0, 0, 0, set_cost,
+     "the frontiers' cost axis: ms (default: ms_total on this device) or fetches (fetches_per_pixel, counted on "
+     "the device: a cost that holds on any GPU; the search then scores a counting frame)"},
     {"objective", 0, "M", ON(TUNE), OPTION_NONE, 0, 0, 0, set_objective,
      "the error minimised, averaged over the scenes: penumbra_rmse (default), rmse or shaded_rmse"},
     {"write-tuned", 0, NULL, ON(TUNE), OPTION_FLAG, FIELD(write_tuned), 0, 0, NULL,

@@ -269,7 +269,8 @@ int run_main(const struct options *o)
         struct report rep = {.out_dir = o->out_dir, .width = o->width, .height = o->height, .run = run, .scenes = rs,
                              .scene_count = scene_count, .cells = r.cells, .cell_count = r.cell_count,
                              .frontier = frontiers.all, .frontier_count = frontiers.all_count,
-                             .frontier_source = frontiers.source, .frontier_objective = frontiers.objective};
+                             .frontier_source = frontiers.source, .frontier_objective = frontiers.objective,
+                             .frontier_fetches = frontiers.cost_fetches};
         failed = report_write(&rep);
         cJSON_Delete(run);
     }

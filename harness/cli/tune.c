@@ -69,7 +69,7 @@ static int tune_all(const struct options *o, const char *tuned, const struct sce
                     int scene_count, struct program_cache *programs)
 {
     const struct tune_options to = {o->width, o->height, o->gt_samples, o->shadow_map_size, o->frames, o->warmup,
-                                    o->timing, o->objective};
+                                    o->timing, o->objective, o->cost_fetches};
     struct tune_progress progress = {.start_ms = util_now_ms(), .per_size = TUNE_PER_SIZE_GUESS};
     static struct tuner tuners[CLI_MAX_TECHNIQUES];
     for (int i = 0; i < o->technique_count; i++) {

@@ -15,12 +15,15 @@ static void add_curve(struct frontiers *f, const struct tuned *tu, const char *s
     const int count = tuned_frontier(tu, scene, &p, &def, &tuned);
     if (count) {
         double *a = xmalloc(sizeof(double) * 4 * (size_t)count);
+        const bool by_fetches = tu->cost_fetches;  /* counted: no spread */
         for (int i = 0; i < count; i++)
-            a[i] = p[i].ms, a[count + i] = p[i].error, a[2 * count + i] = p[i].ms_q1, a[3 * count + i] = p[i].ms_q3;
+            a[i] = by_fetches ? p[i].fetches : p[i].ms, a[count + i] = p[i].error,
+            a[2 * count + i] = by_fetches ? p[i].fetches : p[i].ms_q1, a[3 * count + i] = by_fetches ? p[i].fetches : p[i].ms_q3;
         f->arrays = xrealloc(f->arrays, sizeof *f->arrays * (size_t)(f->array_count + 1));
         f->arrays[f->array_count++] = a;
         curves[(*n)++] = (struct chart_curve){{tu->t->name, tu->t->name, technique_index(tu->t)}, count, a, a + count, a + 2 * count,
-                                              a + 3 * count, def.ms, def.error, tuned.ms, tuned.error};
+                                              a + 3 * count, by_fetches ? def.fetches : def.ms, def.error,
+                                              by_fetches ? tuned.fetches : tuned.ms, tuned.error};
     }
     free(p);
 }
@@ -41,9 +44,10 @@ void frontiers_build(struct frontiers *f, const struct run_config *configs, int 
             continue;
         if (first && (tu->width != first->width || tu->height != first->height ||
                       tu->shadow_map_size != first->shadow_map_size || strcmp(tu->objective, first->objective) ||
+                      tu->cost_fetches != first->cost_fetches ||
                       !cJSON_Compare(cJSON_GetObjectItemCaseSensitive(tu->doc, "scenes"),
                                      cJSON_GetObjectItemCaseSensitive(first->doc, "scenes"), true))) {
-            log_warn("%s: tuned at another size, map, objective or set of scenes than %s: its cell runs, its "
+            log_warn("%s: tuned at another size, map, objective, cost or set of scenes than %s: its cell runs, its "
                      "frontier is left out of the chart", tu->path, first->path);
             continue;
         }
@@ -55,6 +59,7 @@ void frontiers_build(struct frontiers *f, const struct run_config *configs, int 
             f->source = util_printf("shadowbench tune at %dx%d, a %d^2 shadow map, on %s (%s, %s)", tu->width,
                                     tu->height, tu->shadow_map_size, tu->gl_renderer, tuned_dir, tu->date);
             f->objective = xstrdup(tu->objective);
+            f->cost_fetches = tu->cost_fetches;
         }
     }
 }

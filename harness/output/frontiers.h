@@ -16,6 +16,7 @@ struct frontiers {
     double **arrays;
     int array_count;
     char *source, *objective;          /* where and how they were measured; the error minimised */
+    bool cost_fetches;                 /* their cost axis: fetches per pixel, else ms per frame */
 };
 
 /* The curves of the tuned configurations among configs[0..n-1] on the

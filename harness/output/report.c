@@ -374,11 +374,13 @@ static int frontier_chart(const struct report *r, const char *scene, const struc
 {
     if (!n)
         return 0;
-    char *title = util_printf("%s%sfrontier: the least error for a time budget", scene ? scene : "",
-                              scene ? ": " : "all scenes: ");
+    char *title = util_printf("%s%sfrontier: the least error for a %s budget", scene ? scene : "",
+                              scene ? ": " : "all scenes: ", r->frontier_fetches ? "fetch" : "time");
     struct strbuf svg = {0};
     char *y = util_printf("%s%s (lower is better)", scene ? "" : "mean ", r->frontier_objective);
-    chart_frontier_svg(&svg, title, r->frontier_source, curves, n, "ms per frame (median, log scale; bar: quartiles)",
+    chart_frontier_svg(&svg, title, r->frontier_source, curves, n,
+                       r->frontier_fetches ? "shadow-map fetches per covered pixel (counted, log scale)"
+                                           : "ms per frame (median, log scale; bar: quartiles)",
                        y);
     free(y);
     char *name = scene ? util_printf("%s_frontier", scene) : xstrdup("frontier");

@@ -31,6 +31,7 @@ struct report {
     int frontier_count;
     const char *frontier_source;         /* where and how they were measured */
     const char *frontier_objective;      /* the error they minimise, e.g. "penumbra_rmse" */
+    bool frontier_fetches;               /* their cost axis is fetches per pixel, not ms */
 };
 
 /* Every metric of a cell as a flat JSON object (scene, technique, params,

@@ -72,12 +72,21 @@ static int measure(struct tuner *tn, const int *point, int k, int warmup, int fr
     struct stage_times times;
     const struct scene_setup_timing how = {.warmup = warmup, .frames = frames, .timing = tn->o->timing};
     int rc = !cell.programs.receiver || scene_setup_time(ss, &how, &cell, 1, &times) != 0;
-    free(s);
-    if (rc)
+    if (rc) {
+        free(s);
         return -1;
-    if (m)
+    }
+    /* the search scores the timed frame, or with --cost fetches a counting frame (the same picture) */
+    if (m && tn->o->cost_fetches) {
+        if (scene_setup_cell(ss, tn->t, cell.settings, m) != 0)
+            return -1;
+        out->fetches = m->fetches_per_pixel;
+    } else if (m) {
         scene_setup_score(ss, m);
+        out->fetches = NAN;
+    }
     out->ms = times.total_ms, out->ms_q1 = times.total_q1_ms, out->ms_q3 = times.total_q3_ms;
+    free(s);
     out->retimed = !m;  /* only the search scores what it times */
     tn->progress->cells++;
     show_progress(tn->progress, tn->t->name);
@@ -93,7 +102,7 @@ static int evaluate(void *user, const int *point, int k, struct tune_sample *out
     const bool refused = tn->t->check && tn->t->check(s, why, sizeof why) != 0;
     free(s);
     if (refused) {  /* a combination the technique refuses */
-        *out = (struct tune_sample){INFINITY, NAN, NAN, NAN, false};
+        *out = (struct tune_sample){INFINITY, NAN, NAN, NAN, NAN, false};
         return 0;
     }
     struct metrics m = {0};
@@ -113,6 +122,8 @@ static cJSON *point_json(struct tune_sample mean)
     cJSON_AddNumberToObject(o, "ms", mean.ms);
     cJSON_AddNumberToObject(o, "ms_q1", mean.ms_q1);
     cJSON_AddNumberToObject(o, "ms_q3", mean.ms_q3);
+    if (isfinite(mean.fetches))
+        cJSON_AddNumberToObject(o, "fetches", mean.fetches);
     return o;
 }
 
@@ -120,11 +131,12 @@ static cJSON *point_json(struct tune_sample mean)
 static void sample_add(struct tune_sample *sum, const struct tune_sample *s)
 {
     sum->objective += s->objective, sum->ms += s->ms, sum->ms_q1 += s->ms_q1, sum->ms_q3 += s->ms_q3;
+    sum->fetches += s->fetches;
 }
 
 static struct tune_sample sample_scaled(struct tune_sample s, double f)
 {
-    return (struct tune_sample){s.objective * f, s.ms * f, s.ms_q1 * f, s.ms_q3 * f, s.retimed};
+    return (struct tune_sample){s.objective * f, s.ms * f, s.ms_q1 * f, s.ms_q3 * f, s.fetches * f, s.retimed};
 }
 
 /* Mean of entry e's samples over every scene (each evaluated: callers check). */
@@ -144,7 +156,7 @@ static cJSON *settings_json(const struct tuner *tn, const int *point)
     return j;
 }
 
-/* The Pareto front of error against time over the entries evaluated on
+/* The Pareto front of error against cost (time, or fetches) over the entries evaluated on
  * scene k (k < 0: the means over every scene), only the cells timed again
  * when retimed: into front[] (memo indices, by time) and their samples into
  * means[] (may be NULL); returns the count. */
@@ -162,7 +174,7 @@ static int pareto_entries(const struct tuner *tn, int k, bool retimed, int *fron
                 usable &= e->done[j] && (!retimed || e->s[j].retimed);
         const struct tune_sample s = k < 0 ? entry_mean(tn, e) : e->s[k];
         if (usable && isfinite(s.objective)) {
-            all[m] = s, src[m] = i, x[m] = s.ms, y[m] = s.objective;
+            all[m] = s, src[m] = i, x[m] = tn->o->cost_fetches ? s.fetches : s.ms, y[m] = s.objective;
             m++;
         }
     }
@@ -212,6 +224,7 @@ static cJSON *technique_json(const struct tuner *tn, const int *start, const int
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "technique", tn->t->name);
     cJSON_AddStringToObject(j, "objective", metric_info[o->objective].key);
+    cJSON_AddStringToObject(j, "cost", o->cost_fetches ? "fetches" : "ms");
     cJSON_AddStringToObject(j, "search", TUNE_SEARCH_TEXT);
     cJSON *space = cJSON_AddObjectToObject(j, "space");
     for (int d = 0; d < tn->dim_count; d++) {

@@ -30,6 +30,7 @@ struct tune_options {
     int frames, warmup;           /* of the cells the record reports, timed again */
     enum stage_timing timing;
     int objective;                /* METRIC_*: the error minimised, its mean over the scenes */
+    bool cost_fetches;            /* the frontiers' cost: fetches_per_pixel (counted), else ms_total */
 };
 
 /* Starting guess of the cells per unit of tuner_size: coordinate descent

@@ -22,6 +22,7 @@
 struct tune_sample {
     double objective;
     double ms, ms_q1, ms_q3;  /* time per frame: median and quartiles */
+    double fetches;           /* fetches_per_pixel, counted (tune --cost fetches); NAN: not counted */
     bool retimed;             /* timed again for the files (pipeline/tuner.c), not by the search */
 };
 

@@ -34,23 +34,28 @@ static bool read_point(const cJSON *o, struct tuned_point *p)
             return false;
         *dst[i] = v->valuedouble;
     }
+    const cJSON *f = cJSON_GetObjectItemCaseSensitive(o, "fetches");  /* optional: counted */
+    p->fetches = cJSON_IsNumber(f) && isfinite(f->valuedouble) && f->valuedouble > 0 ? f->valuedouble : NAN;
+    if (f && isnan(p->fetches))
+        return false;
     /* Errors are shares of visibility (shaded_rmse may pass 1, not by 1e3);
      * times from a microsecond to an hour: what a chart's axes can hold. */
     return p->error <= TUNED_MAX_ERROR && p->ms_q1 >= 1e-3 && p->ms_q1 <= p->ms && p->ms <= p->ms_q3 &&
            p->ms_q3 <= 3.6e6;
 }
 
-/* A frontier: points with their settings' text, a Pareto front (time
- * increasing, error decreasing). */
-static bool valid_frontier(const cJSON *a)
+/* A frontier: points with their settings' text, a Pareto front (cost
+ * increasing, error decreasing); by_fetches: its cost is fetches, which
+ * every point has. */
+static bool valid_frontier(const cJSON *a, bool by_fetches)
 {
     const cJSON *e;
-    struct tuned_point p, last = {INFINITY, 0, 0, 0};
+    struct tuned_point p, last = {INFINITY, 0, 0, 0, 0};
     if (!cJSON_IsArray(a) || cJSON_GetArraySize(a) > TUNED_MAX_FRONTIER)
         return false;
     cJSON_ArrayForEach(e, a) {
         if (!read_point(e, &p) || !cJSON_IsString(cJSON_GetObjectItemCaseSensitive(e, "settings")) ||
-            p.ms < last.ms || p.error >= last.error)
+            (by_fetches ? !(p.fetches >= last.fetches) : p.ms < last.ms) || p.error >= last.error)
             return false;
         last = p;
     }
@@ -165,12 +170,19 @@ enum tuned_load_result tuned_load(const char *dir, const struct technique *t, st
     const cJSON *summary = cJSON_GetObjectItemCaseSensitive(d, "summary");
     const cJSON *frontier = cJSON_GetObjectItemCaseSensitive(d, "frontier");
     const cJSON *scenes = cJSON_GetObjectItemCaseSensitive(frontier, "scenes"), *s;
+    const char *cost = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(d, "cost"));  /* absent: ms */
+    out->cost_fetches = cost && strcmp(cost, "fetches") == 0;
+    if (cost && !out->cost_fetches && strcmp(cost, "ms") != 0) {
+        log_error("\"cost\" is \"%s\", not ms or fetches", cost);
+        goto fail;
+    }
     struct tuned_point p;
     bool ok = read_point(cJSON_GetObjectItemCaseSensitive(summary, "default"), &p) &&
               read_point(cJSON_GetObjectItemCaseSensitive(summary, "tuned"), &p) &&
-              valid_frontier(cJSON_GetObjectItemCaseSensitive(frontier, "all")) && cJSON_IsObject(scenes);
+              valid_frontier(cJSON_GetObjectItemCaseSensitive(frontier, "all"), out->cost_fetches) &&
+              cJSON_IsObject(scenes);
     cJSON_ArrayForEach(s, scenes)
-        ok &= valid_frontier(s);
+        ok &= valid_frontier(s, out->cost_fetches);
     if (!ok) {
         log_error("\"summary\" (default, tuned) or \"frontier\" (all, scenes) is missing or malformed");
         goto fail;
@@ -213,7 +225,7 @@ int tuned_frontier(const struct tuned *tu, const char *scene_name, struct tuned_
                    struct tuned_point *def, struct tuned_point *tuned)
 {
     const cJSON *frontier = cJSON_GetObjectItemCaseSensitive(tu->doc, "frontier"), *a, *e;
-    *def = *tuned = (struct tuned_point){NAN, NAN, NAN, NAN};
+    *def = *tuned = (struct tuned_point){NAN, NAN, NAN, NAN, NAN};
     *points = NULL;
     if (!scene_name) {
         a = cJSON_GetObjectItemCaseSensitive(frontier, "all");

@@ -32,6 +32,7 @@ int tuned_kind(const struct scene *s);
 /* A point of a frontier chart: mean error and time over scenes. */
 struct tuned_point {
     double error, ms, ms_q1, ms_q3;
+    double fetches;  /* fetches_per_pixel, or NAN: not counted */
 };
 
 struct tuned {
@@ -40,6 +41,7 @@ struct tuned {
     cJSON *doc;                /* the whole file, validated */
     int width, height, shadow_map_size;           /* the tuning's */
     const char *objective, *gl_renderer, *date;   /* into doc */
+    bool cost_fetches;                            /* its frontiers by fetches ("cost": "fetches"), else by ms */
     void *settings;            /* chosen on every scene */
     void *kind_settings[2];    /* chosen on every scene of a light kind (TUNED_KIND_*), or NULL */
     int fold_count;
