@@ -94,7 +94,7 @@ static void fetch_counts(void)
 
 static void penumbra_mask(void)
 {
-    cJSON *m = run_cells("mask", "--scene parallel_planes --technique pcss --sweep pcss.penumbra_mask=false,true "
+    cJSON *m = run_cells("mask", "--scene parallel_planes --technique pcss,hard --sweep pcss.penumbra_mask=false,true "
                                  "--sweep pcss.mask_dilate_blocks=0,1");
     const char *off = "pcss@penumbra_mask=false,mask_dilate_blocks=1", *on = "pcss@penumbra_mask=true,mask_dilate_blocks=1",
                *bare = "pcss@penumbra_mask=true,mask_dilate_blocks=0";
@@ -112,6 +112,8 @@ static void penumbra_mask(void)
     CHECK(metric(m, bare, "fetches_per_pixel") < metric(m, on, "fetches_per_pixel"),
           "without the dilation the mask skips more (%.2f fetches against %.2f)", metric(m, bare, "fetches_per_pixel"),
           metric(m, on, "fetches_per_pixel"));
+    CHECK(metric(m, "hard", "fetches_per_pixel") == 1.0, "a cell after a masked one counts no mask fetches: hard %g",
+          metric(m, "hard", "fetches_per_pixel"));
     cJSON_Delete(m);
 }
 

@@ -226,6 +226,8 @@ void receiver_render_mask(const struct receiver *r, const struct receiver_progra
                           const struct shadow_cascades *c, bool counting)
 {
     struct receiver_screen *sc = r->screen;
+    if (sc)
+        sc->mask_layers = 0;  /* receiver_read_cost adds only this frame's pre-pass */
     if (!p->mask || !sc)
         return;
     /* The camera's projection scaled so a fragment is a block: the blocks
