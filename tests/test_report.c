@@ -177,17 +177,24 @@ int main(int argc, char **argv)
     free(swept);
 
     /* The charts, as files: labelled axes with units, the device, a legend. */
-    const char *charts[] = {"overall_tradeoff", "parallel_planes_tradeoff", "parallel_planes_metrics",
-                            "contact_hardening_tradeoff", "contact_hardening_metrics"};
+    const char *charts[] = {"overall_tradeoff",         "parallel_planes_tradeoff",   "parallel_planes_fetches",
+                            "parallel_planes_metrics",  "contact_hardening_tradeoff", "contact_hardening_fetches",
+                            "contact_hardening_metrics"};
     for (size_t i = 0; i < ARRAY_SIZE(charts); i++) {
         char *path = util_printf("%s/charts/%s.svg", out, charts[i]), *svg = NULL;
         size_t size;
         CHECK(util_read_file(path, &svg, &size) == 0, "%s missing", path);
         if (svg) {
-            bool tradeoff = strstr(charts[i], "tradeoff") != NULL;
-            CHECK(strstr(svg, "<svg") && strstr(svg, "timed on llvmpipe") && strstr(svg, ">pcss</text>"),
-                  "%s: an SVG naming its device, with a legend", charts[i]);
-            if (tradeoff)
+            bool tradeoff = strstr(charts[i], "tradeoff") != NULL, fetches = strstr(charts[i], "fetches") != NULL;
+            CHECK(strstr(svg, "<svg") && strstr(svg, fetches ? "counted on the device" : "timed on llvmpipe") &&
+                      strstr(svg, ">pcss</text>"),
+                  "%s: an SVG naming its device (or its counted cost), with a legend", charts[i]);
+            if (fetches)  /* counted: no spread */
+                CHECK(strstr(svg, "fetches_per_pixel (shadow-map fetches per covered pixel)") &&
+                          strstr(svg, "rmse (visibility, lower is better)") && count(svg, "class=\"pareto\"") == 2 &&
+                          count(svg, "class=\"point\"") == 2 * CONFIGS && count(svg, "class=\"spread\"") == 0,
+                      "%s: the fetches axis with its unit, two panels with a front, a point per cell", charts[i]);
+            else if (tradeoff)
                 CHECK(strstr(svg, "ms_total (ms per frame, median; bar: quartiles)") &&
                           strstr(svg, "rmse (visibility, lower is better)") &&
                           count(svg, "class=\"pareto\"") == 2 && count(svg, "class=\"point\"") == 2 * CONFIGS &&
@@ -198,7 +205,7 @@ int main(int argc, char **argv)
                 CHECK(count(svg, "class=\"bar\"") == 5 * CONFIGS &&
                           strstr(svg, "leak_fraction (share of scored pixels)") && strstr(svg, "shaded_rmse"),
                       "%s: five metrics, a bar per cell", charts[i]);
-            CHECK(strstr(svg, "CPU rasteriser: ranks techniques for this device only"),
+            CHECK(fetches || strstr(svg, "CPU rasteriser: ranks techniques for this device only"),
                   "%s: says what llvmpipe times are worth", charts[i]);
             CHECK(distinct_legend(svg, charts[i]) == 2, "%s: a legend entry per technique", charts[i]);
         }
@@ -273,7 +280,7 @@ int main(int argc, char **argv)
     CHECK(count(dom, "<img ") == images, "%d pictures, wanted %d", count(dom, "<img "), images);
     CHECK(count(dom, "class=\"missing\"") == 0, "every picture loads");
     CHECK(count(dom, "<figure class=\"chart\"") == (int)ARRAY_SIZE(charts), "inline charts");
-    CHECK(count(dom, "class=\"pareto\"") == 2 * (1 + SCENES), "a Pareto front in every panel");
+    CHECK(count(dom, "class=\"pareto\"") == 2 * (1 + 2 * SCENES), "a Pareto front in every panel");
     CHECK(strstr(dom, "Environment (run.json)") && strstr(dom, "gl_renderer"), "the run's environment");
     free(dom);
 

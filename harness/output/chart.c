@@ -171,11 +171,14 @@ static void tradeoff_panel(struct strbuf *o, int left, const struct chart_item *
     x_max = nice_axis(x_max, &x_step);
     y_max = nice_axis(y_max, &y_step);
 
-    panel_title(o, x0, w, TOP + 16, err->name, " against time");
+    /* a cost without a spread is counted (fetches), not timed */
+    panel_title(o, x0, w, TOP + 16, err->name, time->lo ? " against time" : " against its counted cost");
     char y_label[128], x_label[160];
     snprintf(y_label, sizeof y_label, "%s (%s, lower is better)", err->name, err->unit);
-    snprintf(x_label, sizeof x_label, "%s (%s per frame, median%s)", time->name, time->unit,
-             time->lo ? "; bar: quartiles" : "");
+    if (time->lo)
+        snprintf(x_label, sizeof x_label, "%s (%s per frame, median; bar: quartiles)", time->name, time->unit);
+    else
+        snprintf(x_label, sizeof x_label, "%s (%s)", time->name, time->unit);
     y_axis(o, x0, y0, w, h, y_max, y_step, y_label);
     for (double v = 0; v <= x_max + 1e-12; v += x_step) {
         double px = x0 + v / x_max * w;

@@ -40,8 +40,8 @@ struct chart_series {
 };
 
 /* Scatter panels side by side, one per error series, each against the same
- * time series (x): a point per item (with its time spread where the series
- * has one), the Pareto front (no other item is both faster and more
+ * cost series (x): a time, a point per item with its spread; or, without a
+ * spread (lo NULL), a counted cost (fetches per pixel), the Pareto front (no other item is both faster and more
  * accurate) drawn as a staircase and its items named. Items with a NAN
  * coordinate are left out. */
 void chart_tradeoff_svg(struct strbuf *out, const char *title, const char *subtitle,
