@@ -40,9 +40,10 @@ struct chart_series {
 };
 
 /* Scatter panels side by side, one per error series, each against the same
- * cost series (x): a time, a point per item with its spread; or, without a
- * spread (lo NULL), a counted cost (fetches per pixel), the Pareto front (no other item is both faster and more
- * accurate) drawn as a staircase and its items named. Items with a NAN
+ * cost series (x): a time, each item's point with its spread, or without a
+ * spread (lo NULL) a counted cost (fetches per pixel); the Pareto front (no
+ * other item both cheaper and more accurate) drawn as a staircase and its
+ * items named. Items with a NAN
  * coordinate are left out. */
 void chart_tradeoff_svg(struct strbuf *out, const char *title, const char *subtitle,
                         const struct chart_item *items, int n, const struct chart_series *time,
