@@ -6,13 +6,20 @@
 // world-space distance between the tap's surface point and the centre's
 // (sigma u_sigma_world), so it does not blur across a depth step: where an
 // object stands in front of its shadow, a plain blur lights the shadow's
-// edge. A pixel without geometry keeps its value and lends none.
+// edge; and, with u_normal_power > 0, times max(0, n_p . n_q)^power, so it
+// does not blur across a crease either (two faces at one depth). The
+// normals are rebuilt from the camera distances: the cross product of the
+// surface's differences to its neighbours along x and y, each the smaller
+// of the two one-sided differences (the side across a depth step is
+// larger), so they need no buffer of their own. A pixel without geometry
+// keeps its value and lends none.
 layout(binding = SM_BINDING_PASS_SOURCE) uniform sampler2D source;  // V_tech, or the first direction's
 layout(binding = SM_BINDING_PASS_SOURCE + 1) uniform sampler2D camera_distance;  // -1: no geometry
 
 uniform ivec2 u_direction;  // (1, 0) or (0, 1)
 uniform int u_radius;       // pixels, >= 1
 uniform float u_sigma_world;
+uniform float u_normal_power;  // 0: position only
 uniform vec3 u_camera_pos;
 uniform vec3 u_ray_fwd, u_ray_right, u_ray_up;  // a pixel's ray: fwd + x right + y up, x, y in [-1, 1]
 uniform vec2 u_size;
@@ -25,6 +32,25 @@ vec3 surface_at(ivec2 q, float d)
     return u_camera_pos + d * normalize(u_ray_fwd + c.x * u_ray_right + c.y * u_ray_up);
 }
 
+// The surface's normal at pixel p (point x), oriented alike everywhere (the
+// differences run along +x and +y), or 0 where a side has no neighbour.
+vec3 normal_at(ivec2 p, vec3 x)
+{
+    ivec2 last = ivec2(u_size) - 1;
+    vec3 side[2];
+    for (int a = 0; a < 2; a++) {
+        ivec2 e = a == 0 ? ivec2(1, 0) : ivec2(0, 1);
+        ivec2 lo = clamp(p - e, ivec2(0), last), hi = clamp(p + e, ivec2(0), last);
+        float dl = texelFetch(camera_distance, lo, 0).r, dh = texelFetch(camera_distance, hi, 0).r;
+        vec3 l = dl < 0.0 || lo == p ? vec3(1e30) : x - surface_at(lo, dl),
+             h = dh < 0.0 || hi == p ? vec3(1e30) : surface_at(hi, dh) - x;
+        side[a] = dot(l, l) < dot(h, h) ? l : h;
+    }
+    vec3 n = cross(side[0], side[1]);
+    float len = length(n);
+    return len > 0.0 && len < 1e29 ? n / len : vec3(0.0);
+}
+
 void main()
 {
     ivec2 p = ivec2(gl_FragCoord.xy), last = ivec2(u_size) - 1;
@@ -34,6 +60,8 @@ void main()
         return;
     }
     vec3 x = surface_at(p, d);
+    const bool normals = u_normal_power > 0.0;
+    vec3 n = normals ? normal_at(p, x) : vec3(0.0);
     float spatial = -2.0 / float(u_radius * u_radius), range = -0.5 / (u_sigma_world * u_sigma_world);
     float sum = v, weight = 1.0;
     for (int k = -u_radius; k <= u_radius; k++) {
@@ -45,6 +73,10 @@ void main()
             continue;
         vec3 y = surface_at(q, dq);
         float w = exp(spatial * float(k * k) + range * dot(y - x, y - x));
+        if (normals && n != vec3(0.0)) {
+            vec3 m = normal_at(q, y);
+            w *= m == vec3(0.0) ? 1.0 : pow(max(dot(n, m), 0.0), u_normal_power);
+        }
         sum += w * texelFetch(source, q, 0).r;
         weight += w;
     }

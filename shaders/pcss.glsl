@@ -24,7 +24,7 @@ float shadow_visibility(ShadowInput s)
     float bias = PCSS_CONSTANT_BIAS + (plane ? 0.0 : PCSS_SLOPE_BIAS * s.texel_depth_slope);
     float bias_hw = sm_bias_hw(s, bias);
     const bool square = SM_RECT_LIGHT;  // the taps follow the light's shape
-    vec2 noise = sm_rotation_noise(s.frag_coord, PCSS_ROTATION);
+    vec2 noise = sm_rotation_noise(s.frag_coord, PCSS_ROTATION, PCSS_ANIMATE_NOISE != 0);
 
     // 1. Blocker search: the mean planar depth of the occluding taps; with
     // early bail the probes first, and where they agree that is the answer.
@@ -63,9 +63,9 @@ float shadow_classify(ShadowInput s, vec2 block_half_uv)
 {
     const bool plane = PCSS_RECEIVER_PLANE_BIAS != 0;
     float bias = PCSS_CONSTANT_BIAS + (plane ? 0.0 : PCSS_SLOPE_BIAS * s.texel_depth_slope);
+    vec2 noise = sm_rotation_noise(s.frag_coord, PCSS_ROTATION, PCSS_ANIMATE_NOISE != 0);
     TapFrame search = sm_tap_frame(s, sm_search_half_uv(s, PCSS_SEARCH_SCALE) + block_half_uv, SM_RECT_LIGHT,
-                                   PCSS_PATTERN, 16, sm_rotation_noise(s.frag_coord, PCSS_ROTATION), plane,
-                                   sm_bias_hw(s, bias));
+                                   PCSS_PATTERN, 16, noise, plane, sm_bias_hw(s, bias));
     float blockers = 0.0, stored;
 #define PCSS_CLASSIFY_TAP(i) blockers += sm_occluded_at(search, sm_tap_point(search, i), stored) ? 1.0 : 0.0;
     SM_UNROLL(16, PCSS_CLASSIFY_TAP)

@@ -21,19 +21,21 @@ float sm_lit_2x2(vec2 uv, float ref)
 }
 
 // The frame index the noise is animated by (the receiver sets it: 0 unless
-// `shadowbench stability` animates it). A program that does not read it
-// (no noise) is deterministic from frame to frame.
+// `shadowbench stability` animates it), read only by a technique whose
+// `animate_noise` is on; a program that does not read it is the same from
+// frame to frame.
 uniform float sm_noise_frame;
 
-// Per-pixel random numbers in [0, 1): interleaved gradient noise (Jimenez
-// 2014, "Next generation post processing in Call of Duty"), decorrelated
-// for the second coordinate by a shifted window position, and animated as
-// that talk does, by moving the window position 5.588238 pixels a frame
-// (frame 0: the still pattern every other command scores).
-vec2 sm_pixel_noise(vec2 frag_coord)
+// Per-pixel random numbers in [0, 1) for frame `frame`: interleaved
+// gradient noise (Jimenez 2014, "Next generation post processing in Call
+// of Duty"), decorrelated for the second coordinate by a shifted window
+// position, and animated as that talk does, by moving the window position
+// 5.588238 pixels a frame (frame 0: the still pattern every other command
+// scores).
+vec2 sm_pixel_noise(vec2 frag_coord, float frame)
 {
     const vec3 k = vec3(0.06711056, 0.00583715, 52.9829189);
-    frag_coord += 5.588238 * sm_noise_frame;
+    frag_coord += 5.588238 * frame;
     return vec2(fract(k.z * fract(dot(frag_coord, k.xy))),
                 fract(k.z * fract(dot(frag_coord + vec2(47.0, 17.0), k.xy))));
 }
@@ -53,23 +55,39 @@ vec2 sm_pcg2d(uvec2 v)
 }
 
 // White noise in [0, 1)^2 per pixel (and frame): pcg2d of the pixel.
-vec2 sm_hash_noise(vec2 frag_coord)
+vec2 sm_hash_noise(vec2 frag_coord, float frame)
 {
-    return sm_pcg2d(uvec2(ivec2(floor(frag_coord))) ^ uvec2(uint(sm_noise_frame) * 0x9E3779B9u));
+    return sm_pcg2d(uvec2(ivec2(floor(frag_coord))) ^ uvec2(uint(frame) * 0x9E3779B9u));
+}
+
+// Blue noise in [0, 1)^2 per pixel: the tileable void-and-cluster texture
+// (tools/blue_noise.c), a tile a channel, and for frame f the golden-ratio
+// steps of the R2 sequence (Roberts 2018) added modulo 1, which keeps each
+// frame's pattern blue while every pixel walks through [0, 1) evenly.
+layout(binding = SM_BINDING_BLUE_NOISE) uniform sampler2D sm_blue_noise;
+vec2 sm_blue_noise_at(vec2 frag_coord, float frame)
+{
+    vec2 v = texelFetch(sm_blue_noise, ivec2(floor(frag_coord)) & (SM_BLUE_NOISE_SIDE - 1), 0).rg;
+    return fract(v + frame * vec2(0.7548776662, 0.5698402910));
 }
 
 // The noise a `rotation` parameter names (SM_ROTATION_*, techniques/technique.h's
 // TAP_ROTATIONS): 0 (the same taps everywhere), white, interleaved gradient
-// noise of the pixel, or of its 2 x 2 block (one rotation a block).
-vec2 sm_rotation_noise(vec2 frag_coord, int mode)
+// noise of the pixel, or of its 2 x 2 block (one rotation a block), or blue;
+// animated by the frame index where `animate` (the technique's
+// `animate_noise`, a constant: off, the program never reads the frame).
+vec2 sm_rotation_noise(vec2 frag_coord, int mode, bool animate)
 {
+    float frame = animate ? sm_noise_frame : 0.0;
     if (mode == SM_ROTATION_NONE)
         return vec2(0.0);
     if (mode == SM_ROTATION_HASH)
-        return sm_hash_noise(frag_coord);
+        return sm_hash_noise(frag_coord, frame);
+    if (mode == SM_ROTATION_BLUE_NOISE)
+        return sm_blue_noise_at(frag_coord, frame);
     if (mode == SM_ROTATION_IGN_2X2)
         frag_coord = floor(0.5 * frag_coord) + 0.5;
-    return sm_pixel_noise(frag_coord);
+    return sm_pixel_noise(frag_coord, frame);
 }
 
 // Shirley and Chiu's concentric map (1997, "A low distortion map between

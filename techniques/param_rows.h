@@ -6,6 +6,7 @@
 #define SB_PARAM_ROWS_H
 
 #include "technique.h"
+#include "base/util.h"
 
 #define PARAM_ROW_CONSTANT_BIAS(settings)                                                  \
     {"constant_bias", "constant depth offset, linear shadow-map depth units (1 = near..far)", \
@@ -28,16 +29,23 @@
      TUNE(0.5, 0.75, 1.0, 1.25, 1.5, 2.0)}
 
 /* The tap loops' layout and per-pixel noise (technique.h's TAP_PATTERNS,
- * TAP_ROTATIONS); not tuned: the choices are measured as named cells. */
-#define PARAM_ROW_TAP_PATTERN(settings)                                                    \
+ * TAP_ROTATIONS). tune: TUNE_CHOICES, or NULL where the choices are
+ * measured as named cells instead. */
+#define PARAM_ROW_TAP_PATTERN(settings, tune)                                              \
     {"pattern", "tap layout over the light's shape: poisson (best-candidate set), grid (n x n, " \
      "a square tap count), vogel (golden-angle spiral), uniform_disk (independent uniform points)", \
-     offsetof(settings, pattern), PARAM_ENUM, TAP_PATTERN_POISSON, 0, 0, tap_pattern_names, NULL}
+     offsetof(settings, pattern), PARAM_ENUM, TAP_PATTERN_POISSON, 0, 0, tap_pattern_names, tune}
 
 #define PARAM_ROW_TAP_ROTATION(settings)                                                   \
     {"rotation", "per-pixel noise turning (disk) or shifting (square) the taps: none "       \
-     "(banding), hash (white), ign (interleaved gradient noise), ign_2x2 (one per 2 x 2 block)", \
+     "(banding), hash (white), ign (interleaved gradient noise), ign_2x2 (one per 2 x 2 block), " \
+     "blue_noise (a tileable void-and-cluster texture)", \
      offsetof(settings, rotation), PARAM_ENUM, TAP_ROTATION_IGN, 0, 0, tap_rotation_names, NULL}
+
+#define PARAM_ROW_ANIMATE_NOISE(settings)                                                  \
+    {"animate_noise", "the frame index moves the per-pixel noise (a new rotation each frame, "  \
+     "for TAA to average); only `stability` renders frames past the first",               \
+     offsetof(settings, animate_noise), PARAM_BOOL, 0, 0, 1, NULL, NULL}
 
 #define PARAM_ROW_MIN_VARIANCE(settings)                                                   \
     {"min_variance", "floor on the variance, linear depth units squared",                  \
@@ -73,15 +81,25 @@
      "separable, weighted by world distance (0 = off)",                                   \
      offsetof(settings, denoise_radius_px), PARAM_INT, 0, 0, 8, NULL, NULL},               \
     {"denoise_sigma_world", "the denoiser's world-distance weight: its sigma, world units", \
-     offsetof(settings, denoise_sigma_world), PARAM_FLOAT, 0.1, 0.001, 100.0, NULL, NULL}
+     offsetof(settings, denoise_sigma_world), PARAM_FLOAT, 0.1, 0.001, 100.0, NULL, NULL},       \
+    {"denoise_normal_power", "the denoiser's normal weight: |n . n_tap| to this power, normals " \
+     "rebuilt from the camera distances (0 = position only, seed 003's)",                  \
+     offsetof(settings, denoise_normal_power), PARAM_FLOAT, 0.0, 0.0, 256.0, NULL, NULL}
 
-/* The technique defines shadow_classify() (shaders/penumbra_mask.frag). */
+/* The technique defines shadow_classify() (shaders/penumbra_mask.frag).
+ * mask_dilate_world asks a block for at most MASK_MAX_DILATE_BLOCKS. */
+#define MASK_MAX_DILATE_BLOCKS 8
+
 #define PARAM_ROWS_PENUMBRA_MASK(settings)                                                 \
     {"penumbra_mask", "a quarter-resolution pre-pass classifies 4 x 4 blocks as lit, umbra " \
      "or penumbra; the full filter runs only on penumbra blocks",                          \
      offsetof(settings, penumbra_mask), PARAM_BOOL, 0, 0, 1, NULL, NULL},                  \
     {"mask_dilate_blocks", "the mask's dilation: a block stays lit or umbra only if every "  \
      "block this many blocks around agrees",                                               \
-     offsetof(settings, mask_dilate_blocks), PARAM_INT, 1, 0, 4, NULL, NULL}
+     offsetof(settings, mask_dilate_blocks), PARAM_INT, 1, 0, 4, NULL, NULL},                \
+    {"mask_dilate_world", "seed 003's distance-dependent dilation: this radius in world units, "  \
+     "made blocks at each block's camera distance (more blocks when near), if more than "   \
+     "mask_dilate_blocks, at most " UTIL_STR(MASK_MAX_DILATE_BLOCKS) " (0 = off)",                                            \
+     offsetof(settings, mask_dilate_world), PARAM_FLOAT, 0.0, 0.0, 100.0, NULL, NULL}
 
 #endif

@@ -27,15 +27,17 @@
  *                        uniform points, seed 002's).
  *   rotation             the per-pixel noise that turns (disk) or shifts
  *                        (square) both steps' taps: none, hash, ign,
- *                        ign_2x2 (shaders/shadow_taps.glsl).
+ *                        ign_2x2, blue_noise (shaders/shadow_taps.glsl).
+ *   animate_noise        the frame index moves that noise (for TAA to
+ *                        average); `stability` measures it.
  *   early_bail           8 of the search's taps first (NVIDIA's PCSS
  *                        integration); where they agree (all lit, all
  *                        blocked), that is the answer.
- *   penumbra_mask, mask_dilate_blocks
+ *   penumbra_mask, mask_dilate_blocks, mask_dilate_world
  *                        seed 003's quarter-resolution pre-pass
  *                        (shadow_classify: 16 search taps widened by the
  *                        block); the full filter runs on penumbra blocks only.
- *   denoise_radius_px, denoise_sigma_world
+ *   denoise_radius_px, denoise_sigma_world, denoise_normal_power
  *                        seed 003's bilateral blur after the receiver pass.
  *   receiver_plane_bias  compare against the receiver's plane at each tap
  *                        (both steps); the search region is wide, so without
@@ -60,11 +62,14 @@ struct pcss_settings {
     float filter_light_size_scale;  /* [0, 10], 0: light_size_scale */
     int pattern;              /* TAP_PATTERN_* */
     int rotation;             /* TAP_ROTATION_* */
+    int animate_noise;        /* bool */
     int early_bail;           /* bool */
     int penumbra_mask;        /* bool */
     int mask_dilate_blocks;   /* [0, 4] */
+    float mask_dilate_world;  /* world units, 0: off */
     int denoise_radius_px;    /* [0, 8], 0: off */
     float denoise_sigma_world;
+    float denoise_normal_power;
     int receiver_plane_bias;  /* bool */
     float constant_bias;      /* linear depth units, [0, 0.1] */
     float slope_bias;         /* texels of depth slope, [0, 16] */
@@ -80,8 +85,9 @@ static const struct technique_param pcss_params[] = {
      offsetof(struct pcss_settings, search_light_size_scale), PARAM_FLOAT, 0.0, 0.0, 10.0, NULL, NULL},
     {"filter_light_size_scale", "the filter's own light size scale (0 = light_size_scale)",
      offsetof(struct pcss_settings, filter_light_size_scale), PARAM_FLOAT, 0.0, 0.0, 10.0, NULL, NULL},
-    PARAM_ROW_TAP_PATTERN(struct pcss_settings),
+    PARAM_ROW_TAP_PATTERN(struct pcss_settings, NULL),
     PARAM_ROW_TAP_ROTATION(struct pcss_settings),
+    PARAM_ROW_ANIMATE_NOISE(struct pcss_settings),
     {"early_bail", "8 probe taps of the search first; where they agree, that is the answer",
      offsetof(struct pcss_settings, early_bail), PARAM_BOOL, 0, 0, 1, NULL, NULL},
     PARAM_ROWS_PENUMBRA_MASK(struct pcss_settings),
@@ -106,10 +112,13 @@ static const struct technique_cell pcss_cells[] = {
     {"contact_hardening", {"blocker_samples=16,filter_samples=64", "search_light_size_scale=1.5",
                            "filter_light_size_scale=0.75"}},
     {"parallel_planes", {"light_size_scale=0.5", "pattern=grid,blocker_samples=25,filter_samples=25",
-                         "pattern=vogel,rotation=ign_2x2", "rotation=none", "rotation=hash", "early_bail=true",
+                         "pattern=vogel,rotation=ign_2x2", "rotation=none", "rotation=hash", "rotation=blue_noise",
+                         "early_bail=true",
                          "denoise_radius_px=2,denoise_sigma_world=0.5"}},
     {"thin_features", {"penumbra_mask=true", "penumbra_mask=true,mask_dilate_blocks=0"}},
-    {"parallel_planes_disk", {"pattern=vogel", "pattern=uniform_disk"}},
+    {"large_light", {"penumbra_mask=true,mask_dilate_world=0.1"}},
+    {"stanford_bunny", {"denoise_radius_px=1,denoise_normal_power=16"}},
+    {"parallel_planes_disk", {"pattern=vogel", "pattern=uniform_disk", "animate_noise=true"}},
     {"grazing_receiver", {"receiver_plane_bias=false", "receiver_plane_bias=false,slope_bias=4", "constant_bias=0.005"}},
     {NULL},
 };

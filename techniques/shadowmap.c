@@ -1,7 +1,10 @@
 #include "shadowmap.h"
 #include "base/log.h"
 #include "gl/shader.h"
+#include "base/image.h"
+#include "base/util.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -445,12 +448,40 @@ static const struct product_kind kinds[SM_PRODUCT_COUNT] = {
 
 /* ---- the layer ------------------------------------------------------------ */
 
-int shadowmap_screen_binding(void)
+int shadowmap_blue_noise_binding(void)
 {
     int units = 0;
     for (int p = 0; p < SM_PRODUCT_COUNT; p++)
         units += kinds[p].format ? (kinds[p].compare_sampler ? 2 : 1) : 0;
     return units;
+}
+
+int shadowmap_screen_binding(void) { return shadowmap_blue_noise_binding() + 1; }
+
+GLuint shadowmap_blue_noise_create(void)
+{
+    enum { SIDE = TAP_BLUE_NOISE_SIDE, TILE = SIDE * SIDE };
+    static float *texels;  /* read once: every map uploads the same */
+    if (!texels) {
+        char *path = shader_path("blue_noise.png");
+        uint16_t *pixels;
+        int err = image_read_png16(path, SIDE, 2 * SIDE, &pixels);
+        if (err == -ENOENT)
+            log_error("%s: no such file (the blue-noise texture; build/blue_noise writes it)", path);
+        free(path);
+        if (err)
+            return 0;
+        texels = xmalloc(2 * TILE * sizeof *texels);
+        for (int i = 0; i < TILE; i++)
+            for (int c = 0; c < 2; c++)  /* 16 rank + 8: (rank + 0.5) / 4096 */
+                texels[2 * i + c] = (float)pixels[c * TILE + i] / 65536.0f;
+        free(pixels);
+    }
+    GLuint t = gl_texture_2d(GL_RG32F, SIDE, SIDE, "blue noise");
+    glBindTexture(GL_TEXTURE_2D, t);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, SIDE, SIDE, GL_RG, GL_FLOAT, texels);
+    glBindTexture(GL_TEXTURE_2D, 0);
+    return t;
 }
 
 void shadowmap_shader_defines(struct strbuf *out)
@@ -470,6 +501,8 @@ void shadowmap_shader_defines(struct strbuf *out)
     strbuf_printf(out, "\n");
     /* the texture units past the products', for the screen-space stages' inputs */
     strbuf_printf(out, "#define SM_BINDING_SCREEN %d\n", shadowmap_screen_binding());
+    strbuf_printf(out, "#define SM_BINDING_BLUE_NOISE %d\n#define SM_BLUE_NOISE_SIDE %d\n",
+                  shadowmap_blue_noise_binding(), TAP_BLUE_NOISE_SIDE);
     for (int p = 0; p < SM_PRODUCT_COUNT; p++) {
         strbuf_printf(out, "#define SM_PRODUCT_%s %d\n#define SM_BINDING_%s %d\n", product_ids[p], p, product_ids[p],
                       binding_of(p));
@@ -574,7 +607,8 @@ int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct s
     glSamplerParameteri(sm->compare_sampler, GL_TEXTURE_COMPARE_FUNC, GL_GEQUAL); /* reversed Z: lit */
     gl_label(GL_SAMPLER, sm->compare_sampler, "shadow map: depth comparison sampler");
     glGenVertexArrays(1, &sm->fullscreen_vao);
-    return 0;
+    sm->blue_noise = shadowmap_blue_noise_create();
+    return sm->blue_noise ? 0 : -1;
 }
 
 int shadowmap_prepare(struct shadowmap *sm, const struct shadowmap_request *r)
@@ -653,6 +687,8 @@ struct shadowmap_sat_block *shadowmap_sat_fields(struct shadowmap *sm, int p)
 void shadowmap_bind(const struct shadowmap *sm)
 {
     glBindBufferBase(GL_UNIFORM_BUFFER, BLOCK_BINDING, sm->ubo);
+    glBindTextureUnit((GLuint)shadowmap_blue_noise_binding(), sm->blue_noise);
+    glBindSampler((GLuint)shadowmap_blue_noise_binding(), 0);
     for (int i = 0; i < SM_PRODUCT_COUNT; i++) {
         const struct product_kind *k = &kinds[i];
         const struct shadowmap_product *p = &sm->products[i];
@@ -682,6 +718,8 @@ void shadowmap_destroy(struct shadowmap *sm)
         if (p->buffer)
             glDeleteBuffers(1, &p->buffer);
     }
+    if (sm->blue_noise)
+        glDeleteTextures(1, &sm->blue_noise);
     if (sm->fullscreen_vao)
         glDeleteVertexArrays(1, &sm->fullscreen_vao);
     if (sm->compare_sampler)

@@ -100,11 +100,13 @@ struct shadowmap {
     GLuint ubo;
     GLuint compare_sampler;        /* hardware comparison (sampler2DShadow) of depth products */
     GLuint fullscreen_vao;         /* empty: the full-screen passes need none */
+    GLuint blue_noise;             /* RG32F, TAP_BLUE_NOISE_SIDE^2: rotation=blue_noise's tiles */
     struct shadowmap_product products[SM_PRODUCT_COUNT];  /* by SM_PRODUCT_* */
 };
 
 /* Fits the frustum to s and creates what every product shares (the uniform
- * block, the comparison sampler). Returns 0 or -1 (logged). */
+ * block, the comparison sampler, the blue-noise texture). Returns 0 or -1
+ * (logged). */
 int shadowmap_create(struct shadowmap *sm, const struct scene *s, const struct shadowmap_desc *desc);
 
 /* Sets the frustum to f (a cascade refitted to s in another pose) and
@@ -132,9 +134,19 @@ double shadowmap_prep_texels(const struct shadowmap *sm, int p, const struct sha
  * SM_BINDING_PASS_SOURCE; a second input the unit after it). */
 enum { SHADOWMAP_PASS_SOURCE_UNIT = 0 };
 
-/* The first texture unit past the products' (GLSL: SM_BINDING_SCREEN): where
- * a receiver pass finds a screen-space stage's input (the penumbra mask). */
+/* The first texture unit past the products' and the blue-noise texture's
+ * (GLSL: SM_BINDING_SCREEN): where a receiver pass finds a screen-space
+ * stage's input (the penumbra mask). */
 int shadowmap_screen_binding(void);
+
+/* The texture of rotation=blue_noise (GLSL: SM_BINDING_BLUE_NOISE,
+ * sm_blue_noise): shaders/blue_noise.png's two tiles (tools/blue_noise.c)
+ * as the R and G of a RG32F texture, texel value (rank + 0.5) / 4096.
+ * Returns it, or 0 (logged) if the file is missing or malformed. */
+GLuint shadowmap_blue_noise_create(void);
+
+/* Its texture unit, the first past the products' (SM_BINDING_BLUE_NOISE). */
+int shadowmap_blue_noise_binding(void);
 
 /* Creates what the products of r need (textures, buffers, programs), so
  * rendering them later does no set-up work, and checks r's options.

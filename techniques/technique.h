@@ -84,13 +84,18 @@ enum tap_pattern {
     X(NONE, "none")       /* the same taps at every pixel: banding */                    \
     X(HASH, "hash")       /* white noise, an integer hash of the pixel (and frame) */    \
     X(IGN, "ign")         /* interleaved gradient noise (Jimenez 2014) of the pixel */   \
-    X(IGN_2X2, "ign_2x2") /* the same of its 2 x 2 block: one rotation a block (seed 003) */
+    X(IGN_2X2, "ign_2x2") /* the same of its 2 x 2 block: one rotation a block (seed 003) */ \
+    X(BLUE_NOISE, "blue_noise") /* a tileable void-and-cluster texture (tools/blue_noise.c) */
 
 enum tap_rotation {
 #define X(id, name) TAP_ROTATION_##id,
     TAP_ROTATIONS(X)
 #undef X
 };
+
+/* The blue-noise texture's side, pixels: shaders/blue_noise.png holds a
+ * tile a channel, stacked (tools/blue_noise.c). */
+#define TAP_BLUE_NOISE_SIDE 64
 
 /* Their parameter spellings, by enum value, NULL-terminated. */
 extern const char *const tap_pattern_names[];

@@ -141,7 +141,7 @@ int main(int argc, char **argv)
     expect(2, "run --set hard", "--set: 'hard' is not technique.parameter=value");
     expect(2, "run --set pcss.blocker_samples=30",
            "pcss.blocker_samples: 30 is not one of: 16, 25, 32, 49, 64, 100, 128");
-    expect(2, "run --set pcf.pattern=hexagon", "pcf.pattern: 'hexagon' is not one of: grid, poisson");
+    expect(2, "run --set pcf.pattern=hexagon", "pcf.pattern: 'hexagon' is not one of: poisson, grid, vogel, uniform_disk");
     expect(2, "run --set pcf.pattern=grid",
            "pcf: pattern=grid needs a square sample count (16, 25, 49, 64, 100), not 32");
     expect(2, "bench --set pcf.pattern=grid --set pcf.samples=128",
@@ -151,7 +151,7 @@ int main(int argc, char **argv)
     expect(2, "run --set pcss.pattern=spiral",
            "pcss.pattern: 'spiral' is not one of: poisson, grid, vogel, uniform_disk");
     expect(2, "run --set pcss.rotation=blue",
-           "pcss.rotation: 'blue' is not one of: none, hash, ign, ign_2x2");
+           "pcss.rotation: 'blue' is not one of: none, hash, ign, ign_2x2, blue_noise");
     expect(2, "run --set savsm.sat_format=fp16",
            "savsm.sat_format: 'fp16' is not one of: fp32, fp32_centered, int32");
     expect(2, "run --set vsm.bleed_reduction=1", "vsm.bleed_reduction: 1 is out of range [0.0, 0.99]");

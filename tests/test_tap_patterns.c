@@ -3,7 +3,11 @@
  * in GLSL on llvmpipe through a probe shader:
  *   - rotation: none is 0 everywhere; ign_2x2 gives one value to each 2 x 2
  *     block and differs between blocks; ign differs between neighbours;
- *     hash is in [0, 1) with a mean near 1/2;
+ *     hash is in [0, 1) with a mean near 1/2; blue_noise is
+ *     shaders/blue_noise.png's texel of the pixel modulo its tile, every
+ *     frame a fresh permutation, and the file itself is blue (each tile a
+ *     permutation of its ranks, little power at low frequencies, the two
+ *     tiles uncorrelated);
  *   - pattern: every point of poisson, grid, vogel and uniform_disk at every tap count
  *     lies in its shape (the square [-1, 1]^2 or the unit disk), no two
  *     coincide, and their second moments are those of the uniform
@@ -12,8 +16,11 @@
  *   - the concentric map's inverse undoes it. */
 #include "check.h"
 #include "glsl_probe.h"
+#include "base/image.h"
 
 #include <math.h>
+#include <stdbool.h>
+#include <string.h>
 
 static char dir[] = "/tmp/sb_test_tap_patterns_XXXXXX";
 
@@ -26,12 +33,12 @@ static const char probe_source[] =
     "#include \"shadow_taps.glsl\"\n"
     "uniform int u_what;     // 0: noise of mode u_mode; 1: point i of pattern u_mode\n"
     "uniform int u_mode, u_n;\n"
-    "uniform bool u_square;\n"
+    "uniform bool u_square, u_animate;\n"
     "layout(location = 0) out vec4 result;\n"
     "void main()\n"
     "{\n"
     "    if (u_what == 0) {\n"
-    "        result = vec4(sm_rotation_noise(gl_FragCoord.xy, u_mode), 0.0, 0.0);\n"
+    "        result = vec4(sm_rotation_noise(gl_FragCoord.xy, u_mode, u_animate), 0.0, 0.0);\n"
     "        return;\n"
     "    }\n"
     "    int i = int(gl_FragCoord.x);\n"
@@ -41,16 +48,120 @@ static const char probe_source[] =
     "    result = vec4(p, length(back - p), 0.0);\n"
     "}\n";
 
+/* The mean power of tile t's spectrum (its DFT squared over the texels,
+ * against white noise's, the variance of a uniform value: 1/12) over the
+ * frequencies of radius [lo, hi) cycles per tile. */
+static double band_power(const uint16_t *tile, double lo, double hi)
+{
+    enum { S = TAP_BLUE_NOISE_SIDE };
+    double sum = 0;
+    int n = 0;
+    for (int v = -S / 2; v < S / 2; v++)
+        for (int u = -S / 2; u < S / 2; u++) {
+            const double r = hypot(u, v);
+            if (r < lo || r >= hi)
+                continue;
+            double re = 0, im = 0;
+            for (int y = 0; y < S; y++)
+                for (int x = 0; x < S; x++) {
+                    const double a = -2 * M_PI * (u * x + v * y) / S, value = tile[y * S + x] / 65536.0 - 0.5;
+                    re += value * cos(a), im += value * sin(a);
+                }
+            sum += (re * re + im * im) / (S * S) / (1.0 / 12.0);
+            n++;
+        }
+    return sum / n;
+}
+
+/* The committed texture is a blue-noise dither array (tools/blue_noise.c). */
+static uint16_t *blue_noise_file(void)
+{
+    enum { S = TAP_BLUE_NOISE_SIDE, TILE = S * S };
+    char *path = util_printf("%s/shaders/blue_noise.png", SB_SOURCE_DIR);
+    uint16_t *px = NULL;
+    CHECK(image_read_png16(path, S, 2 * S, &px) == 0, "%s reads", path);
+    free(path);
+    if (!px)
+        return NULL;
+    double dot = 0, norm[2] = {0, 0};
+    for (int t = 0; t < 2; t++) {
+        static bool seen[TILE];
+        memset(seen, 0, sizeof seen);
+        int bad = 0;
+        for (int i = 0; i < TILE; i++) {
+            const int v = px[t * TILE + i], rank = (v - 8) / 16;
+            bad += (v - 8) % 16 != 0 || rank < 0 || rank >= TILE || seen[rank];
+            if (rank >= 0 && rank < TILE)
+                seen[rank] = true;
+        }
+        CHECK(bad == 0, "blue noise tile %d: %d texels not a rank of a permutation", t, bad);
+        /* White noise has power 1 in every band (a rand() tile measured
+         * 1.14 below 4 cycles a tile, 1.03 in [4, 8), 0.97 in [16, 32)); these
+         * tiles measured 5e-5, 4e-4 and 1.12, 1.17: the power moved from low
+         * to high frequencies. 0.01 is far below what white noise reaches
+         * over the few dozen frequencies of a low band (its mean there
+         * stays above 0.5); over the 2,400 of [16, 32) white noise's mean is
+         * 1 within 0.03, so 1.05 asks for the excess. */
+        const double low = band_power(px + t * TILE, 0.5, 4), mid = band_power(px + t * TILE, 4, 8),
+                     high = band_power(px + t * TILE, 16, 32);
+        printf("blue noise tile %d: power %.5f below 4 cycles, %.5f in [4, 8), %.3f in [16, 32)\n", t, low, mid, high);
+        CHECK(low < 0.01 && mid < 0.01 && high > 1.05, "blue noise tile %d is not blue: power %.5f, %.5f, %.3f", t,
+              low, mid, high);
+        for (int i = 0; i < TILE; i++) {
+            const double a = px[t * TILE + i] / 65536.0 - 0.5;
+            norm[t] += a * a;
+            if (t == 1)
+                dot += a * (px[i] / 65536.0 - 0.5);
+        }
+    }
+    /* independent tiles: the correlation's standard deviation is 1/64;
+     * 0.06 is almost four of them */
+    const double corr = dot / sqrt(norm[0] * norm[1]);
+    CHECK(fabs(corr) < 0.06, "blue noise: the tiles correlate (%.4f)", corr);
+    return px;
+}
+
 static void noise_checks(GLuint program)
 {
-    static float r[4][NOISE_W * NOISE_H * 4];
-    const int modes[4] = {TAP_ROTATION_NONE, TAP_ROTATION_HASH, TAP_ROTATION_IGN, TAP_ROTATION_IGN_2X2};
-    for (int m = 0; m < 4; m++) {
+    enum { MODES = 5 };
+    static float r[MODES][NOISE_W * NOISE_H * 4], blue_next[NOISE_W * NOISE_H * 4];
+    const int modes[MODES] = {TAP_ROTATION_NONE, TAP_ROTATION_HASH, TAP_ROTATION_IGN, TAP_ROTATION_IGN_2X2,
+                              TAP_ROTATION_BLUE_NOISE};
+    const GLuint blue = shadowmap_blue_noise_create();
+    CHECK(blue, "the blue-noise texture loads");
+    glBindTextureUnit((GLuint)shadowmap_blue_noise_binding(), blue);
+    for (int m = 0; m < MODES; m++) {
         glUseProgram(program);
         glUniform1i(glGetUniformLocation(program, "u_what"), 0);
         glUniform1i(glGetUniformLocation(program, "u_mode"), modes[m]);
+        glUniform1f(glGetUniformLocation(program, "sm_noise_frame"), 0.0f);
         glsl_probe_draw(program, NOISE_W, NOISE_H, r[m]);
     }
+    /* frame 1: without animate_noise the same, with it all new */
+    static float blue_still[NOISE_W * NOISE_H * 4];
+    glUniform1f(glGetUniformLocation(program, "sm_noise_frame"), 1.0f);
+    glsl_probe_draw(program, NOISE_W, NOISE_H, blue_still);
+    glUniform1i(glGetUniformLocation(program, "u_animate"), 1);
+    glsl_probe_draw(program, NOISE_W, NOISE_H, blue_next);
+    glUniform1i(glGetUniformLocation(program, "u_animate"), 0);
+    glUniform1f(glGetUniformLocation(program, "sm_noise_frame"), 0.0f);
+    glDeleteTextures(1, &blue);
+    uint16_t *file = blue_noise_file();
+    int blue_off = 0, blue_same = 0, blue_moved = 0;
+    for (int y = 0; file && y < NOISE_H; y++)
+        for (int x = 0; x < NOISE_W; x++) {
+            const int side = TAP_BLUE_NOISE_SIDE, i = 4 * (y * NOISE_W + x), t = (y % side) * side + x % side;
+            for (int c = 0; c < 2; c++) {
+                const float want = file[c * side * side + t] / 65536.0f;
+                blue_off += r[4][i + c] != want;
+                blue_same += blue_next[i + c] == r[4][i + c];
+                blue_moved += blue_still[i + c] != r[4][i + c];
+            }
+        }
+    free(file);
+    CHECK(blue_off == 0, "blue_noise: %d values differ from the file's texels", blue_off);
+    CHECK(blue_same == 0, "blue_noise: %d values the same in the next animated frame", blue_same);
+    CHECK(blue_moved == 0, "blue_noise: %d values moved in the next frame without animate_noise", blue_moved);
     int none_off = 0, block_off = 0, blocks_alike = 0, blocks = 0, ign_alike = 0, hash_out = 0;
     double hash_sum = 0;
     for (int y = 0; y < NOISE_H; y++)

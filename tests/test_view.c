@@ -17,7 +17,7 @@
 #include <string.h>
 
 #define W 160
-#define H 240
+#define H 288  /* tall enough for pcss's overlay, a line a parameter */
 
 static const char *sb;
 static char dir[] = "/tmp/sb_test_view_XXXXXX";

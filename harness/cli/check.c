@@ -69,6 +69,7 @@ static int setup_for(struct scene_setup *ss, struct baseline_setup *open, struct
                                                                    b->gt_samples, b->gt_seed, o->cache_dir, 0,
                                                                    programs, NULL}) != 0)
         return -1;
+    ss->receiver.noise_frame = REGRESSION_NOISE_FRAME;
     *open = *b;
     for (int k = 0; k < BASELINE_SEEDS - 1 && o->update; k++) {
         const struct gt_desc d = {.width = b->width, .height = b->height, .samples = b->gt_samples,

@@ -14,6 +14,11 @@ int shader_init(const char *override)
     return dir ? 0 : -1;
 }
 
+char *shader_path(const char *file)
+{
+    return util_printf("%s/%s", dir, file);
+}
+
 /* Files of one composed source: GLSL `#line L N` can only carry a number N,
  * so N indexes this table and errors are mapped back through it. */
 #define MAX_FILES 16

@@ -10,6 +10,10 @@
  * next to the executable, the source tree. Returns 0 or -1 (logged). */
 int shader_init(const char *dir);
 
+/* The path of `file` in the shaders folder (a data file the shaders read
+ * as a texture), newly malloc'ed; shader_init must have succeeded. */
+char *shader_path(const char *file);
+
 /* One stage is composed from up to three files, in order (the first has
  * the #version line): e.g. the receiver pass is receiver.frag followed by the
  * technique's file, which defines shadow_visibility(). */

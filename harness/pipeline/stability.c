@@ -104,42 +104,72 @@ int stability_check_nodes(const struct stability *st)
 /* A motion row while its frames are rendered. */
 struct live_row {
     struct motion_row *row;
-    GLuint program;
     const void *settings;
-    int source;              /* accumulated: the live row whose V it averages */
+    void *animated_settings;  /* owned: the settings with animate_noise on (the ~anim rows) */
+    int source;               /* accumulated: the live row whose V it averages */
     float *v, *history, *prev_history;
     struct flicker fl;
 };
 
+static void live_row_free(struct live_row *L)
+{
+    free(L->v), free(L->history), free(L->prev_history), free(L->animated_settings);
+}
+
+/* Technique t's settings with animate_noise on, newly malloc'ed, where it
+ * has that parameter and it is off; NULL otherwise. */
+static void *animated_copy(const struct technique *t, const void *settings)
+{
+    const struct technique_param *p = params_find(t, "animate_noise");
+    if (!p || params_get(p, settings) != 0)
+        return NULL;
+    void *copy = memcpy(xmalloc(t->settings_size), settings, t->settings_size);
+    params_put(p, copy, 1);
+    return copy;
+}
+
 /* The rows of motion m on scene s: every technique per frame with its
- * noise still; animated too where its program reads the frame index; each
- * also accumulated. Returns how many (-1: a program did not compile). */
+ * settings (its noise still unless they animate it), and animated too
+ * where animate_noise on makes its program read the frame index (it has
+ * noise to animate); each also accumulated. Returns how many (-1: a
+ * program did not compile). */
 static int add_rows(struct stability *st, int s, int m, size_t count, struct live_row *live)
 {
     int n = 0;
     for (int i = 0; i < st->technique_count; i++) {
         const struct technique *t = st->techniques[i];
-        const GLuint program = programs_get(&st->programs, t, st->settings[i], st->scenes[s].light.shape, true).receiver;
-        if (!program) {  /* the rows so far go too */
-            for (int k = 0; k < n; k++)
-                free(live[k].v), free(live[k].history), free(live[k].prev_history);
-            st->row_count -= n;
-            return -1;
-        }
-        const bool noisy = receiver_program_animated(program);
-        for (int animated = 0; animated <= (int)noisy; animated++)
+        const enum light_shape shape = st->scenes[s].light.shape;
+        void *variants[2] = {(void *)st->settings[i], animated_copy(t, st->settings[i])};
+        for (int a = 0; a < 2 && variants[a]; a++) {
+            const GLuint program = programs_get(&st->programs, t, variants[a], shape, true).receiver;
+            if (!program) {  /* the rows so far go too */
+                for (int k = 0; k < n; k++)
+                    live_row_free(&live[k]);
+                if (a == 0)
+                    free(variants[1]);
+                st->row_count -= n;
+                return -1;
+            }
+            const bool animated = receiver_program_animated(program);
+            if (a == 1 && !animated) {  /* no noise: the same frames as the row above */
+                free(variants[1]);
+                break;
+            }
             for (int acc = 0; acc <= 1; acc++) {
                 st->rows = xrealloc(st->rows, sizeof *st->rows * (size_t)(st->row_count + 1));
                 struct motion_row *r = &st->rows[st->row_count++];
                 *r = (struct motion_row){.scene = s, .motion = m, .t = t, .animated = animated, .accumulated = acc};
                 snprintf(r->label, sizeof r->label, "%s%s%s", t->name, animated ? "~anim" : "", acc ? "+ema" : "");
-                live[n] = (struct live_row){.program = program, .settings = st->settings[i],
-                                            .source = acc ? n - 1 : -1, .v = xmalloc(sizeof(float) * count)};
+                live[n] = (struct live_row){.settings = variants[a], .source = acc ? n - 1 : -1,
+                                            .v = xmalloc(sizeof(float) * count)};
+                if (a == 1 && !acc)
+                    live[n].animated_settings = variants[1];  /* freed with this row */
                 if (acc)
                     live[n].history = xmalloc(sizeof(float) * count),
                     live[n].prev_history = xmalloc(sizeof(float) * count);
                 n++;
             }
+        }
     }
     /* rows may have moved: point the live rows at theirs now */
     for (int k = 0; k < n; k++)
@@ -216,7 +246,7 @@ int stability_motion(struct stability *st, int s, int m)
             if (L->row->accumulated)
                 continue;
             struct metrics mt = {0};
-            ss.receiver.noise_frame = L->row->animated ? (float)frame : 0.0f;
+            ss.receiver.noise_frame = (float)frame;  /* read by a program that animates its noise */
             rc = scene_setup_cell(&ss, L->row->t, L->settings, &mt);
             if (rc)
                 break;
@@ -246,7 +276,7 @@ int stability_motion(struct stability *st, int s, int m)
         flicker_finish(&L->fl, &L->row->r);
         L->row->frame_rmse = L->fl.frame_rmse, L->fl.frame_rmse = NULL;  /* the row's now */
         flicker_free(&L->fl);
-        free(L->v), free(L->history), free(L->prev_history);
+        live_row_free(L);
         const struct flicker_result *r = &L->row->r;
         if (!rc)
             log_info("  %-15s flicker %.5f (floor %.5f%s)  in the band %.4f (floor %.4f)  p99 %.4f  rmse mean %.4f  "

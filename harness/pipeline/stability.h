@@ -7,8 +7,8 @@
  * error changes from frame to frame, against the ground truth's own
  * frame-to-frame noise. Techniques with per-pixel noise are measured with
  * it still (as every other command scores them) and animated by the frame
- * index (Jimenez 2014), each per frame and accumulated by the moving
- * average TAA keeps.
+ * index (their animate_noise on; Jimenez 2014), each per frame and
+ * accumulated by the moving average TAA keeps.
  *
  * Variations: one thing varied over a list of values (the shadow map's
  * size, the light's size, the map's depth range, or a technique

@@ -2,6 +2,7 @@
 #include "base/log.h"
 #include "base/util.h"
 #include "gl/shader.h"
+#include "techniques/param_rows.h"
 #include "techniques/params.h"
 #include "techniques/shadowmap.h"
 
@@ -13,8 +14,9 @@
  * (receiver_prepare): a scene whose cells declare none makes none. */
 struct receiver_screen {
     int mask_width, mask_height;         /* blocks */
-    GLuint mask_raw, mask, mask_fetches;  /* 2D arrays, a layer a cascade: the pre-pass's classes,
-                                            dilated, and its fetches per block (counting) */
+    GLuint mask_raw, mask, mask_fetches;  /* 2D arrays, a layer a cascade: the pre-pass's classes
+                                            and camera distances (RG), the classes dilated, and the
+                                            pre-pass's fetches per block (counting) */
     GLuint mask_depth;
     GLuint mask_fbo[CASCADES_MAX], dilate_fbo[CASCADES_MAX];
     GLuint dilate_program;
@@ -59,13 +61,17 @@ void receiver_stages_of(const struct technique *t, const void *settings, struct 
 {
     const struct technique_param *mask = params_find(t, "penumbra_mask"),
                                  *dilate = params_find(t, "mask_dilate_blocks"),
+                                 *dilate_world = params_find(t, "mask_dilate_world"),
                                  *radius = params_find(t, "denoise_radius_px"),
-                                 *sigma = params_find(t, "denoise_sigma_world");
+                                 *sigma = params_find(t, "denoise_sigma_world"),
+                                 *normal = params_find(t, "denoise_normal_power");
     *out = (struct receiver_stages){
         .penumbra_mask = mask && params_get(mask, settings) != 0,
         .mask_dilate_blocks = dilate ? (int)params_get(dilate, settings) : 0,
+        .mask_dilate_world = dilate_world ? (float)params_get(dilate_world, settings) : 0,
         .denoise_radius_px = radius && sigma ? (int)params_get(radius, settings) : 0,
         .denoise_sigma_world = sigma ? (float)params_get(sigma, settings) : 0,
+        .denoise_normal_power = normal ? (float)params_get(normal, settings) : 0,
     };
 }
 
@@ -122,6 +128,7 @@ static GLuint screen_program(const char *label, const char *frag)
 {
     struct strbuf defines = {0};
     shadowmap_shader_defines(&defines);
+    strbuf_printf(&defines, "#define MASK_MAX_DILATE_BLOCKS %d\n", MASK_MAX_DILATE_BLOCKS);
     GLuint p = shader_program(label, defines.data,
                               (const struct shader_stage[]){{GL_VERTEX_SHADER, {"fullscreen.vert"}},
                                                             {GL_FRAGMENT_SHADER, {frag}}},
@@ -171,7 +178,7 @@ static int prepare_mask(struct receiver *r, struct receiver_screen *sc)
 {
     sc->mask_width = (r->width + RECEIVER_MASK_BLOCK - 1) / RECEIVER_MASK_BLOCK;
     sc->mask_height = (r->height + RECEIVER_MASK_BLOCK - 1) / RECEIVER_MASK_BLOCK;
-    sc->mask_raw = layered_texture(GL_R32F, sc->mask_width, sc->mask_height, "penumbra mask: classes");
+    sc->mask_raw = layered_texture(GL_RG32F, sc->mask_width, sc->mask_height, "penumbra mask: classes, distances");
     sc->mask = layered_texture(GL_R32F, sc->mask_width, sc->mask_height, "penumbra mask: dilated");
     sc->mask_fetches = layered_texture(GL_R32F, sc->mask_width, sc->mask_height, "penumbra mask: fetches");
     sc->mask_depth = gl_texture_2d(GL_DEPTH_COMPONENT32F, sc->mask_width, sc->mask_height, "penumbra mask: depth");
@@ -243,7 +250,7 @@ void receiver_render_mask(const struct receiver *r, const struct receiver_progra
     for (int k = 0; k < c->count; k++) {
         glBindFramebuffer(GL_FRAMEBUFFER, sc->mask_fbo[k]);
         glDrawBuffers(counting ? 2 : 1, buffers);
-        glClearBufferfv(GL_COLOR, 0, (const float[4]){0.5f, 0, 0, 0});  /* no geometry: penumbra */
+        glClearBufferfv(GL_COLOR, 0, (const float[4]){0.5f, 0, 0, 0});  /* no geometry: penumbra, distance 0 */
         if (counting)
             glClearBufferfv(GL_COLOR, 1, (const float[4]){0, 0, 0, 0});
         glClearBufferfv(GL_DEPTH, 0, (const float[]){0.0f});
@@ -255,6 +262,11 @@ void receiver_render_mask(const struct receiver *r, const struct receiver_progra
     sc->mask_layers = counting ? c->count : 0;
     glUseProgram(sc->dilate_program);
     glUniform1i(glGetUniformLocation(sc->dilate_program, "u_radius"), p->stages.mask_dilate_blocks);
+    /* a block's side in world units per unit of camera distance: 4 pixels
+     * of the image plane at distance 1 (|ray_up| = tan(yfov / 2)) */
+    const float block_angle = (float)RECEIVER_MASK_BLOCK * 2.0f * v3_length(r->ray_up) / (float)r->height;
+    glUniform1f(glGetUniformLocation(sc->dilate_program, "u_radius_world"), p->stages.mask_dilate_world);
+    glUniform1f(glGetUniformLocation(sc->dilate_program, "u_block_angle"), block_angle);
     glBindTextureUnit(SHADOWMAP_PASS_SOURCE_UNIT, sc->mask_raw);
     glBindSampler(SHADOWMAP_PASS_SOURCE_UNIT, 0);
     glDisable(GL_DEPTH_TEST);
@@ -317,6 +329,7 @@ void receiver_render_denoise(const struct receiver *r, const struct receiver_pro
     glUseProgram(program);
     glUniform1i(glGetUniformLocation(program, "u_radius"), p->stages.denoise_radius_px);
     glUniform1f(glGetUniformLocation(program, "u_sigma_world"), p->stages.denoise_sigma_world);
+    glUniform1f(glGetUniformLocation(program, "u_normal_power"), p->stages.denoise_normal_power);
     glUniform3f(glGetUniformLocation(program, "u_camera_pos"), r->camera_pos.x, r->camera_pos.y, r->camera_pos.z);
     glUniform3f(glGetUniformLocation(program, "u_ray_fwd"), r->camera_fwd.x, r->camera_fwd.y, r->camera_fwd.z);
     glUniform3f(glGetUniformLocation(program, "u_ray_right"), r->ray_right.x, r->ray_right.y, r->ray_right.z);

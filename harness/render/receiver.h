@@ -31,8 +31,10 @@
 struct receiver_stages {
     bool penumbra_mask;        /* the mask's pre-pass, then the receiver pass reads it */
     int mask_dilate_blocks;
+    float mask_dilate_world;   /* 0: off; else a radius in world units, blocks at each block's distance */
     int denoise_radius_px;     /* the bilateral denoiser's; 0: none */
     float denoise_sigma_world;
+    float denoise_normal_power; /* 0: position only */
 };
 
 void receiver_stages_of(const struct technique *t, const void *settings, struct receiver_stages *out);
