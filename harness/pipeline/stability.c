@@ -145,8 +145,7 @@ static int add_rows(struct stability *st, int s, int m, size_t count, struct liv
             if (!program) {  /* the rows so far go too */
                 for (int k = 0; k < n; k++)
                     live_row_free(&live[k]);
-                if (a == 0)
-                    free(variants[1]);
+                free(variants[1]);  /* no row of this technique owns it yet */
                 st->row_count -= n;
                 return -1;
             }
