@@ -3,8 +3,9 @@
  * tune values are in range and hold its default; the frontier it writes is
  * a Pareto front; run's tuned cells use each scene's fold setting, and a
  * scene the tuning did not see its light kind's (settings_by_light), else
- * the all-scene one; a stale or out-of-range tuned file is one line naming
- * it, exit 2. */
+ * the all-scene one; --set holds a parameter (out of the space, at its
+ * value in every setting the file records) while the others are searched;
+ * a stale or out-of-range tuned file is one line naming it, exit 2. */
 #include "check.h"
 #include "read_json.h"
 #include "run_cmd.h"
@@ -373,8 +374,8 @@ static void command(void)
     bad = util_printf("%s tune --objective mae", sb);
     expect_fail(bad, "shadowbench: error: --objective: 'mae' is not one of: penumbra_rmse, rmse, shaded_rmse\n");
     free(bad);
-    bad = util_printf("%s tune --set hard.slope_bias=1", sb);
-    expect_fail(bad, "shadowbench: error: --set: unknown option for tune (see --help)\n");
+    bad = util_printf("%s tune --technique hard --set pcf.samples=16", sb);
+    expect_fail(bad, "shadowbench: error: --set: pcf is not among the techniques selected with --technique\n");
     free(bad);
     bad = util_printf("%s run --settings tuned --set hard.slope_bias=1", sb);
     expect_fail(bad, "shadowbench: error: --settings tuned: --set and --sweep change default cells, and this run "
@@ -462,4 +463,46 @@ static void cost_fetches(void)
     free(text), free(svg);
 }
 
-TEST_MAIN(dir, search, tables, command, cost_fetches)
+static bool keeps_held(const cJSON *settings)
+{
+    const char *rotation = cJSON_GetStringValue(cJSON_GetObjectItem(settings, "rotation"));
+    return cJSON_GetNumberValue(cJSON_GetObjectItem(settings, "samples")) == 16 && rotation &&
+           strcmp(rotation, "blue_noise") == 0;
+}
+
+/* tune --set: seed 003's 16 taps and blue noise held, pcf's other
+ * parameters searched; a tuned parameter held (samples) leaves the space */
+static void held(void)
+{
+    char *cmd = util_printf("%s tune --technique pcf --set pcf.samples=16 --set pcf.rotation=blue_noise "
+                            "--scene parallel_planes --scene contact_hardening --width 32 --height 32 --gt-samples 16 "
+                            "--frames 1 --no-cache -q --out %s/tune_held", sb, dir);
+    struct strbuf err = {0};
+    CHECK(run_cmd(cmd, &err, NULL) == 0, "tune --set: %s", err.data);
+    strbuf_free(&err);
+    free(cmd);
+    char *path = util_printf("%s/tune_held/pcf.json", dir);
+    cJSON *j = read_json(path);
+    CHECK(j, "%s: not written", path);
+    if (!j) {
+        free(path);
+        return;
+    }
+    const cJSON *held = cJSON_GetObjectItem(j, "held"), *space = cJSON_GetObjectItem(j, "space");
+    CHECK(cJSON_GetNumberValue(cJSON_GetObjectItem(held, "samples")) == 16 &&
+              strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(held, "rotation")), "blue_noise") == 0 &&
+              cJSON_GetArraySize(held) == 2,
+          "%s: held lists the two parameters --set", path);
+    CHECK(!cJSON_GetObjectItem(space, "samples") && cJSON_GetObjectItem(space, "radius_texels"),
+          "%s: samples left the space, radius_texels is in it", path);
+    /* every setting it records keeps them: the all-scene one and each fold's */
+    int settings = 1, kept = keeps_held(cJSON_GetObjectItem(j, "settings"));
+    const cJSON *fold;
+    cJSON_ArrayForEach(fold, cJSON_GetObjectItem(j, "folds"))
+        settings++, kept += keeps_held(cJSON_GetObjectItem(fold, "settings"));
+    CHECK(settings == 3 && kept == settings, "%s: %d of %d settings keep the held values", path, kept, settings);
+    cJSON_Delete(j);
+    free(path);
+}
+
+TEST_MAIN(dir, search, tables, command, cost_fetches, held)

@@ -102,6 +102,9 @@ static int set_parameter(struct options *o, const char *arg)
     const int index = technique_index(t);
     if (!o->settings[index])
         o->settings[index] = params_defaults(t);
+    const struct technique_param *p = params_find(t, name);
+    if (p && p - t->params < 64)  /* tune holds it there (tuner.h) */
+        o->held[index] |= 1ull << (p - t->params);
     return params_set(t, o->settings[index], name, eq + 1);
 }
 
@@ -354,8 +357,10 @@ const struct option_row option_rows[] = {
      "'shadowbench list')"},
     {"technique", 0, "T[,T...]", RENDERING, OPTION_NONE, 0, 0, 0, set_techniques,
      "techniques to run (repeatable; default: all, see 'shadowbench list')"},
-    {"set", 0, "T.P=V", ON(RUN) | ON(BENCH) | ON(STABILITY) | ON(VIEW), OPTION_NONE, 0, 0, 0, set_parameter,
-     "set parameter P of technique T (repeatable), e.g. --set hard.slope_bias=2; ranges in 'shadowbench list'"},
+    {"set", 0, "T.P=V", ON(RUN) | ON(BENCH) | ON(TUNE) | ON(STABILITY) | ON(VIEW), OPTION_NONE, 0, 0, 0,
+     set_parameter,
+     "set parameter P of technique T (repeatable), e.g. --set hard.slope_bias=2; ranges in 'shadowbench list'; "
+     "tune holds it there and searches the others"},
     {"sweep", 0, "T.P=V1,V2,...", ON(RUN), OPTION_NONE, 0, 0, 0, set_sweep,
      "one cell per value of parameter P of technique T, on every scene, instead of T's single cell (repeatable; "
      "sweeps of one technique give every combination; a swept value overrides --set), e.g. --sweep "

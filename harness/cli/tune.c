@@ -73,7 +73,9 @@ static int tune_all(const struct options *o, const char *tuned, const struct sce
     struct tune_progress progress = {.start_ms = util_now_ms(), .per_size = TUNE_PER_SIZE_GUESS};
     static struct tuner tuners[CLI_MAX_TECHNIQUES];
     for (int i = 0; i < o->technique_count; i++) {
-        if (tuner_init(&tuners[i], o->techniques[i], &to, scenes, setups, scene_count, &progress) != 0) {
+        const struct technique *t = o->techniques[i];
+        if (tuner_init(&tuners[i], t, cli_settings(o, t), o->held[technique_index(t)], &to, scenes, setups,
+                       scene_count, &progress) != 0) {
             for (int k = 0; k <= i; k++)
                 tuner_free(&tuners[k]);
             return EXIT_USAGE;

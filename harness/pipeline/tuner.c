@@ -27,7 +27,7 @@ double tuner_size(const struct tuner *tn)
 
 static void *settings_of(const struct tuner *tn, const int *point)
 {
-    void *s = params_defaults(tn->t);
+    void *s = memcpy(xmalloc(tn->t->settings_size), tn->base, tn->t->settings_size);
     for (int d = 0; d < tn->dim_count; d++)
         params_put(tn->dims[d].p, s, tn->dims[d].values[point[d]]);
     return s;
@@ -238,6 +238,11 @@ static cJSON *technique_json(const struct tuner *tn, const int *start, const int
         }
         free(s);
     }
+    cJSON *base = params_json(tn->t, tn->base), *held = cJSON_AddObjectToObject(j, "held");
+    for (const struct technique_param *p = tn->t->params; p->name; p++)
+        if (p - tn->t->params < 64 && (tn->held >> (p - tn->t->params) & 1))
+            cJSON_AddItemToObject(held, p->name, cJSON_Duplicate(cJSON_GetObjectItem(base, p->name), true));
+    cJSON_Delete(base);
     cJSON *scenes = cJSON_AddArrayToObject(j, "scenes");
     for (int k = 0; k < tn->scene_count; k++)
         cJSON_AddItemToArray(scenes, cJSON_CreateString(tn->scenes[k].name));
@@ -294,15 +299,17 @@ static cJSON *technique_json(const struct tuner *tn, const int *start, const int
 
 /* ---- one technique ---- */
 
-int tuner_init(struct tuner *tn, const struct technique *t, const struct tune_options *o, const struct scene *scenes,
-               struct scene_setup *setups, int scene_count, struct tune_progress *progress)
+int tuner_init(struct tuner *tn, const struct technique *t, const void *base, unsigned long long held,
+               const struct tune_options *o, const struct scene *scenes, struct scene_setup *setups, int scene_count,
+               struct tune_progress *progress)
 {
-    *tn = (struct tuner){.o = o, .t = t, .scenes = scenes, .setups = setups, .scene_count = scene_count,
-                         .progress = progress};
+    *tn = (struct tuner){.o = o, .t = t, .base = base, .held = held, .scenes = scenes, .setups = setups,
+                         .scene_count = scene_count, .progress = progress};
     int *start = tn->start;
     for (const struct technique_param *p = t->params; p->name; p++) {
         struct tune_dim d = {.p = p};
-        if (!(d.count = params_tune_values(p, d.values, TUNE_MAX_VALUES)))
+        if ((p - t->params < 64 && (held >> (p - t->params) & 1)) ||
+            !(d.count = params_tune_values(p, d.values, TUNE_MAX_VALUES)))
             continue;
         int at = -1;
         for (int v = 0; v < d.count; v++)

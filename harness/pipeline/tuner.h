@@ -58,6 +58,8 @@ struct tune_dim {
 struct tuner {
     const struct tune_options *o;
     const struct technique *t;
+    const void *base;          /* the settings the search starts from: the defaults, or --set's */
+    unsigned long long held;   /* bit k: t->params[k] is held at base's value, not searched */
     struct tune_dim dims[TUNE_MAX_DIMS];
     int dim_count;
     int start[TUNE_MAX_DIMS];  /* the defaults, as value indices */
@@ -68,11 +70,13 @@ struct tuner {
     struct tune_progress *progress;
 };
 
-/* Technique t's space (its tuned parameters and their values) over the
- * scenes, their setups open. Returns 0 or -1 (logged: a table whose tune
- * values lack its default). */
-int tuner_init(struct tuner *tn, const struct technique *t, const struct tune_options *o, const struct scene *scenes,
-               struct scene_setup *setups, int scene_count, struct tune_progress *progress);
+/* Technique t's space (its tuned parameters and their values, but those
+ * `held`) over the scenes, their setups open; every point takes base's
+ * value of each parameter it does not search (base outlives the tuner).
+ * Returns 0 or -1 (logged: a table whose tune values lack its default). */
+int tuner_init(struct tuner *tn, const struct technique *t, const void *base, unsigned long long held,
+               const struct tune_options *o, const struct scene *scenes, struct scene_setup *setups, int scene_count,
+               struct tune_progress *progress);
 
 /* The cells one search round costs: one point per value of each
  * parameter, on every scene (the ETA's unit). */
