@@ -33,7 +33,9 @@ vec3 surface_at(ivec2 q, float d)
 }
 
 // The surface's normal at pixel p (point x), oriented alike everywhere (the
-// differences run along +x and +y), or 0 where a side has no neighbour.
+// differences run along +x and +y), or 0 where an axis has no neighbour
+// on either side (a sliver against the sky) or the two differences are
+// parallel.
 vec3 normal_at(ivec2 p, vec3 x)
 {
     ivec2 last = ivec2(u_size) - 1;
@@ -42,13 +44,15 @@ vec3 normal_at(ivec2 p, vec3 x)
         ivec2 e = a == 0 ? ivec2(1, 0) : ivec2(0, 1);
         ivec2 lo = clamp(p - e, ivec2(0), last), hi = clamp(p + e, ivec2(0), last);
         float dl = texelFetch(camera_distance, lo, 0).r, dh = texelFetch(camera_distance, hi, 0).r;
-        vec3 l = dl < 0.0 || lo == p ? vec3(1e30) : x - surface_at(lo, dl),
-             h = dh < 0.0 || hi == p ? vec3(1e30) : surface_at(hi, dh) - x;
-        side[a] = dot(l, l) < dot(h, h) ? l : h;
+        bool has_l = dl >= 0.0 && lo != p, has_h = dh >= 0.0 && hi != p;
+        if (!has_l && !has_h)
+            return vec3(0.0);
+        vec3 l = has_l ? x - surface_at(lo, dl) : vec3(0.0), h = has_h ? surface_at(hi, dh) - x : vec3(0.0);
+        side[a] = !has_h || (has_l && dot(l, l) < dot(h, h)) ? l : h;
     }
     vec3 n = cross(side[0], side[1]);
     float len = length(n);
-    return len > 0.0 && len < 1e29 ? n / len : vec3(0.0);
+    return len > 0.0 ? n / len : vec3(0.0);
 }
 
 void main()

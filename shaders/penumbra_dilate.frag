@@ -5,7 +5,7 @@
 // runs the full filter, never narrows it. One layer of the mask.
 //
 // The radius is u_radius blocks, or with u_radius_world > 0 that world
-// radius in blocks at the block's camera distance d (a block spans
+// radius in blocks at the block's view depth d (a block spans
 // d * u_block_angle), if more, up to MASK_MAX_DILATE_BLOCKS: seed 003's
 // distance-dependent radius, which keeps the margin a world width as the
 // camera nears a penumbra (a fixed count of blocks shrinks with it).
@@ -13,7 +13,7 @@ layout(binding = SM_BINDING_PASS_SOURCE) uniform sampler2DArray source;  // the 
 uniform int u_layer;
 uniform int u_radius;          // blocks
 uniform float u_radius_world;  // world units; 0: off
-uniform float u_block_angle;   // a block's side at camera distance 1
+uniform float u_block_angle;   // a block's side at view depth 1
 
 layout(location = 0) out float out_class;
 
@@ -23,7 +23,7 @@ void main()
     vec2 own = texelFetch(source, ivec3(p, u_layer), 0).rg;
     float c = own.r;
     int radius = u_radius;
-    if (u_radius_world > 0.0 && own.g > 0.0)  // no geometry (distance 0): penumbra already
+    if (u_radius_world > 0.0 && own.g > 0.0)  // no geometry (depth 0): penumbra already
         radius = max(radius, int(min(ceil(u_radius_world / (own.g * u_block_angle)), float(MASK_MAX_DILATE_BLOCKS))));
     for (int dy = -radius; dy <= radius && c != 0.5; dy++)
         for (int dx = -radius; dx <= radius; dx++)

@@ -3,8 +3,8 @@
 // the camera at a quarter of the receiver's width and height, so a fragment
 // is a 4 x 4 block of receiver pixels at its centre, each asking the
 // technique's shadow_classify() (its file is appended) whether the block is
-// lit (1), in umbra (0) or in penumbra (0.5), beside its camera distance
-// (the dilation's distance-dependent radius). A block the technique is not
+// lit (1), in umbra (0) or in penumbra (0.5), beside its view depth (the
+// dilation's distance-dependent radius: a block spans depth x its angle). A block the technique is not
 // asked about (no geometry at its centre, outside the map or this cascade)
 // is penumbra: the receiver pass runs the full filter there. One layer per
 // cascade; penumbra_dilate.frag then spreads the penumbra.
@@ -31,7 +31,7 @@ void main()
     // at this resolution the derivatives span a block
     vec2 block_half_uv = 0.5 * (abs(s.uv_dx) + abs(s.uv_dy));
     out_class = vec2(cascade_weight_at(p) > 0.0 && sm_inside(s) ? shadow_classify(s, block_half_uv) : 0.5,
-                     distance(p, u_camera_pos));
+                     dot(p - u_camera_pos, u_camera_fwd));
 #if SM_COUNT_FETCHES
     out_fetches = sm_fetches;
 #endif

@@ -20,8 +20,8 @@ float sm_lit_2x2(vec2 uv, float ref)
     return textureLod(sm_depth_compare, vec3(uv, ref), 0.0);
 }
 
-// The frame index the noise is animated by (the receiver sets it: 0 unless
-// `shadowbench stability` animates it), read only by a technique whose
+// The frame index the noise is animated by (the receiver sets it: 0, but
+// in `stability`'s frames and `check`'s frame 1), read only by a technique whose
 // `animate_noise` is on; a program that does not read it is the same from
 // frame to frame.
 uniform float sm_noise_frame;
@@ -61,9 +61,10 @@ vec2 sm_hash_noise(vec2 frag_coord, float frame)
 }
 
 // Blue noise in [0, 1)^2 per pixel: the tileable void-and-cluster texture
-// (tools/blue_noise.c), a tile a channel, and for frame f the golden-ratio
-// steps of the R2 sequence (Roberts 2018) added modulo 1, which keeps each
-// frame's pattern blue while every pixel walks through [0, 1) evenly.
+// (tools/blue_noise.c), a tile a channel, and for frame f that many steps of
+// the R2 sequence (Roberts 2018: 1/g and 1/g^2, g the plastic number) added
+// modulo 1: every pixel walks through [0, 1) evenly, and each frame stays
+// mostly blue (the wrap costs some of it; test_tap_patterns measures it).
 layout(binding = SM_BINDING_BLUE_NOISE) uniform sampler2D sm_blue_noise;
 vec2 sm_blue_noise_at(vec2 frag_coord, float frame)
 {

@@ -44,7 +44,7 @@
 
 #define PARAM_ROW_ANIMATE_NOISE(settings)                                                  \
     {"animate_noise", "the frame index moves the per-pixel noise (a new rotation each frame, "  \
-     "for TAA to average); only `stability` renders frames past the first",               \
+     "for TAA to average); `stability` animates it, `check` renders frame 1 so it is seen to act",               \
      offsetof(settings, animate_noise), PARAM_BOOL, 0, 0, 1, NULL, NULL}
 
 #define PARAM_ROW_MIN_VARIANCE(settings)                                                   \
@@ -82,7 +82,7 @@
      offsetof(settings, denoise_radius_px), PARAM_INT, 0, 0, 8, NULL, NULL},               \
     {"denoise_sigma_world", "the denoiser's world-distance weight: its sigma, world units", \
      offsetof(settings, denoise_sigma_world), PARAM_FLOAT, 0.1, 0.001, 100.0, NULL, NULL},       \
-    {"denoise_normal_power", "the denoiser's normal weight: |n . n_tap| to this power, normals " \
+    {"denoise_normal_power", "the denoiser's normal weight: max(0, n . n_tap) to this power, normals " \
      "rebuilt from the camera distances (0 = position only, seed 003's)",                  \
      offsetof(settings, denoise_normal_power), PARAM_FLOAT, 0.0, 0.0, 256.0, NULL, NULL}
 
@@ -98,7 +98,7 @@
      "block this many blocks around agrees",                                               \
      offsetof(settings, mask_dilate_blocks), PARAM_INT, 1, 0, 4, NULL, NULL},                \
     {"mask_dilate_world", "seed 003's distance-dependent dilation: this radius in world units, "  \
-     "made blocks at each block's camera distance (more blocks when near), if more than "   \
+     "made blocks at each block's view depth (more blocks when near), if more than "   \
      "mask_dilate_blocks, at most " UTIL_STR(MASK_MAX_DILATE_BLOCKS) " (0 = off)",                                            \
      offsetof(settings, mask_dilate_world), PARAM_FLOAT, 0.0, 0.0, 100.0, NULL, NULL}
 

@@ -478,9 +478,7 @@ GLuint shadowmap_blue_noise_create(void)
         free(pixels);
     }
     GLuint t = gl_texture_2d(GL_RG32F, SIDE, SIDE, "blue noise");
-    glBindTexture(GL_TEXTURE_2D, t);
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, SIDE, SIDE, GL_RG, GL_FLOAT, texels);
-    glBindTexture(GL_TEXTURE_2D, 0);
+    glTextureSubImage2D(t, 0, 0, 0, SIDE, SIDE, GL_RG, GL_FLOAT, texels);
     return t;
 }
 

@@ -120,31 +120,32 @@ static void penumbra_mask(void)
     cJSON_Delete(m);
 }
 
-/* mask_dilate_world on contact_hardening, whose surfaces lie 4 to 9 m
- * from the camera (view depth), a block 0.11 to 0.23 m wide at 128 x 128 */
+/* mask_dilate_world on contact_hardening, whose surfaces lie 4 to 8.8 m
+ * from the camera in view depth: a block (4 pixels at 128 x 128) is 0.105
+ * to 0.233 m wide there */
 static void mask_world_radius(void)
 {
     cJSON *m = run_cells("mask_world", "--scene contact_hardening --technique pcss --set pcss.penumbra_mask=true "
                                        "--sweep pcss.mask_dilate_blocks=0,1 "
-                                       "--sweep pcss.mask_dilate_world=0,0.000001,0.2,50,100");
+                                       "--sweep pcss.mask_dilate_world=0,0.09,0.2,2,50");
     const char *one = "pcss@mask_dilate_blocks=1,mask_dilate_world=0.0",
-               *tiny = "pcss@mask_dilate_blocks=0,mask_dilate_world=1e-06",
+               *under = "pcss@mask_dilate_blocks=0,mask_dilate_world=0.09",
                *some = "pcss@mask_dilate_blocks=0,mask_dilate_world=0.2",
-               *wide = "pcss@mask_dilate_blocks=0,mask_dilate_world=50.0",
-               *wider = "pcss@mask_dilate_blocks=1,mask_dilate_world=100.0";
-    /* below a block at every distance: ceil makes it one block */
-    CHECK(metric(m, tiny, "fetches_per_pixel") == metric(m, one, "fetches_per_pixel") &&
-              metric(m, tiny, "rmse") == metric(m, one, "rmse"),
-          "a world radius below a block dilates by one block: %.4f fetches against %.4f",
-          metric(m, tiny, "fetches_per_pixel"), metric(m, one, "fetches_per_pixel"));
-    /* 50 and 100 m are past the cap at every block (8 blocks span about 2 m at most) */
-    CHECK(metric(m, wide, "fetches_per_pixel") == metric(m, wider, "fetches_per_pixel"),
-          "past the cap the radius is the cap: %.4f against %.4f fetches", metric(m, wide, "fetches_per_pixel"),
-          metric(m, wider, "fetches_per_pixel"));
-    CHECK(metric(m, one, "fetches_per_pixel") < metric(m, some, "fetches_per_pixel") &&
-              metric(m, some, "fetches_per_pixel") < metric(m, wide, "fetches_per_pixel"),
-          "0.2 m (1 or 2 blocks by distance) lies between: %.4f < %.4f < %.4f", metric(m, one, "fetches_per_pixel"),
-          metric(m, some, "fetches_per_pixel"), metric(m, wide, "fetches_per_pixel"));
+               *capped = "pcss@mask_dilate_blocks=0,mask_dilate_world=2.0",
+               *wide = "pcss@mask_dilate_blocks=0,mask_dilate_world=50.0";
+    const double f_one = metric(m, one, "fetches_per_pixel"), f_under = metric(m, under, "fetches_per_pixel"),
+                 f_some = metric(m, some, "fetches_per_pixel"), f_capped = metric(m, capped, "fetches_per_pixel"),
+                 f_wide = metric(m, wide, "fetches_per_pixel");
+    /* 0.09 m is under every block's width: ceil makes it one block (a block
+     * angle half the true one would make most blocks two) */
+    CHECK(f_under == f_one && metric(m, under, "rmse") == metric(m, one, "rmse"),
+          "a world radius under a block dilates by one block: %.4f fetches against %.4f", f_under, f_one);
+    /* 0.2 m is two blocks where they are under 0.2 m wide, one beyond (a
+     * block angle twice the true one would make every block one) */
+    CHECK(f_one < f_some && f_some < f_capped, "0.2 m lies between one block and the cap: %.4f < %.4f < %.4f", f_one,
+          f_some, f_capped);
+    /* 2 m is 9 to 19 blocks, 50 m the whole mask: both the cap of 8 */
+    CHECK(f_capped == f_wide, "past the cap the radius is the cap: %.4f against %.4f fetches", f_capped, f_wide);
     /* a wider dilation only sends more pixels to pcss: never fewer decided right */
     CHECK(metric(m, wide, "misclassified_fraction") <= metric(m, one, "misclassified_fraction"),
           "a wider dilation must not misclassify more: %.6f against %.6f", metric(m, wide, "misclassified_fraction"),
@@ -183,7 +184,7 @@ static void bilateral(void)
     cJSON_Delete(m);
 
     /* The normal weight: on parallel_planes every normal is the same (dot
-     * products 1 within float rounding: measured, the same picture); on
+     * products 1 within float rounding: measured, the same rmse); on
      * stanford_bunny it keeps the blur off faces turned away, which a
      * 4-pixel blur otherwise darkens (measured at 128²: dark_fraction 0.0153
      * without, 0.0092 at power 64; rmse 0.0940 and 0.0859) */

@@ -19,8 +19,8 @@
 
 #include <stdbool.h>
 
-/* The frame index check renders every cell at (the receiver's noise
- * frame): a program that does not animate its noise ignores it, and one
+/* The noise frame (the receiver's) at which check renders every cell: a
+ * program that does not animate its noise ignores it, and one
  * that does (animate_noise) shows a frame other than the still one, so the
  * parameter is seen to act. */
 #define REGRESSION_NOISE_FRAME 1

@@ -15,7 +15,7 @@
 struct receiver_screen {
     int mask_width, mask_height;         /* blocks */
     GLuint mask_raw, mask, mask_fetches;  /* 2D arrays, a layer a cascade: the pre-pass's classes
-                                            and camera distances (RG), the classes dilated, and the
+                                            and view depths (RG), the classes dilated, and the
                                             pre-pass's fetches per block (counting) */
     GLuint mask_depth;
     GLuint mask_fbo[CASCADES_MAX], dilate_fbo[CASCADES_MAX];
@@ -250,7 +250,7 @@ void receiver_render_mask(const struct receiver *r, const struct receiver_progra
     for (int k = 0; k < c->count; k++) {
         glBindFramebuffer(GL_FRAMEBUFFER, sc->mask_fbo[k]);
         glDrawBuffers(counting ? 2 : 1, buffers);
-        glClearBufferfv(GL_COLOR, 0, (const float[4]){0.5f, 0, 0, 0});  /* no geometry: penumbra, distance 0 */
+        glClearBufferfv(GL_COLOR, 0, (const float[4]){0.5f, 0, 0, 0});  /* no geometry: penumbra, depth 0 */
         if (counting)
             glClearBufferfv(GL_COLOR, 1, (const float[4]){0, 0, 0, 0});
         glClearBufferfv(GL_DEPTH, 0, (const float[]){0.0f});
@@ -262,8 +262,8 @@ void receiver_render_mask(const struct receiver *r, const struct receiver_progra
     sc->mask_layers = counting ? c->count : 0;
     glUseProgram(sc->dilate_program);
     glUniform1i(glGetUniformLocation(sc->dilate_program, "u_radius"), p->stages.mask_dilate_blocks);
-    /* a block's side in world units per unit of camera distance: 4 pixels
-     * of the image plane at distance 1 (|ray_up| = tan(yfov / 2)) */
+    /* a block's side in world units per unit of view depth: 4 pixels of
+     * the image plane at depth 1 (|ray_up| = tan(yfov / 2)) */
     const float block_angle = (float)RECEIVER_MASK_BLOCK * 2.0f * v3_length(r->ray_up) / (float)r->height;
     glUniform1f(glGetUniformLocation(sc->dilate_program, "u_radius_world"), p->stages.mask_dilate_world);
     glUniform1f(glGetUniformLocation(sc->dilate_program, "u_block_angle"), block_angle);
