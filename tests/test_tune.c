@@ -423,7 +423,10 @@ static void command(void)
  * the front is a staircase over tap counts. */
 static void cost_fetches(void)
 {
-    char *cmd = util_printf("%s tune --technique pcf --cost fetches --scene parallel_planes --scene contact_hardening "
+    /* the pattern held: the staircase is over tap counts, and each pattern's
+     * programs are compiled anew on a machine whose shader cache is cold */
+    char *cmd = util_printf("%s tune --technique pcf --set pcf.pattern=poisson --cost fetches --scene parallel_planes "
+                            "--scene contact_hardening "
                             "--width 48 --height 48 --gt-samples 16 --frames 1 --no-cache -q --out %s/tune_fetches "
                             "--write-tuned --allow-uncommitted --tuned %s/tuned_fetches", sb, dir, dir);
     struct strbuf err = {0};
@@ -475,6 +478,7 @@ static bool keeps_held(const cJSON *settings)
 static void held(void)
 {
     char *cmd = util_printf("%s tune --technique pcf --set pcf.samples=16 --set pcf.rotation=blue_noise "
+                            "--set pcf.pattern=poisson "
                             "--scene parallel_planes --scene contact_hardening --width 32 --height 32 --gt-samples 16 "
                             "--frames 1 --no-cache -q --out %s/tune_held", sb, dir);
     struct strbuf err = {0};
@@ -491,8 +495,8 @@ static void held(void)
     const cJSON *held = cJSON_GetObjectItem(j, "held"), *space = cJSON_GetObjectItem(j, "space");
     CHECK(cJSON_GetNumberValue(cJSON_GetObjectItem(held, "samples")) == 16 &&
               strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(held, "rotation")), "blue_noise") == 0 &&
-              cJSON_GetArraySize(held) == 2,
-          "%s: held lists the two parameters --set", path);
+              cJSON_GetArraySize(held) == 3,
+          "%s: held lists the three parameters --set", path);
     CHECK(!cJSON_GetObjectItem(space, "samples") && cJSON_GetObjectItem(space, "radius_texels"),
           "%s: samples left the space, radius_texels is in it", path);
     /* every setting it records keeps them: the all-scene one and each fold's */
