@@ -166,18 +166,25 @@ static void expect_fail(const char *cmd, const char *line)
     strbuf_free(&err);
 }
 
+/* Runs `shadowbench tune ARGS` (ARGS with the scratch folder's %s twice
+ * at most), which must succeed. */
+static void run_tune(const char *what, const char *args)
+{
+    char *tail = util_printf(args, dir, dir), *cmd = util_printf("%s tune %s", sb, tail);
+    struct strbuf err = {0};
+    CHECK(run_cmd(cmd, &err, NULL) == 0, "%s: %s", what, err.data);
+    strbuf_free(&err);
+    free(cmd), free(tail);
+}
+
 /* A small tune of hard on two area-light scenes and two sun scenes, then run
  * with its settings. */
 static void command(void)
 {
-    char *cmd = util_printf("%s tune --technique hard --scene parallel_planes --scene contact_hardening "
-                            "--scene sun_contact --scene sun_wide --width 64 --height 64 --gt-samples 16 "
-                            "--frames 1 --no-cache -q --out %s/tune --write-tuned --allow-uncommitted --tuned "
-                            "%s/tuned", sb, dir, dir);
-    struct strbuf err = {0};
-    CHECK(run_cmd(cmd, &err, NULL) == 0, "tune: %s", err.data);
-    strbuf_free(&err);
-    free(cmd);
+    run_tune("tune", "--technique hard --scene parallel_planes --scene contact_hardening --scene sun_contact "
+                     "--scene sun_wide --width 64 --height 64 --gt-samples 16 --frames 1 --no-cache -q --out %s/tune "
+                     "--write-tuned --allow-uncommitted --tuned %s/tuned");
+    char *cmd;
     char *path = util_printf("%s/tuned/hard.json", dir);
     cJSON *j = read_json(path);
     CHECK(j, "%s: not written", path);
@@ -425,14 +432,10 @@ static void cost_fetches(void)
 {
     /* the pattern held: the staircase is over tap counts, and each pattern's
      * programs are compiled anew on a machine whose shader cache is cold */
-    char *cmd = util_printf("%s tune --technique pcf --set pcf.pattern=poisson --cost fetches --scene parallel_planes "
-                            "--scene contact_hardening "
-                            "--width 48 --height 48 --gt-samples 16 --frames 1 --no-cache -q --out %s/tune_fetches "
-                            "--write-tuned --allow-uncommitted --tuned %s/tuned_fetches", sb, dir, dir);
-    struct strbuf err = {0};
-    CHECK(run_cmd(cmd, &err, NULL) == 0, "tune --cost fetches: %s", err.data);
-    strbuf_free(&err);
-    free(cmd);
+    run_tune("tune --cost fetches", "--technique pcf --set pcf.pattern=poisson --cost fetches --scene parallel_planes "
+                                    "--scene contact_hardening --width 48 --height 48 --gt-samples 16 --frames 1 "
+                                    "--no-cache -q --out %s/tune_fetches --write-tuned --allow-uncommitted --tuned "
+                                    "%s/tuned_fetches");
     char *path = util_printf("%s/tuned_fetches/pcf.json", dir);
     cJSON *j = read_json(path);
     CHECK(j && strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(j, "cost")), "fetches") == 0,
@@ -454,7 +457,7 @@ static void cost_fetches(void)
     CHECK(n >= 1, "an empty frontier");
     cJSON_Delete(j);
     free(path);
-    cmd = util_printf("%s run --technique pcf --scene parallel_planes --scene contact_hardening --width 32 --height 32 "
+    char *cmd = util_printf("%s run --technique pcf --scene parallel_planes --scene contact_hardening --width 32 --height 32 "
                       "--gt-samples 4 --frames 1 --no-cache -q --tuned %s/tuned_fetches --out %s/run_fetches", sb, dir,
                       dir);
     CHECK(run_cmd(cmd, NULL, NULL) == 0, "%s", cmd);
@@ -477,14 +480,9 @@ static bool keeps_held(const cJSON *settings)
  * parameters searched; a tuned parameter held (samples) leaves the space */
 static void held(void)
 {
-    char *cmd = util_printf("%s tune --technique pcf --set pcf.samples=16 --set pcf.rotation=blue_noise "
-                            "--set pcf.pattern=poisson "
-                            "--scene parallel_planes --scene contact_hardening --width 32 --height 32 --gt-samples 16 "
-                            "--frames 1 --no-cache -q --out %s/tune_held", sb, dir);
-    struct strbuf err = {0};
-    CHECK(run_cmd(cmd, &err, NULL) == 0, "tune --set: %s", err.data);
-    strbuf_free(&err);
-    free(cmd);
+    run_tune("tune --set", "--technique pcf --set pcf.samples=16 --set pcf.rotation=blue_noise --set "
+                           "pcf.pattern=poisson --scene parallel_planes --scene contact_hardening --width 32 --height 32 "
+                           "--gt-samples 16 --frames 1 --no-cache -q --out %s/tune_held");
     char *path = util_printf("%s/tune_held/pcf.json", dir);
     cJSON *j = read_json(path);
     CHECK(j, "%s: not written", path);
