@@ -1,13 +1,19 @@
 /* Every technique the harness knows, in the order `list` and the matrix
  * show them. Adding one: techniques/<name>.c (ending in its descriptor,
- * TECHNIQUE(<name>, ...)), shaders/<name>.glsl, and X(<name>) here. */
+ * TECHNIQUE(<name>, ...)), shaders/<name>.glsl, and X(<name>) here; an
+ * engine's mode: its ENGINE_TECHNIQUE in techniques/<engine>.c, its
+ * handling in engines/<engine>/adapter.js, and X(<name>) in ENGINES. */
 #include "technique.h"
 #include "base/util.h"
 #include "scene/light_frustum.h"
 
 #include <string.h>
 
-#define TECHNIQUES(X) X(hard) X(pcf) X(pcss) X(vsm) X(savsm) X(pcss_savsm) X(evsm) X(msm) X(msm_soft) X(vssm)
+#define TECHNIQUES(X) X(hard) X(pcf) X(pcss) X(vsm) X(savsm) X(pcss_savsm) X(evsm) X(msm) X(msm_soft) X(vssm) \
+    ENGINES(X)
+/* Engine cells (docs/engines.md), after shadowbench's own: one file per
+ * engine (techniques/<engine>.c), one descriptor per mode. */
+#define ENGINES(X) X(three_basic) X(three_pcf) X(three_vsm)
 
 #define X(name) extern const struct technique technique_##name;
 TECHNIQUES(X)

@@ -224,7 +224,13 @@ struct technique {
     unsigned needs;                        /* SM_* products it samples */
     const struct technique_param *params;  /* ends with { .name = NULL } */
     size_t settings_size;                  /* of the struct the params point into */
-    const char *shader;                    /* in shaders/, defines shadow_visibility */
+    const char *shader;                    /* in shaders/, defines shadow_visibility; NULL for an engine */
+    /* An engine cell's (docs/engines.md): the adapter in engines/<engine>/
+     * that renders it with a real engine's own shadow code, which takes
+     * the technique's name and parameters as that engine's settings; its
+     * version as the adapter pins it. NULL for shadowbench's own. */
+    const char *engine;
+    const char *engine_package;            /* the npm package, for list and the docs */
 
     /* Optional. The request for these settings; without it, .needs with
      * default options. */
@@ -249,6 +255,17 @@ const struct technique_preset *technique_preset_find(const struct technique *t, 
     const struct technique technique_##name_ = {.name = #name_, .params = name_##_params,         \
                                                 .settings_size = sizeof(struct name_##_settings), \
                                                 .shader = #name_ ".glsl", __VA_ARGS__}
+
+/* An engine cell's descriptor: techniques/<engine>.c holds one per mode,
+ * ENGINE_TECHNIQUE(three_pcf, three, "three", .summary = "..."): its
+ * parameter table and settings struct follow from the name; no shader. */
+#define ENGINE_TECHNIQUE(name_, engine_, package_, ...)                                          \
+    const struct technique technique_##name_ = {.name = #name_, .params = name_##_params,         \
+                                                .settings_size = sizeof(struct name_##_settings), \
+                                                .engine = #engine_, .engine_package = package_,   \
+                                                __VA_ARGS__}
+
+static inline bool technique_is_engine(const struct technique *t) { return t->engine != NULL; }
 
 /* t's request for these settings (calls t->request, or uses t->needs). */
 void technique_request(const struct technique *t, const void *settings, const struct request_context *c,

@@ -16,7 +16,8 @@
 #define H 80
 
 static const char *sb;
-static int technique_count;  /* a default run has one cell per registered technique, */
+static int technique_count;  /* a default run has one cell per registered technique (engines
+                                apart: they are run only when named), */
 static int preset_count;     /* and one per preset */
 static char dir[] = "/tmp/sb_test_e2e_XXXXXX";
 
@@ -233,9 +234,11 @@ int main(int argc, char **argv)
 {
     if (!(sb = test_begin(argc, argv, dir)))
         return 1;
-    for (; technique_list[technique_count]; technique_count++)
-        for (const struct technique_preset *p = technique_list[technique_count]->presets; p && p->name; p++)
+    for (int i = 0; technique_list[i]; i++) {
+        technique_count += !technique_is_engine(technique_list[i]);
+        for (const struct technique_preset *p = technique_list[i]->presets; p && p->name; p++)
             preset_count++;
+    }
 
     char *out1 = util_printf("%s/run1", dir), *out2 = util_printf("%s/run2", dir),
          *out3 = util_printf("%s/run3", dir);

@@ -6,7 +6,7 @@
 # Usage: test_layers.sh <source root>
 set -u
 cd "$1" || exit 2
-order="base scene truth gl techniques render score pipeline output view cli"
+order="base scene truth gl techniques render engine score pipeline output view cli"
 rank() {
     i=0
     for f in $order; do

@@ -121,12 +121,19 @@ enum { SIGNALS_KILL, SIGNALS_HELD, SIGNALS_FINISHED };
 static atomic_int signal_mode, signal_held, finished_status;
 
 /* The process's last act on a signal or a failed allocation: the temporary
- * being written removed (unlink and _exit are async-signal-safe). */
+ * being written removed, the child process group killed (unlink, kill and
+ * _exit are async-signal-safe). */
+static volatile sig_atomic_t child_group_id;
+
+void util_child_group(pid_t group) { child_group_id = group; }
+
 static void leave(int status) __attribute__((noreturn));
 static void leave(int status)
 {
     if (temp_active)
         unlink(temp_path);
+    if (child_group_id > 0)
+        kill(-child_group_id, SIGKILL);
     _exit(status);
 }
 
@@ -611,8 +618,10 @@ char *util_printf(const char *fmt, ...)
 
 const char *util_find_dir(const char *override, const char *env, const char *sub, const char *probe)
 {
-    static char found[4][4096];
-    static int next;
+    /* each distinct folder found keeps its slot for the process's life (a
+     * caller keeps the pointer): a few folders are ever looked for */
+    static char found[16][4096];
+    static int used;
     const char *given = override ? override : getenv(env);
     char *candidates[4] = {0};
     int n = 0;
@@ -627,9 +636,13 @@ const char *util_find_dir(const char *override, const char *env, const char *sub
     for (int i = 0; i < n && !result; i++) {
         char *p = util_printf("%s/%s", candidates[i], probe);
         if (util_file_exists(p)) {
-            char *slot = found[next++ % 4];
-            snprintf(slot, sizeof found[0], "%s", candidates[i]);
-            result = slot;
+            for (int k = 0; k < used && !result; k++)
+                if (strcmp(found[k], candidates[i]) == 0)
+                    result = found[k];
+            if (!result && used < (int)ARRAY_SIZE(found)) {
+                snprintf(found[used], sizeof found[0], "%s", candidates[i]);
+                result = found[used++];
+            }
         }
         free(p);
     }

@@ -7,6 +7,7 @@
 #include <stdbool.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <sys/types.h>
 
 #define ARRAY_SIZE(a) (sizeof(a) / sizeof((a)[0]))
 
@@ -46,6 +47,10 @@ void util_exit_cleanly_on_signals(void);
  * killed before it says "complete" (128 + the signal) or ends with its own
  * status, and never ignores a signal for longer than its last writes. */
 void util_signals_defer(void);
+
+/* The process group of a child the process runs (the engine driver,
+ * engine/engine.h), which a signal's exit kills with SIGKILL; 0: none. */
+void util_child_group(pid_t group);
 void util_signals_finished(int status);
 
 /* One line on stderr ("out of memory: N more bytes were needed ..."), the

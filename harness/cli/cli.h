@@ -60,6 +60,8 @@ struct options {
     int fractions_given;                 /* --cascade-split f1,f2,...: how many */
     int frames;                          /* timed frames; stability: of each motion; view: drawn, 0 = until closed */
     int warmup;                          /* untimed frames first (0 allowed) */
+    int engine_timeout;                  /* seconds an engine cell may take */
+    bool keep_going;                     /* run: a failed engine cell does not stop the run */
     const char *out_dir;
     const char *cache_dir;               /* NULL: no ground-truth cache */
     const char *shader_dir;              /* NULL: found automatically */

@@ -65,10 +65,24 @@ static int set_techniques(struct options *o, const char *list)
             break;
         }
         const struct technique *t = technique_find(name);
+        /* "engines": every engine cell; an engine's name: its modes (docs/engines.md) */
+        bool group = false;
+        for (const struct technique *const *e = technique_list; *e && !t; e++)
+            if (technique_is_engine(*e) && (!strcmp(name, "engines") || !strcmp(name, (*e)->engine))) {
+                group = true;
+                bool dup = false;
+                for (int i = 0; i < o->technique_count; i++)
+                    dup |= o->techniques[i] == *e;
+                if (!dup && o->technique_count < CLI_MAX_TECHNIQUES)
+                    o->techniques[o->technique_count++] = *e;
+            }
+        if (group)
+            continue;
         if (!t) {
             struct strbuf known = {0};
             technique_names(&known, ", ");
-            log_error("--technique: unknown technique '%s' (known: %s)", name, known.data);
+            log_error("--technique: unknown technique '%s' (known: %s; and engines, or an engine's name for its "
+                      "modes)", name, known.data);
             strbuf_free(&known);
             rc = -1;
         } else if (o->technique_count < CLI_MAX_TECHNIQUES) {
@@ -356,7 +370,12 @@ const struct option_row option_rows[] = {
      "a glTF file, or the name of a shipped scene (repeatable; default: every shipped scene, see "
      "'shadowbench list')"},
     {"technique", 0, "T[,T...]", RENDERING, OPTION_NONE, 0, 0, 0, set_techniques,
-     "techniques to run (repeatable; default: all, see 'shadowbench list')"},
+     "techniques to run (repeatable; default: all of shadowbench's own, see 'shadowbench list'); engines: every "
+     "engine cell (a real engine in headless Chromium, docs/engines.md), or an engine's name (three) for its modes"},
+    {"engine-timeout", 0, "S", ON(RUN) | ON(TUNE) | ON(CHECK), OPTION_INT, FIELD(engine_timeout), 1, 3600, NULL,
+     "the longest an engine cell may take, seconds, its browser's start included (default {D})"},
+    {"keep-going", 0, NULL, ON(RUN), OPTION_FLAG, FIELD(keep_going), 0, 0, NULL,
+     "an engine cell that fails is marked failed in the matrix and the run goes on (its exit status is still 2)"},
     {"set", 0, "T.P=V", ON(RUN) | ON(BENCH) | ON(TUNE) | ON(STABILITY) | ON(VIEW), OPTION_NONE, 0, 0, 0,
      set_parameter,
      "set parameter P of technique T (repeatable), e.g. --set hard.slope_bias=2; ranges in 'shadowbench list'; "

@@ -3,6 +3,7 @@
 #include "options.h"
 #include "base/log.h"
 #include "base/util.h"
+#include "engine/engine.h"
 #include "pipeline/stability.h"
 #include "score/metrics.h"
 #include "score/tuned.h"
@@ -72,6 +73,7 @@ void cli_options_defaults(struct options *o, enum command cmd)
                                             .lambda = CLI_DEFAULT_CASCADE_LAMBDA};
     o->frames = c->frames;
     o->warmup = c->warmup;
+    o->engine_timeout = (int)ENGINE_TIME_LIMIT_S;
     o->out_dir = c->out;
     o->cache_dir = CLI_DEFAULT_CACHE;
     o->baselines_dir = CLI_DEFAULT_BASELINES;
@@ -119,9 +121,20 @@ static int check_options(struct options *o)
     /* Every technique selected when none is, every setting at its default
      * unless --set, and (without sweeps: run checks each configuration once
      * its swept values are in) the rules across parameters. */
+    /* engine cells only when named: they need a browser, and take their own time */
     if (!o->technique_count)
         for (const struct technique *const *t = technique_list; *t; t++)
-            o->techniques[o->technique_count++] = *t;
+            if (!technique_is_engine(*t))
+                o->techniques[o->technique_count++] = *t;
+    for (int i = 0; i < o->technique_count; i++)
+        if (technique_is_engine(o->techniques[i]) && o->cmd != CMD_RUN && o->cmd != CMD_TUNE &&
+            o->cmd != CMD_CHECK) {
+            log_error("%s: %s is an engine cell (%s, rendered in a browser): run, tune and check take engine "
+                      "cells, %s does not (docs/engines.md)", c->name, o->techniques[i]->name,
+                      o->techniques[i]->engine, c->name);
+            return -1;
+        }
+    engine_set_time_limit(o->engine_timeout);
     for (int i = 0; technique_list[i]; i++)
         if (!o->settings[i])
             o->settings[i] = params_defaults(technique_list[i]);

@@ -97,16 +97,27 @@ static int run_scene(struct run *r, const struct scene *scene, struct scene_setu
         cell_note_search(&cells[i], settings, &ss->cascades);
         char *cell_dir = util_printf("%s/%s", dir, c->label);
         rc = scene_setup_cell(ss, c->technique, settings, &cells[i].m);
-        if (!rc)
-            cell_take_depth(&cells[i], ss);
-        rc = rc ||
-             output_cell_images(cell_dir, &(struct cell_images){ss->width, ss->height, ss->v, ss->distance, ss->gt.v,
-                                                                ss->scored});
+        if (rc && technique_is_engine(c->technique) && o->keep_going) {  /* marked, and the run goes on */
+            cells[i].failed = xstrdup(engine_last_error());
+            metrics_none(&cells[i].m);
+            rc = util_mkdirs_own(cell_dir, 1);  /* its metrics.json says why */
+        } else if (!rc) {
+            cell_take_setup(&cells[i], ss);
+            rc = output_cell_images(cell_dir, &(struct cell_images){ss->width, ss->height, ss->v, ss->distance,
+                                                                    ss->gt.v, ss->scored});
+        }
         free(cell_dir);
     }
+    /* the cells that rendered, timed */
+    int live = 0;
+    for (int i = 0; i < n; i++)
+        if (!cells[i].failed)
+            tc[live++] = tc[i];
     if (!rc)
         rc = scene_setup_time(ss, &(struct scene_setup_timing){o->warmup, o->frames, o->timing, timing_progress,
-                                                               (void *)scene->name}, tc, n, times);
+                                                               (void *)scene->name}, tc, live, times);
+    for (int i = n - 1, k = live - 1; i >= 0 && !rc; i--)  /* back to the cells' order */
+        times[i] = cells[i].failed ? (struct stage_times){NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN} : times[k--];
     log_progress_done();
     for (int i = 0; i < n && !rc; i++) {
         struct cell *c = &cells[i];
@@ -115,7 +126,9 @@ static int run_scene(struct run *r, const struct scene *scene, struct scene_setu
         rc = output_cell_metrics(cell_dir, c);
         free(cell_dir);
         const int done = (int)(c - r->cells) + 1;
-        if (!metrics_scored(&c->m))
+        if (c->failed)
+            log_info("  [%d/%d] %-*s FAILED (engine): see above", done, r->cells_total, r->label_width, c->label);
+        else if (!metrics_scored(&c->m))
             log_info("  [%d/%d] %-*s UNSCORED: no pixel to score (%ld GL/ray-tracer mismatches)", done,
                      r->cells_total, r->label_width, c->label, c->m.mismatch_pixels);
         else
@@ -133,22 +146,25 @@ static int run_scene(struct run *r, const struct scene *scene, struct scene_setu
 }
 
 /* The exit status of the cells: NaN/Inf or unscored cells fail (each
- * said). */
+ * said); a failed engine cell (--keep-going) is a fault, 2. */
 static int judge(const struct run *r)
 {
-    long bad = 0, unscored = 0;
+    long bad = 0, unscored = 0, failed = 0;
     for (int i = 0; i < r->cell_count; i++) {
         bad += r->cells[i].m.nonfinite > 0;
-        unscored += !metrics_scored(&r->cells[i].m);
+        failed += r->cells[i].failed != NULL;
+        unscored += !metrics_scored(&r->cells[i].m) && !r->cells[i].failed;
     }
     if (bad)
         log_error("%ld cell(s) produced NaN or Inf visibility", bad);
+    if (failed)  /* each said when it failed */
+        log_error("%ld engine cell(s) failed (marked failed in the matrix)", failed);
     for (int i = 0; i < r->cell_count; i++)
-        if (!metrics_scored(&r->cells[i].m))
+        if (!metrics_scored(&r->cells[i].m) && !r->cells[i].failed)
             log_error("%s/%s: unscored: no pixel where the camera sees a surface that the light's frustum holds, "
                       "that sees the light above its horizon and that GL and the ray tracer agree on; its metrics "
                       "are null", r->cells[i].scene, r->cells[i].label);
-    return bad || unscored ? EXIT_CHECK_FAILED : EXIT_OK;
+    return failed ? EXIT_USAGE : bad || unscored ? EXIT_CHECK_FAILED : EXIT_OK;
 }
 
 /* A run larger than the main job says, before it starts, how long it will
@@ -231,7 +247,7 @@ int run_main(const struct options *o)
     for (int s = 0; s < scene_count; s++)  /* every program first: a compile error fails at once */
         for (int i = 0; i < r.configs.count; i++) {
             const struct run_config *c = &r.configs.configs[i];
-            for (int counting = 0; counting <= 1; counting++)  /* scored by the one, timed by the other */
+            for (int counting = 0; counting <= 1 && !technique_is_engine(c->technique); counting++)  /* scored by the one, timed by the other */
                 if (!programs_get(&r.programs, c->technique, config_settings(c, &scenes[s]), scenes[s].light.shape,
                                   counting).receiver)
                     goto out_gl;
@@ -276,6 +292,8 @@ int run_main(const struct options *o)
     }
     if (!failed)
         status = judge(&r);
+    else if (engine_faulted())  /* an engine that could not render: a fault, said in one line */
+        status = EXIT_USAGE;
     cli_done(o, status, !failed, "run", OUTPUT_REPORT, "matrix", OUTPUT_MATRIX_CSV, start);
     for (int i = 0; i < r.cell_count; i++)
         cell_free(&r.cells[i]);

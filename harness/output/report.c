@@ -26,12 +26,21 @@ cJSON *report_cell_json(const struct cell *c)
             cJSON_AddNumberToObject(o, metric_info[k].key, v);
     }
     cJSON_AddStringToObject(o, "gl_renderer", c->gl_renderer);
+    if (c->engine_version) {  /* rendered by an engine, timed on its browser's device (docs/engines.md) */
+        cJSON *e = cJSON_AddObjectToObject(o, "engine");
+        cJSON_AddStringToObject(e, "name", c->technique->engine);
+        cJSON_AddStringToObject(e, "package", c->technique->engine_package);
+        cJSON_AddStringToObject(e, "version", c->engine_version);
+        cJSON_AddStringToObject(e, "renderer", c->engine_renderer);
+    }
     if (c->cascades)
         cJSON_AddItemToObject(o, "cascades", cJSON_Duplicate(c->cascades, 1));
     if (c->cascades)  /* scored with its maps in hand */
         cJSON_AddItemToObject(o, "depth", depth_metrics_json(&c->depth));
     if (c->notice)
         cJSON_AddStringToObject(o, "notice", c->notice);
+    if (c->failed)
+        cJSON_AddStringToObject(o, "failed", c->failed);
     return o;
 }
 
@@ -257,16 +266,23 @@ static int scene_charts(const struct report *r, const char *scene, const char *d
 {
     struct chart_points p;
     points_alloc(&p, r->cell_count);
-    for (int i = 0; i < r->cell_count; i++) {
-        const struct cell *c = &r->cells[i];
-        if (strcmp(c->scene, scene) != 0)
-            continue;
-        p.items[p.n] = item_of(c);
-        p.ms[p.n] = c->m.ms_total, p.q1[p.n] = c->m.ms_total_q1, p.q3[p.n] = c->m.ms_total_q3;
-        p.rmse[p.n] = c->m.rmse, p.pen[p.n] = c->m.penumbra_rmse, p.shaded[p.n] = c->m.shaded_rmse;
-        p.leak[p.n] = c->m.leak_fraction, p.dark[p.n] = c->m.dark_fraction;
-        p.fetches[p.n] = c->m.fetches_per_pixel;
-        p.n++;
+    /* shadowbench's own cells first: the time charts hold only them, timed on
+     * the run's device (an engine's times are its browser's, charted apart) */
+    int own = 0;
+    for (int engines = 0; engines <= 1; engines++) {
+        if (engines)
+            own = p.n;
+        for (int i = 0; i < r->cell_count; i++) {
+            const struct cell *c = &r->cells[i];
+            if (strcmp(c->scene, scene) != 0 || technique_is_engine(c->technique) != engines)
+                continue;
+            p.items[p.n] = item_of(c);
+            p.ms[p.n] = c->m.ms_total, p.q1[p.n] = c->m.ms_total_q1, p.q3[p.n] = c->m.ms_total_q3;
+            p.rmse[p.n] = c->m.rmse, p.pen[p.n] = c->m.penumbra_rmse, p.shaded[p.n] = c->m.shaded_rmse;
+            p.leak[p.n] = c->m.leak_fraction, p.dark[p.n] = c->m.dark_fraction;
+            p.fetches[p.n] = c->m.fetches_per_pixel;
+            p.n++;
+        }
     }
     const struct chart_series time = {"ms_total", "ms", p.ms, p.q1, p.q3, NULL, NAN};
     const struct chart_series fetches = {"fetches_per_pixel", "shadow-map fetches per covered pixel", p.fetches,
@@ -278,14 +294,14 @@ static int scene_charts(const struct report *r, const char *scene, const char *d
                                         {"dark_fraction", "share of scored pixels", p.dark, NULL, NULL, NULL, NAN}};
     char *title = util_printf("%s: error against time per frame", scene), *sub = chart_subtitle(device, "");
     struct strbuf svg = {0};
-    chart_tradeoff_svg(&svg, title, sub, p.items, p.n, &time, bars, 2);
+    chart_tradeoff_svg(&svg, title, sub, p.items, own, &time, bars, 2);
     char *name = util_printf("%s_tradeoff", scene);
     int rc = emit_chart(r, name, &svg, html);
     free(title), free(name);
     /* the same against the counted cost, which holds on any device */
     title = util_printf("%s: error against fetches per pixel", scene);
     chart_tradeoff_svg(&svg, title, "shadow-map fetches counted on the device (receiver pass and mask): a cost "
-                       "that holds on any GPU", p.items, p.n, &fetches, bars, 2);
+                       "that holds on any GPU", p.items, own, &fetches, bars, 2);
     name = util_printf("%s_fetches", scene);
     rc |= emit_chart(r, name, &svg, html);
     free(title), free(name);
@@ -298,7 +314,9 @@ static int scene_charts(const struct report *r, const char *scene, const char *d
     return rc || distance_chart(r, scene, html) ? -1 : 0;
 }
 
-/* A configuration (a cell label) over every scene of the run: its mean
+/* A configuration (a cell label) over every scene of the run, among
+ * shadowbench's own or among the engine cells (whose times are their
+ * browser's device's, never compared with the run's): its mean
  * rmse and ms_total, and its mean penumbra_rmse over the scenes that have
  * a penumbra band (NAN with none); complete when every scene scored it. */
 struct config_mean {
@@ -308,11 +326,13 @@ struct config_mean {
     bool complete;
 };
 
-static int config_means(const struct report *r, struct config_mean *out)
+static int config_means(const struct report *r, bool engines, struct config_mean *out)
 {
     int n = 0;
     for (int i = 0; i < r->cell_count; i++) {
         const struct cell *c = &r->cells[i];
+        if (technique_is_engine(c->technique) != engines)
+            continue;
         int k = 0;
         while (k < n && strcmp(out[k].first->label, c->label) != 0)
             k++;
@@ -343,28 +363,35 @@ static int config_means(const struct report *r, struct config_mean *out)
 /* Over all scenes: each configuration's (by label, first-seen order) mean
  * error and mean time; a configuration with an unscored cell has no mean
  * error (NAN: left out of the chart). */
-static int overall_chart(const struct report *r, const char *device, struct strbuf *html)
+static int overall_chart(const struct report *r, const char *device, bool engines, struct strbuf *html)
 {
     struct chart_points p;
     points_alloc(&p, r->cell_count);
     struct config_mean *m = xcalloc((size_t)r->cell_count + 1, sizeof *m);
-    p.n = config_means(r, m);
+    p.n = config_means(r, engines, m);
+    if (engines && p.n == 0) {
+        free(m);
+        points_free(&p);
+        return 0;
+    }
     for (int k = 0; k < p.n; k++) {
         p.items[k] = item_of(m[k].first);
         p.ms[k] = m[k].ms, p.q1[k] = m[k].q1, p.q3[k] = m[k].q3, p.rmse[k] = m[k].rmse, p.pen[k] = m[k].pen;
     }
-    free(m);
     const struct chart_series time = {"mean ms_total", "ms", p.ms, p.q1, p.q3, NULL, NAN};
     const struct chart_series errors[] = {{"mean rmse", "visibility", p.rmse, NULL, NULL, NULL, NAN},
                                           {"mean penumbra_rmse", "visibility", p.pen, NULL, NULL, NULL, NAN}};
-    char *title = util_printf("All %d scenes: mean error against mean time per frame", r->scene_count);
-    char *sub = chart_subtitle(device, "; each point one technique configuration, its bar the mean "
-                                       "quartiles");
+    char *title = util_printf("All %d scenes: mean error against mean time per frame%s", r->scene_count,
+                              engines ? ", engine cells" : "");
+    char *engine_device = engines ? util_printf("%s, in headless Chromium, timed by the page's clock",
+                                                m[0].first->gl_renderer) : NULL;
+    char *sub = chart_subtitle(engines ? engine_device : device,
+                               "; each point one technique configuration, its bar the mean quartiles");
     struct strbuf svg = {0};
     chart_tradeoff_svg(&svg, title, sub, p.items, p.n, &time, errors, 2);
-    free(title), free(sub);
+    free(title), free(sub), free(engine_device), free(m);
     points_free(&p);
-    return emit_chart(r, "overall_tradeoff", &svg, html);
+    return emit_chart(r, engines ? "engines_tradeoff" : "overall_tradeoff", &svg, html);
 }
 
 /* The frontiers of the tuned techniques, over every scene (scene NULL) or
@@ -477,7 +504,8 @@ static void pareto_flags(const struct report *r, bool *front)
     for (int s = 0; s < r->scene_count; s++) {
         int n = 0;
         for (int i = 0; i < r->cell_count; i++)
-            if (strcmp(r->cells[i].scene, r->scenes[s].name) == 0 && metrics_scored(&r->cells[i].m)) {
+            if (strcmp(r->cells[i].scene, r->scenes[s].name) == 0 && metrics_scored(&r->cells[i].m) &&
+                !technique_is_engine(r->cells[i].technique)) {  /* timed on the run's device */
                 index[n] = i, x[n] = r->cells[i].m.ms_total, y[n] = r->cells[i].m.rmse;
                 n++;
             }
@@ -622,7 +650,7 @@ static bool ranked(const struct config_mean *m) { return m->complete && isfinite
 static void budget_table(const struct report *r, const char *device, struct strbuf *h)
 {
     struct config_mean *m = xcalloc((size_t)r->cell_count + 1, sizeof *m);
-    const int n = config_means(r, m);
+    const int n = config_means(r, false, m);
     double lo = INFINITY, hi = 0;
     int left_out = 0;
     for (int k = 0; k < n; k++)
@@ -669,7 +697,7 @@ static void budget_table(const struct report *r, const char *device, struct strb
 static void shortcut_table(const struct report *r, struct strbuf *h)
 {
     struct config_mean *m = xcalloc((size_t)r->cell_count + 1, sizeof *m);
-    const int n = config_means(r, m);
+    const int n = config_means(r, false, m);
     bool any = false;
     for (int k = 0; k < n; k++) {
         const struct cell *c = m[k].first;
@@ -754,7 +782,8 @@ static void failed_cells(const struct report *r, struct strbuf *h)
         n += r->cells[i].m.nonfinite || !metrics_scored(&r->cells[i].m);
     if (!n)
         return;
-    strbuf_printf(h, "<p class=\"warn\"><b>%d cell(s) failed</b> (NaN/Inf output, or no pixel to score):", n);
+    strbuf_printf(h, "<p class=\"warn\"><b>%d cell(s) failed</b> (NaN/Inf output, no pixel to score, or an "
+                     "engine that failed: the matrix says why):", n);
     for (int i = 0; i < r->cell_count; i++)
         if (r->cells[i].m.nonfinite || !metrics_scored(&r->cells[i].m)) {
             strbuf_printf(h, " ");
@@ -822,7 +851,7 @@ static int write_html(const struct report *r)
                       "<h2 id=\"summary\">Summary: for a time budget, the least wrong</h2>\n");
     failed_cells(r, &h);
     budget_table(r, device, &h);
-    int rc = overall_chart(r, device, &h);
+    int rc = overall_chart(r, device, false, &h) || overall_chart(r, device, true, &h);
     shortcut_table(r, &h);
     strbuf_printf(&h, "<h2 id=\"worst\">Worst failures</h2>\n<p>Heatmaps share one scale: blue too dark, red "
                       "too bright, grey not scored.</p>\n");

@@ -50,11 +50,17 @@ void cell_note_search(struct cell *c, const void *settings, const struct shadow_
     }
 }
 
-void cell_take_depth(struct cell *c, const struct scene_setup *ss)
+void cell_take_setup(struct cell *c, const struct scene_setup *ss)
 {
     c->depth = ss->depth;
     cJSON_Delete(c->cascades);
     c->cascades = shadow_cascades_json(&ss->cascades, ss->scene->light.shape == LIGHT_SUN);
+    if (technique_is_engine(c->technique)) {
+        free(c->engine_version), free(c->engine_renderer);
+        c->engine_version = xstrdup(ss->engine.version);
+        c->engine_renderer = xstrdup(ss->engine.renderer);
+        c->gl_renderer = c->engine_renderer;
+    }
 }
 
 void cell_free(struct cell *c)
@@ -64,7 +70,9 @@ void cell_free(struct cell *c)
     c->cascades = NULL;
     free(c->params_text);
     free(c->notice);
-    c->params = NULL, c->params_text = NULL, c->notice = NULL;
+    free(c->engine_version), free(c->engine_renderer), free(c->failed);
+    c->failed = NULL;
+    c->params = NULL, c->params_text = NULL, c->notice = NULL, c->engine_version = NULL, c->engine_renderer = NULL;
 }
 
 int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct scene_setup_desc *d)
@@ -93,6 +101,7 @@ int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct
     ss->scored = xcalloc(count, sizeof(float));  /* written whole even before any cell is scored */
     ss->shortcut = xmalloc(sizeof(float) * count);
     ss->timer = (struct stage_timer){.cascades = &ss->cascades, .mesh = &ss->mesh, .receiver = &ss->receiver};
+    ss->shadow_map_size = d->shadow_map_size;
     return 0;
 }
 
@@ -116,14 +125,52 @@ void scene_setup_truth_posed(struct scene_setup *ss)
 struct stage_timer_cell scene_setup_timer_cell(struct scene_setup *ss, const struct technique *t,
                                                const void *settings)
 {
+    if (technique_is_engine(t))
+        return (struct stage_timer_cell){t, settings, {0}};
     return (struct stage_timer_cell){t, settings,
                                      programs_get(ss->programs, t, settings, ss->scene->light.shape, false)};
 }
 
+/* An engine cell's frames on ss: its shadow factor and camera distance
+ * into ss->v and ss->distance, its engine and times into ss->engine. */
+static int engine_frames(struct scene_setup *ss, const struct technique *t, const void *settings, int warmup,
+                         int frames)
+{
+    const struct technique_param *size = params_find(t, "map_size");
+    const int own = size ? (int)params_get(size, settings) : 0;
+    struct strbuf text = {0}, label = {0};
+    params_summary(t, settings, &text);
+    strbuf_printf(&label, "%s (%s)", t->name, text.data ? text.data + strspn(text.data, " ") : "");
+    strbuf_free(&text);
+    struct engine_result *e = &ss->engine;
+    *e = (struct engine_result){0};
+    e->image[ENGINE_OUT_SHADOW] = ss->v, e->image[ENGINE_OUT_DISTANCE] = ss->distance;
+    const int rc = engine_render(&(struct engine_request){.t = t, .settings = settings, .scene = ss->scene,
+                                                          .frustum = &ss->cascades.map[0].frustum,
+                                                          .label = label.data, .width = ss->width,
+                                                          .height = ss->height,
+                                                          .map_size = own > 0 ? own : ss->shadow_map_size,
+                                                          .warmup = warmup, .frames = frames,
+                                                          .outputs = 1u << ENGINE_OUT_SHADOW |
+                                                                     1u << ENGINE_OUT_DISTANCE},
+                                 e);
+    strbuf_free(&label);
+    ss->engine_last = rc == 0;
+    return rc;
+}
+
 int scene_setup_cell(struct scene_setup *ss, const struct technique *t, const void *settings, struct metrics *m)
 {
+    if (technique_is_engine(t)) {
+        if (engine_frames(ss, t, settings, 0, 1) != 0)
+            return -1;
+        scene_setup_score(ss, m);
+        m->fetches_per_pixel = m->prep_texels = m->expensive_fraction = m->misclassified_fraction = NAN;
+        return 0;
+    }
     const struct stage_timer_cell cell = {t, settings,
                                           programs_get(ss->programs, t, settings, ss->scene->light.shape, true)};
+    ss->engine_last = false;
     if (!cell.programs.receiver || stage_timer_render(&ss->timer, &cell, true) != 0)
         return -1;
     scene_setup_score(ss, m);
@@ -136,7 +183,8 @@ int scene_setup_cell(struct scene_setup *ss, const struct technique *t, const vo
 
 void scene_setup_score(struct scene_setup *ss, struct metrics *m)
 {
-    receiver_read(&ss->receiver, ss->v, ss->distance);
+    if (!ss->engine_last)  /* an engine's frame is in ss->v already */
+        receiver_read(&ss->receiver, ss->v, ss->distance);
     m->mismatch_pixels = metrics_score_mask(ss->gt.mask, ss->gt.distance, ss->distance,
                                             ss->width * ss->height, ss->scored);
     metrics_compute(ss->v, &ss->gt, ss->scored, ss->distance, m);
@@ -150,7 +198,25 @@ int scene_setup_time(struct scene_setup *ss, const struct scene_setup_timing *ho
     struct stage_timer timer = ss->timer;
     timer.warmup = how->warmup, timer.frames = how->frames, timer.timing = how->timing;
     timer.on_round = how->on_round, timer.user = how->user;
-    return stage_timer_run(&timer, cells, n, out);
+    /* shadowbench's own cells interleaved, then each engine cell by its engine */
+    struct stage_timer_cell *own = xmalloc(sizeof *own * (size_t)(n > 0 ? n : 1));
+    struct stage_times *own_times = xmalloc(sizeof *own_times * (size_t)(n > 0 ? n : 1));
+    int count = 0;
+    for (int i = 0; i < n; i++)
+        if (!technique_is_engine(cells[i].technique))
+            own[count++] = cells[i];
+    int rc = count ? stage_timer_run(&timer, own, count, own_times) : 0;
+    ss->engine_last = false;
+    for (int i = 0, k = 0; i < n && !rc; i++) {
+        if (!technique_is_engine(cells[i].technique)) {
+            out[i] = own_times[k++];
+            continue;
+        }
+        rc = engine_frames(ss, cells[i].technique, cells[i].settings, how->warmup, how->frames);
+        out[i] = (struct stage_times){NAN, NAN, NAN, NAN, NAN, ss->engine.ms, ss->engine.ms_q1, ss->engine.ms_q3};
+    }
+    free(own), free(own_times);
+    return rc;
 }
 
 void scene_setup_free(struct scene_setup *ss)

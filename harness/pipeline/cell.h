@@ -11,6 +11,7 @@
 #define SB_CELL_H
 
 #include "programs.h"
+#include "engine/engine.h"
 #include "gl/scene_mesh.h"
 #include "render/receiver.h"
 #include "render/stage_timer.h"
@@ -33,7 +34,12 @@ struct cell {
                                             "pcss@tuned"; its folder */
     cJSON *params;                       /* values used (owned) */
     char *params_text;                   /* "name=value name=value" (owned) */
-    const char *gl_renderer;             /* the device the timings were taken on */
+    const char *gl_renderer;             /* the device the timings were taken on (an engine cell's:
+                                            its browser's WebGL renderer) */
+    char *engine_version;                /* an engine cell's engine version (owned), or NULL */
+    char *engine_renderer;               /* its renderer string (owned; gl_renderer points to it) */
+    char *failed;                        /* a failed engine cell's reason (run --keep-going; owned), or
+                                            NULL; its metrics are then none (metrics_none) */
     char *notice;                        /* what the numbers do not show, one line (owned), or NULL:
                                             cell_note_search */
     struct metrics m;
@@ -57,9 +63,10 @@ void cell_set_times(struct cell *c, const struct stage_times *t);
  * never what is there. */
 void cell_note_search(struct cell *c, const void *settings, const struct shadow_cascades *cs);
 
-/* After scene_setup_cell: what ss rendered c with and c's error by view
- * depth (c->depth, c->cascades). */
-void cell_take_depth(struct cell *c, const struct scene_setup *ss);
+/* After scene_setup_cell: what ss rendered c with (c->cascades; an engine
+ * cell's engine, version and renderer) and c's error by view depth
+ * (c->depth). */
+void cell_take_setup(struct cell *c, const struct scene_setup *ss);
 
 /* Frees what cell_describe made. */
 void cell_free(struct cell *c);
@@ -88,6 +95,9 @@ struct scene_setup {
     struct depth_metrics depth;    /* the last cell's error by view depth */
     float *view_depth;             /* each pixel's view depth (the truth's hit along the camera's
                                       axis; -1: none), what cascades are cut by */
+    int shadow_map_size;           /* the run's: an engine cell's map at map_size 0 */
+    bool engine_last;              /* the last frame was an engine's: ss->v holds it */
+    struct engine_result engine;   /* the last engine frame's version, renderer and times */
 };
 
 /* Opens scene s for cells: mesh, shadow map, receiver, ground truth
@@ -101,15 +111,24 @@ int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct
 void scene_setup_truth_posed(struct scene_setup *ss);
 
 /* Technique t at settings on this scene, to be timed: its programs (not
- * the counting ones); .programs.receiver 0 after a logged compile error. */
+ * the counting ones); .programs.receiver 0 after a logged compile error
+ * (scene_setup_cell_ready says which). An engine cell has no programs. */
 struct stage_timer_cell scene_setup_timer_cell(struct scene_setup *ss, const struct technique *t,
                                                const void *settings);
+
+/* Whether a timer cell can be rendered: an engine cell, or one whose
+ * programs compiled. */
+static inline bool scene_setup_cell_ready(const struct stage_timer_cell *c)
+{
+    return technique_is_engine(c->technique) || c->programs.receiver != 0;
+}
 
 /* Renders a cell once, untimed, with its counting programs, reads it back
  * (ss->v, ss->distance) and scores it into m: the accuracy metrics and the
  * counted costs (fetches_per_pixel, prep_texels, expensive_fraction,
- * misclassified_fraction); its timing fields are left as they are.
- * Returns 0 or -1 (logged). */
+ * misclassified_fraction); its timing fields are left as they are. An
+ * engine cell is rendered by its engine (engine/engine.h), its counted
+ * costs unknown (NaN: null in its files). Returns 0 or -1 (logged). */
 int scene_setup_cell(struct scene_setup *ss, const struct technique *t, const void *settings, struct metrics *m);
 
 /* Scores what the receiver holds now (the last frame rendered) into m,
@@ -127,8 +146,10 @@ struct scene_setup_timing {
     void *user;
 };
 
-/* Times the n cells interleaved; out[i] is cell i's. Returns 0 or -1
- * (logged). */
+/* Times the n cells interleaved; out[i] is cell i's. An engine cell is
+ * timed by its engine, in its browser, its frames after its warm-up in a
+ * row (not interleaved: another process), its stages unknown (NaN); its
+ * last frame is left in ss->v. Returns 0 or -1 (logged). */
 int scene_setup_time(struct scene_setup *ss, const struct scene_setup_timing *how, const struct stage_timer_cell *cells,
                      int n, struct stage_times *out);
 

@@ -71,7 +71,7 @@ static int measure(struct tuner *tn, const int *point, int k, int warmup, int fr
     const struct stage_timer_cell cell = cell_for(tn, s, k);
     struct stage_times times;
     const struct scene_setup_timing how = {.warmup = warmup, .frames = frames, .timing = tn->o->timing};
-    int rc = !cell.programs.receiver || scene_setup_time(ss, &how, &cell, 1, &times) != 0;
+    int rc = !scene_setup_cell_ready(&cell) || scene_setup_time(ss, &how, &cell, 1, &times) != 0;
     if (rc) {
         free(s);
         return -1;

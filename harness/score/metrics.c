@@ -148,6 +148,13 @@ bool metrics_scored(const struct metrics *m)
     return !isnan(m->rmse);
 }
 
+void metrics_none(struct metrics *m)
+{
+#define X(key, type, format, in_report, help) m->key = _Generic(m->key, double: NAN, default: 0);
+    METRICS(X)
+#undef X
+}
+
 const struct metric_info metric_info[METRIC_COUNT] = {
 #define X(key, type, format, in_report, help) {#key, format, help, in_report},
     METRICS(X)

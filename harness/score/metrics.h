@@ -122,4 +122,8 @@ void metrics_cost(double fetches, long covered, long expensive, const float *sho
 /* Whether the cell had anything to score (its error metrics are numbers). */
 bool metrics_scored(const struct metrics *m);
 
+/* No measurement at all (a cell that failed): every real-valued metric
+ * NaN (null in its files), every count 0. */
+void metrics_none(struct metrics *m);
+
 #endif

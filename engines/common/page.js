@@ -1,0 +1,41 @@
+// What every engine's page shares (docs/engines.md): the reply's image as
+// base64 of float32 rows, top row first, and the frame times.
+
+// rows: a Float32Array of h rows of w * channels floats, bottom row first
+// (GL's readPixels); channel c of each pixel is copied to out at offset,
+// top row first.
+export function takeChannel(rows, w, h, channels, c, out, offset) {
+    for (let y = 0; y < h; y++) {
+        const src = (h - 1 - y) * w * channels, dst = offset + y * w;
+        for (let x = 0; x < w; x++)
+            out[dst + x] = rows[src + x * channels + c];
+    }
+}
+
+export function base64(floats) {
+    const bytes = new Uint8Array(floats.buffer, floats.byteOffset, floats.byteLength);
+    let s = '';
+    for (let i = 0; i < bytes.length; i += 0x8000)
+        s += String.fromCharCode.apply(null, bytes.subarray(i, i + 0x8000));
+    return btoa(s);
+}
+
+// The WebGL2 context's renderer string (UNMASKED where the browser gives it).
+export function rendererString(gl) {
+    const info = gl.getExtension('WEBGL_debug_renderer_info');
+    return String(info ? gl.getParameter(info.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER));
+}
+
+// Milliseconds of each of `frames` frames after `warmup` untimed ones: one
+// frame is draw(), then a one-pixel readPixels that waits for it to finish.
+export function timeFrames(gl, draw, warmup, frames) {
+    const pixel = new Float32Array(4), ms = [];
+    for (let i = 0; i < warmup + frames; i++) {
+        const t0 = performance.now();
+        draw();
+        gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.FLOAT, pixel);
+        if (i >= warmup)
+            ms.push(performance.now() - t0);
+    }
+    return ms;
+}

@@ -1,0 +1,116 @@
+#!/bin/sh
+# An engine's faults (docs/engines.md): each is one line that names the
+# engine and the cell, and exit status 2 — no Chromium, an engine that
+# fails to load, a page error, a cell over its time limit, an image of the
+# wrong size — or, with --keep-going, the cell marked failed in the matrix
+# while the run goes on. No browser outlives the command, whatever ends it:
+# a normal exit, a fault, a time limit, SIGTERM, SIGINT or SIGKILL.
+#
+# The faults come from a copy of engines/ ($SB_ENGINES) whose three page
+# misbehaves as each case asks; the real driver and packages are linked.
+# Skips (77) where the engines are not installed.
+set -u
+sb=$1
+src=$(cd "$(dirname "$0")/.." && pwd)
+[ -e "$src/engines/three/node_modules/.package-lock.json" ] && [ -x /usr/bin/chromium ] || {
+  echo "skipped: the engines are not installed (tools/setup installs them)"; exit 77; }
+t=$(mktemp -d /tmp/sb_test_engine_faults_XXXXXX)
+trap 'pkill -KILL -f "$t/" 2>/dev/null; rm -rf "$t"' EXIT
+fails=0
+fail() { echo "FAILED: $*"; fails=$((fails + 1)); }
+
+mkdir -p "$t/engines/three" "$t/tmp"
+ln -s "$src/engines/driver" "$t/engines/driver"
+ln -s "$src/engines/common" "$t/engines/common"
+ln -s "$src/engines/three/node_modules" "$t/engines/three/node_modules"
+
+# A three page whose sbRender is the given JavaScript body (req in scope).
+page() {
+  cat > "$t/engines/three/page.html" <<EOF
+<!doctype html><meta charset="utf-8"><link rel="icon" href="data:,">
+<script>
+window.sbRender = async (req) => { $1 };
+window.sbReady = ${2:-true};
+</script>
+EOF
+}
+
+# No process of ours may be left: none whose command line names the
+# test's folder (the browser's profile is under its \$TMPDIR).
+no_browser_left() {
+  sleep 1
+  left=$(pgrep -f "$t/tmp" | wc -l)
+  [ "$left" -eq 0 ] || { fail "$1: $left process(es) left running:"; pgrep -af "$t/tmp" | head -5; }
+}
+
+run() {  # run [options]: one three cell on parallel_planes, small
+  TMPDIR="$t/tmp" SB_ENGINES="$t/engines" "$sb" run --scene parallel_planes --technique three_basic \
+    --settings default --width 64 --height 48 --gt-samples 16 --no-cache --frames 1 --warmup 0 \
+    --out "$t/out" "$@" > "$t/stdout" 2> "$t/stderr"
+}
+
+# expect NAME PATTERN: exit 2 and one error line naming the engine, the cell and PATTERN
+expect() {
+  status=$1 name=$2 pattern=$3
+  [ "$status" -eq 2 ] || fail "$name: exit $status, not 2"
+  lines=$(grep -c "error: engine three, cell three_basic (.*) on parallel_planes: .*$pattern" "$t/stderr")
+  [ "$lines" -eq 1 ] || { fail "$name: $lines lines naming the engine, cell and '$pattern'"; cat "$t/stderr"; }
+  no_browser_left "$name"
+}
+
+page 'throw new Error("unreachable")'
+SB_CHROMIUM=/nonexistent/chromium run; expect $? "no chromium" "no Chromium at /nonexistent/chromium"
+
+page 'return null;' '"the engine did not load"'
+run; expect $? "load" "failed to load: the engine did not load"
+
+page 'throw new Error("the adapter broke");'
+run; expect $? "page error" "the adapter broke"
+
+page 'return new Promise(() => {});'
+run --engine-timeout 3; expect $? "time limit" "over its time limit of 3 s"
+
+page 'return { version: "x", renderer: "y", ms: [1], data: btoa("12345678") };'
+run; expect $? "wrong size" "an image of the wrong size"
+
+# --keep-going: the engine cell marked failed, shadowbench's own measured, exit 2
+page 'throw new Error("the adapter broke");'
+run --keep-going --technique hard; status=$?
+[ "$status" -eq 2 ] || fail "keep-going: exit $status, not 2"
+grep -q '"failed":' "$t/out/matrix.json" || fail "keep-going: the matrix does not mark the cell failed"
+grep -q '"cell":	"hard' "$t/out/matrix.json" || fail "keep-going: the run did not go on to hard"
+grep -q '"complete":	true' "$t/out/run.json" || fail "keep-going: the run is not complete"
+no_browser_left "keep-going"
+
+# A cell that works leaves nothing running either.
+rm -f "$t/engines/three/page.html"
+ln -s "$src/engines/three/page.html" "$t/engines/three/page.html"
+ln -s "$src/engines/three/adapter.js" "$t/engines/three/adapter.js"
+run; status=$?
+[ "$status" -eq 0 ] || { fail "the real adapter: exit $status"; cat "$t/stderr"; }
+no_browser_left "a normal exit"
+
+# Signals, while a cell hangs in the browser: the command ends (128 + the
+# signal; SIGKILL: 137) and takes the browser with it.
+rm -f "$t/engines/three/page.html"
+page 'return new Promise(() => {});'
+for sig in TERM INT KILL; do
+  TMPDIR="$t/tmp" SB_ENGINES="$t/engines" "$sb" run --scene parallel_planes --technique three_basic \
+    --settings default --width 64 --height 48 --gt-samples 16 --no-cache --frames 1 --warmup 0 \
+    --out "$t/out_$sig" 2> "$t/stderr_$sig" &
+  pid=$!
+  for i in $(seq 1 150); do  # until its browser runs (up to 15 s)
+    pgrep -f "$t/tmp.*chromium|chromium.*$t/tmp" > /dev/null && break
+    sleep 0.1
+  done
+  pgrep -f "$t/tmp" > /dev/null || fail "SIG$sig: the browser never started"
+  sleep 0.5
+  kill -s "$sig" "$pid"
+  wait "$pid"; status=$?
+  case $sig in TERM) want=143 ;; INT) want=130 ;; KILL) want=137 ;; esac
+  [ "$status" -eq "$want" ] || fail "SIG$sig: exit $status, not $want"
+  no_browser_left "SIG$sig"
+done
+
+[ "$fails" -eq 0 ] && echo "engine faults: every case passed"
+[ "$fails" -eq 0 ]
