@@ -268,6 +268,8 @@ int check_main(const struct options *o)
                output_files[OUTPUT_CHECK_PAGE]);
         status = failures ? EXIT_CHECK_FAILED : EXIT_OK;
     }
+    if (status == EXIT_CHECK_FAILED && engine_faulted())  /* an engine that could not render: said, 2 */
+        status = EXIT_USAGE;
     programs_free(&programs);
     gl_context_destroy();
 out:

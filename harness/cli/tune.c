@@ -100,7 +100,7 @@ static int tune_all(const struct options *o, const char *tuned, const struct sce
         programs_free(programs);  /* a technique's settings are its own */
         tuner_free(&tuners[i]);
     }
-    return status;
+    return status != EXIT_OK && engine_faulted() ? EXIT_USAGE : status;  /* an engine's fault: said, 2 */
 }
 
 int tune_main(const struct options *o)

@@ -33,7 +33,7 @@ static char *utc_date(void)
 }
 
 /* The paths whose changes change what is rendered or scored. */
-static const char source_paths[] = "harness techniques shaders scenes CMakeLists.txt";
+static const char source_paths[] = "harness techniques shaders scenes engines CMakeLists.txt";
 
 enum source_state provenance_source_state(char *what, size_t size)
 {

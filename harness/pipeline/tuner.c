@@ -223,6 +223,14 @@ static cJSON *technique_json(const struct tuner *tn, const int *start, const int
     const struct tune_options *o = tn->o;
     cJSON *j = cJSON_CreateObject();
     cJSON_AddStringToObject(j, "technique", tn->t->name);
+    if (technique_is_engine(tn->t)) {  /* its times are its browser's device's, not gl_renderer's */
+        const struct engine_result *e = &tn->setups[0].engine;
+        cJSON *engine = cJSON_AddObjectToObject(j, "engine");
+        cJSON_AddStringToObject(engine, "name", tn->t->engine);
+        cJSON_AddStringToObject(engine, "package", tn->t->engine_package);
+        cJSON_AddStringToObject(engine, "version", e->version);
+        cJSON_AddStringToObject(engine, "renderer", e->renderer);
+    }
     cJSON_AddStringToObject(j, "objective", metric_info[o->objective].key);
     cJSON_AddStringToObject(j, "cost", o->cost_fetches ? "fetches" : "ms");
     cJSON_AddStringToObject(j, "search", TUNE_SEARCH_TEXT);
