@@ -112,5 +112,15 @@ for sig in TERM INT KILL; do
   no_browser_left "SIG$sig"
 done
 
+# A signal's exit leaves the driver's folder (nothing can remove a tree
+# then); the next command's driver removes those of dead processes.
+[ -n "$(ls "$t/tmp")" ] || fail "the signals left no folder to test the sweep on"
+rm -f "$t/engines/three/page.html"
+ln -s "$src/engines/three/page.html" "$t/engines/three/page.html"
+run; status=$?
+[ "$status" -eq 0 ] || fail "after the signals: exit $status"
+left=$(ls "$t/tmp" | wc -l)
+[ "$left" -eq 0 ] || fail "$left folder(s) of dead drivers left in \$TMPDIR: $(ls "$t/tmp")"
+
 [ "$fails" -eq 0 ] && echo "engine faults: every case passed"
 [ "$fails" -eq 0 ]

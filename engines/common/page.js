@@ -27,15 +27,22 @@ export function rendererString(gl) {
 }
 
 // Milliseconds of each of `frames` frames after `warmup` untimed ones: one
-// frame is draw(), then a one-pixel readPixels that waits for it to finish.
-export function timeFrames(gl, draw, warmup, frames) {
-    const pixel = new Float32Array(4), ms = [];
+// frame is draw(), then wait(), which returns once the frame is finished
+// (a one-pixel readPixels of what it drew).
+export function timeFrames(draw, wait, warmup, frames) {
+    const ms = [];
     for (let i = 0; i < warmup + frames; i++) {
         const t0 = performance.now();
         draw();
-        gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.FLOAT, pixel);
+        wait();
         if (i >= warmup)
             ms.push(performance.now() - t0);
     }
     return ms;
+}
+
+// A wait for timeFrames: one pixel of the bound framebuffer, read as float.
+export function readOnePixel(gl) {
+    const pixel = new Float32Array(4);
+    return () => gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.FLOAT, pixel);
 }

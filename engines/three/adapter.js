@@ -23,7 +23,7 @@
 // blending.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
-import { base64, rendererString, takeChannel, timeFrames } from '../common/page.js';
+import { base64, readOnePixel, rendererString, takeChannel, timeFrames } from '../common/page.js';
 
 const TYPES = { three_basic: THREE.BasicShadowMap, three_pcf: THREE.PCFShadowMap, three_vsm: THREE.VSMShadowMap };
 
@@ -203,7 +203,7 @@ export async function render(req) {
             else
                 throw new Error(`no output ${what}`);
             if (k === 0)
-                ms = timeFrames(gl, draw, req.warmup, req.frames);
+                ms = timeFrames(draw, readOnePixel(gl), req.warmup, req.frames);  /* the target stays bound */
             else
                 draw();
             renderer.readRenderTargetPixels(target, 0, 0, w, h, rows);

@@ -13,6 +13,9 @@ int list_main(const struct options *o)
     printf("techniques (set a parameter with --set <technique>.<parameter>=<value>):\n\n");
     for (const struct technique *const *t = technique_list; *t; t++) {
         printf("  %-10s %s\n", (*t)->name, (*t)->summary);
+        if (technique_is_engine(*t))  /* docs/engines.md */
+            printf("    engine cell: rendered by npm %s in headless Chromium (engines/%s/; run only when named: "
+                   "--technique %s, or engines)\n", (*t)->engine_package, (*t)->engine, (*t)->engine);
         params_print(*t, stdout);
         for (const struct technique_preset *p = (*t)->presets; p && p->name; p++)
             printf("%s    %s@%-22s %s\n      = %s\n", p == (*t)->presets ? "    presets (cells of the default run):\n" : "",

@@ -6,6 +6,7 @@
 #include "techniques/params.h"
 
 #include <cjson/cJSON.h>
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <ftw.h>
@@ -189,6 +190,27 @@ static bool installed(const char *folder)
     return ok;
 }
 
+/* Removes the folders of drivers whose harness died without its shutdown
+ * (a signal's exit kills the browser but cannot remove a tree):
+ * <tmp>/shadowbench-engines.<pid>.* of a pid that no longer runs. */
+static void remove_stale(const char *tmp)
+{
+    DIR *d = opendir(tmp);
+    for (struct dirent *e; d && (e = readdir(d));) {
+        char *end = NULL;
+        if (strncmp(e->d_name, "shadowbench-engines.", 20) != 0)
+            continue;
+        const long pid = strtol(e->d_name + 20, &end, 10);
+        if (pid > 0 && end && *end == '.' && kill((pid_t)pid, 0) != 0 && errno == ESRCH) {
+            char *path = util_printf("%s/%s", tmp, e->d_name);
+            remove_tree(path);
+            free(path);
+        }
+    }
+    if (d)
+        closedir(d);
+}
+
 static int start(const struct engine_request *r)
 {
     const char *env = getenv("SB_CHROMIUM");
@@ -210,8 +232,9 @@ static int start(const struct engine_request *r)
         free(line);
         return -1;
     }
-    const char *tmp = getenv("TMPDIR");
-    drv.dir = util_printf("%s/shadowbench-engines.%ld.XXXXXX", tmp && *tmp ? tmp : "/tmp", (long)getpid());
+    const char *env_tmp = getenv("TMPDIR"), *tmp = env_tmp && *env_tmp ? env_tmp : "/tmp";
+    remove_stale(tmp);
+    drv.dir = util_printf("%s/shadowbench-engines.%ld.XXXXXX", tmp, (long)getpid());
     int to_child[2], from_child[2];
     if (!mkdtemp(drv.dir) || pipe2(to_child, O_CLOEXEC) != 0) {
         fail(r, "cannot make its temporary folder or pipes", strerror(errno));
