@@ -37,7 +37,7 @@ static const char *const babylon_qualities[] = {"high", "medium", "low", NULL}; 
 #define BABYLON_COMMON(settings)                                                                      \
     {"bias", "ShadowGenerator.bias: the receiver's depth offset, in the linear depth metric (0 = near, 1 = " \
      "far)", offsetof(settings, bias), PARAM_FLOAT, 0.00005, 0.0, 0.05, NULL,                            \
-     TUNE(0.0, 0.00005, 0.0005, 0.001, 0.002, 0.005, 0.01)},                                              \
+     TUNE(0.0, 0.00005, 0.0005, 0.001, 0.002, 0.005, 0.01, 0.02, 0.05)},                                  \
     {"normal_bias", "ShadowGenerator.normalBias: the receiver moved along its normal, world units",      \
      offsetof(settings, normal_bias), PARAM_FLOAT, 0.0, 0.0, 1.0, NULL, TUNE(0.0, 0.005, 0.01, 0.02, 0.05)}, \
     {"shadow_side", "faces drawn: double (both, shadowbench's choice) or engine (the file's one-sided culling)", \
