@@ -17,7 +17,9 @@
  * None has a light size: three has no PCSS, so nothing is derived from the
  * scene's light but its pose and frustum.
  *
- * Parameters shared by the modes:
+ * Parameters of the modes (three_vsm has no shadow_side: three's default for
+ * VSM draws the front faces, which are the faces nearest the light in every
+ * shipped scene, so both choices give one map here; it draws both):
  *   bias         shadow.bias: added to the receiver's depth in the map's own
  *                depth units (the spot's perspective depth, the sun's linear
  *                one); negative moves it towards the light.
@@ -36,39 +38,45 @@
 
 static const char *const three_sides[] = {"double", "engine", NULL};
 
-#define THREE_COMMON(settings)                                                                      \
+#define THREE_BIASES(settings)                                                                      \
     {"bias", "shadow.bias: the receiver's depth offset, the map's depth units (negative: towards the " \
      "light)", offsetof(settings, bias), PARAM_FLOAT, 0.0, -0.05, 0.05, NULL,                         \
      TUNE(0.0, -0.0001, -0.0005, -0.001, -0.002, -0.005)},                                             \
     {"normal_bias", "shadow.normalBias: the receiver moved along its normal, world units",            \
      offsetof(settings, normal_bias), PARAM_FLOAT, 0.0, 0.0, 1.0, NULL,                               \
      TUNE(0.0, 0.005, 0.01, 0.02, 0.05)},                                                              \
-    {"shadow_side", "faces drawn into the map: double (both, shadowbench's choice) or engine (three's " \
-     "default for the file's one-sided materials)", offsetof(settings, shadow_side), PARAM_ENUM, 0, 0, 0, \
-     three_sides, NULL},                                                                               \
     {"map_size", "shadow.mapSize, texels a side; 0: the run's --shadow-map-size",                     \
      offsetof(settings, map_size), PARAM_INT, 0, 0, 8192, NULL, NULL}
 
+#define THREE_SIDE(settings)                                                                        \
+    {"shadow_side", "faces drawn into the map: double (both, shadowbench's choice) or engine (three's " \
+     "default for the file's one-sided materials)", offsetof(settings, shadow_side), PARAM_ENUM, 0, 0, 0, \
+     three_sides, NULL}
+
 #define THREE_SETTINGS \
     float bias, normal_bias; \
-    int shadow_side, map_size
+    int map_size
 
 struct three_basic_settings {
     THREE_SETTINGS;
+    int shadow_side;
 };
 
 static const struct technique_param three_basic_params[] = {
-    THREE_COMMON(struct three_basic_settings),
+    THREE_BIASES(struct three_basic_settings),
+    THREE_SIDE(struct three_basic_settings),
     {NULL},
 };
 
 struct three_pcf_settings {
     THREE_SETTINGS;
+    int shadow_side;
     float radius;  /* texels */
 };
 
 static const struct technique_param three_pcf_params[] = {
-    THREE_COMMON(struct three_pcf_settings),
+    THREE_BIASES(struct three_pcf_settings),
+    THREE_SIDE(struct three_pcf_settings),
     {"radius", "shadow.radius: the Vogel disk's radius, texels", offsetof(struct three_pcf_settings, radius),
      PARAM_FLOAT, 1.0, 0.0, 64.0, NULL, TUNE(1.0, 2.0, 3.0, 4.0, 6.0, 8.0)},
     {NULL},
@@ -81,7 +89,7 @@ struct three_vsm_settings {
 };
 
 static const struct technique_param three_vsm_params[] = {
-    THREE_COMMON(struct three_vsm_settings),
+    THREE_BIASES(struct three_vsm_settings),
     {"radius", "shadow.radius: the blur's half-width, texels", offsetof(struct three_vsm_settings, radius),
      PARAM_FLOAT, 1.0, 0.0, 64.0, NULL, TUNE(1.0, 2.0, 4.0, 8.0, 12.0, 16.0)},
     {"blur_samples", "shadow.blurSamples: taps of each of the blur's two passes",
@@ -106,7 +114,6 @@ static const struct technique_cell three_pcf_cells[] = {
 
 static const struct technique_cell three_vsm_cells[] = {
     {"grazing_receiver", {"bias=-0.0005", "normal_bias=0.02", "map_size=512"}},
-    {"thin_features", {"shadow_side=engine"}},
     {"overlapping_occluders", {"radius=8,blur_samples=16"}},
     {NULL},
 };

@@ -103,8 +103,14 @@ async function load(url) {
     scene.activeCamera = camera;
     const meshes = scene.meshes.filter((m) => m.getTotalVertices() > 0);
     for (const m of meshes) {
-        if (!m.isVerticesDataPresent(BABYLON.VertexBuffer.NormalKind)) {  /* flat normals, as glTF asks */
-            m.convertToFlatShadedMesh();
+        if (!m.isVerticesDataPresent(BABYLON.VertexBuffer.NormalKind)) {
+            /* flat normals, as glTF asks (normalBias needs them: without, Babylon drops it): each triangle its
+             * own vertices, then each vertex its triangle's normal, wound as the right-handed scene is */
+            m.convertToUnIndexedMesh();
+            const normals = [];
+            BABYLON.VertexData.ComputeNormals(m.getVerticesData(BABYLON.VertexBuffer.PositionKind), m.getIndices(),
+                                              normals, { useRightHandedSystem: true });
+            m.setVerticesData(BABYLON.VertexBuffer.NormalKind, normals);
         }
         m.sbFileCulling = m.material ? m.material.backFaceCulling : true;
         m.alwaysSelectAsActiveMesh = true;
