@@ -37,10 +37,13 @@ EOF
 
 # No process of ours may be left: none whose command line names the
 # test's folder (the browser's profile is under its \$TMPDIR).
-no_browser_left() {
-  sleep 1
-  left=$(pgrep -f "$t/tmp" | wc -l)
-  [ "$left" -eq 0 ] || { fail "$1: $left process(es) left running:"; pgrep -af "$t/tmp" | head -5; }
+no_browser_left() {  # within 3 s: a dying browser's children may take a moment
+  for i in $(seq 1 30); do
+    pgrep -f "$t/tmp" > /dev/null || return 0
+    sleep 0.1
+  done
+  fail "$1: $(pgrep -f "$t/tmp" | wc -l) process(es) left running:"
+  pgrep -af "$t/tmp" | head -5
 }
 
 run() {  # run [options]: one three cell on parallel_planes, small
@@ -94,23 +97,31 @@ no_browser_left "a normal exit"
 # signal; SIGKILL: 137) and takes the browser with it.
 rm -f "$t/engines/three/page.html"
 page 'return new Promise(() => {});'
+# The three at once, each with its own folder.
 for sig in TERM INT KILL; do
-  TMPDIR="$t/tmp" SB_ENGINES="$t/engines" "$sb" run --scene parallel_planes --technique three_basic \
+  mkdir -p "$t/tmp/$sig"
+  TMPDIR="$t/tmp/$sig" SB_ENGINES="$t/engines" "$sb" run --scene parallel_planes --technique three_basic \
     --settings default --width 64 --height 48 --gt-samples 16 --no-cache --frames 1 --warmup 0 \
     --out "$t/out_$sig" 2> "$t/stderr_$sig" &
-  pid=$!
-  for i in $(seq 1 150); do  # until its browser runs (up to 15 s)
-    pgrep -f "$t/tmp.*chromium|chromium.*$t/tmp" > /dev/null && break
+  eval "pid_$sig=$!"
+done
+for sig in TERM INT KILL; do
+  for i in $(seq 1 200); do  # until its browser runs (up to 20 s)
+    pgrep -f "chromium.*$t/tmp/$sig/" > /dev/null && break
     sleep 0.1
   done
-  pgrep -f "$t/tmp" > /dev/null || fail "SIG$sig: the browser never started"
-  sleep 0.5
+  pgrep -f "chromium.*$t/tmp/$sig/" > /dev/null || fail "SIG$sig: the browser never started"
+done
+sleep 0.5
+for sig in TERM INT KILL; do
+  eval "pid=\$pid_$sig"
   kill -s "$sig" "$pid"
   wait "$pid"; status=$?
   case $sig in TERM) want=143 ;; INT) want=130 ;; KILL) want=137 ;; esac
   [ "$status" -eq "$want" ] || fail "SIG$sig: exit $status, not $want"
-  no_browser_left "SIG$sig"
 done
+no_browser_left "the signals"
+for sig in TERM INT KILL; do mv "$t/tmp/$sig"/* "$t/tmp/" 2>/dev/null; rmdir "$t/tmp/$sig"; done
 
 # A signal's exit leaves the driver's folder (nothing can remove a tree
 # then); the next command's driver removes those of dead processes.
