@@ -73,6 +73,16 @@ int main(int argc, char **argv)
     char *line = util_printf("--technique: unknown technique 'nope' (known: %s; and engines, or an engine's name "
                              "for its modes)", known.data);
     expect(2, "run --technique nope", line);
+    /* engine cells: one map, no counted cost, and only the commands that take them */
+    expect(2, "run --technique three_pcf --cascades 2",
+           "--cascades 2: three_pcf is an engine cell, rendered with one map over the view; engine cells take no "
+           "cascades (docs/engines.md)");
+    expect(2, "tune --technique three_pcf --cost fetches",
+           "--cost fetches: three_pcf is an engine cell, whose fetches are the engine's and are not counted "
+           "(docs/engines.md)");
+    expect(2, "stability --technique babylon_pcf --scene parallel_planes",
+           "stability: babylon_pcf is an engine cell (babylon, rendered in a browser): run, tune and check take "
+           "engine cells, stability does not (docs/engines.md)");
     free(line), strbuf_free(&known);
     /* Bad input gets exit 2 from every command, before any GL (issue 12). */
     expect(2, "run --scene parallel_planes --shaders /nonexistent",

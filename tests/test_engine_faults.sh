@@ -2,8 +2,9 @@
 # An engine's faults (docs/engines.md): each is one line that names the
 # engine and the cell, and exit status 2 — no Chromium, an engine that
 # fails to load, a page error, a cell over its time limit, an image of the
-# wrong size — or, with --keep-going, the cell marked failed in the matrix
-# while the run goes on. No browser outlives the command, whatever ends it:
+# wrong size (the driver's own check of the page's reply says so first) —
+# or, with --keep-going, the cell marked failed in the matrix while the run
+# goes on, whether it failed when rendered or when timed. No browser outlives the command, whatever ends it:
 # a normal exit, a fault, a time limit, SIGTERM, SIGINT or SIGKILL.
 #
 # The faults come from a copy of engines/ ($SB_ENGINES) whose three page
@@ -84,6 +85,21 @@ grep -q '"failed":' "$t/out/matrix.json" || fail "keep-going: the matrix does no
 grep -q '"cell":	"hard' "$t/out/matrix.json" || fail "keep-going: the run did not go on to hard"
 grep -q '"complete":	true' "$t/out/run.json" || fail "keep-going: the run is not complete"
 no_browser_left "keep-going"
+
+# --keep-going when the cell renders, then fails while it is timed: marked
+# failed too, the run complete.
+page 'window.calls = (window.calls || 0) + 1;
+  if (window.calls > 1) throw new Error("broke while timed");
+  const f = new Float32Array(req.width * req.height * req.outputs.length).fill(1);
+  const b = new Uint8Array(f.buffer); let s = "";
+  for (let i = 0; i < b.length; i++) s += String.fromCharCode(b[i]);
+  return { version: "x", renderer: "y", ms: [1], data: btoa(s) };'
+run --keep-going; status=$?
+[ "$status" -eq 2 ] || fail "keep-going while timed: exit $status, not 2"
+grep -q '"failed":.*broke while timed' "$t/out/matrix.json" ||
+  fail "keep-going while timed: the matrix does not mark the cell failed"
+grep -q '"complete":	true' "$t/out/run.json" || fail "keep-going while timed: the run is not complete"
+no_browser_left "keep-going while timed"
 
 # A cell that works leaves nothing running either.
 rm -f "$t/engines/three/page.html"

@@ -158,11 +158,13 @@ static void coverage_matches_truth(const char *technique)
                     if (!agree)
                         silhouette(ss.gt.distance, x, y) ? edge++ : inner++;
                     if (!agree && getenv("SB_TEST_VERBOSE") && !silhouette(ss.gt.distance, x, y) && inner < 5)
-                        printf("  %s (%d, %d): truth %.6g, engine %.6g; truth up/down/left/right %.6g %.6g %.6g %.6g\n", s.name, x, y, g, e,
-                               ss.gt.distance[i - W], ss.gt.distance[i + W], ss.gt.distance[i - 1], ss.gt.distance[i + 1]);
+                        printf("  %s (%d, %d): truth %.6g, engine %.6g\n", s.name, x, y, g, e);
                 }
             CHECK(inner == 0, "%s: %ld pixels off the silhouettes disagree with the truth's camera rays", s.name,
                   inner);
+            /* at most 1 % of the hits (seen: 13 of 5878 on thin_features), or the silhouette rule hides a shift */
+            CHECK(edge * 100 <= hits, "%s, %s: %ld silhouette pixels disagree, over 1 %% of %ld", technique, s.name,
+                  edge, hits);
             CHECK(m.mismatch_pixels == edge + inner, "%s: the metrics count %ld mismatches, the test %ld", s.name,
                   m.mismatch_pixels, edge + inner);
             printf("%s, %s: coverage: %ld of %ld hit pixels, %ld silhouette pixels disagree\n", technique, s.name, hits,
@@ -241,9 +243,13 @@ static void basic_is_hard(const char *technique)
 
 int main(void)
 {
-    char *lock = util_printf("%s/engines/three/node_modules/.package-lock.json", SB_SOURCE_DIR);
-    const bool installed = util_file_exists(lock) && access("/usr/bin/chromium", X_OK) == 0;
-    free(lock);
+    bool installed = access("/usr/bin/chromium", X_OK) == 0;
+    for (const struct technique *const *t = technique_list; *t; t++)  /* every engine's packages */
+        if (technique_is_engine(*t)) {
+            char *lock = util_printf("%s/engines/%s/node_modules/.package-lock.json", SB_SOURCE_DIR, (*t)->engine);
+            installed = installed && util_file_exists(lock);
+            free(lock);
+        }
     if (!installed) {
         printf("skipped: the engines are not installed (tools/setup installs them)\n");
         return 77;

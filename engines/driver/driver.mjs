@@ -86,7 +86,7 @@ async function pageFor(engine) {
     if (!/^[a-z0-9_]+$/.test(engine) || !fs.existsSync(adapter))
         throw new Error(`no adapter ${path.relative(process.cwd(), adapter)}`);
     await page.goto(`${ORIGIN}/engines/${engine}/page.html`);
-    await page.waitForFunction('window.sbReady !== undefined', { timeout: 60000 });
+    await page.waitForFunction('window.sbReady !== undefined', { timeout: 0 });  /* the harness's limit */
     const ready = await page.evaluate('window.sbReady');
     if (ready !== true)
         throw new Error(`failed to load: ${ready}`);
@@ -129,7 +129,8 @@ async function main() {
         say({ id: 0, ok: false, error: `chromium (${executable}) did not start: ${oneLine(e)}` });
         process.exit(1);
     }
-    say({ id: 0, ok: true, version: await browser.version() });
+    /* the browser's pid: puppeteer starts it in a session of its own, which the harness kills too */
+    say({ id: 0, ok: true, version: await browser.version(), pid: browser.process().pid });
     const lines = readline.createInterface({ input: process.stdin });
     let queue = Promise.resolve();
     lines.on('line', (line) => {

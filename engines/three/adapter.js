@@ -70,7 +70,11 @@ async function load(url) {
         }
         o.castShadow = o.receiveShadow = true;
         o.frustumCulled = false;
-        o.userData.sbFileSide = o.material.side;  // the file's sidedness, for shadow_side=engine
+        /* each mesh its own pair of materials, kept for the page's life (its programs compiled once, not
+         * in a timed frame), and its file's sidedness for shadow_side=engine */
+        o.userData.sbFileSide = o.material.side;
+        o.userData.sbMaterials = { shadow: shadowTermMaterial(),
+                                   lit: new THREE.MeshLambertMaterial({ color: 0xffffff, side: THREE.DoubleSide }) };
         meshes.push(o);
     });
     const entry = { root, camera: gltf.cameras[0], meshes };
@@ -96,12 +100,15 @@ float sbDistance() {
     return dot(sbCorner - cameraPosition, n) / dot(ray, n);
 }`;
 
+// The uniforms of the distance, shared by every shadow-term material and
+// set for each cell.
+const sbUniforms = { sbInverseProjection: { value: new THREE.Matrix4() }, sbSize: { value: new THREE.Vector2() } };
+
 // The shadow-term material: three's shadow chunks, its output replaced.
-function shadowTermMaterial(camera, w, h) {
+function shadowTermMaterial() {
     const m = new THREE.ShadowMaterial({ side: THREE.DoubleSide, blending: THREE.NoBlending, transparent: false });
     m.onBeforeCompile = (shader) => {
-        shader.uniforms.sbInverseProjection = { value: camera.projectionMatrixInverse };
-        shader.uniforms.sbSize = { value: new THREE.Vector2(w, h) };
+        Object.assign(shader.uniforms, sbUniforms);
         shader.vertexShader = shader.vertexShader
             .replace('#include <common>', '#include <common>\nvarying vec3 sbWorld;\nflat varying vec3 sbCorner;')
             .replace('#include <worldpos_vertex>',
@@ -166,18 +173,16 @@ export async function render(req) {
     const light = makeLight(req.light, p, req.map_size);
     const scene = new THREE.Scene();
     scene.add(root, light, light.target);
-    const materials = { shadow: shadowTermMaterial(camera, w, h),
-                        lit: new THREE.MeshLambertMaterial({ color: 0xffffff, side: THREE.DoubleSide }) };
+    sbUniforms.sbInverseProjection.value.copy(camera.projectionMatrixInverse);
+    sbUniforms.sbSize.value.set(w, h);
+    /* three's default for a one-sided material draws its other side into the map */
     const fileSide = { [THREE.FrontSide]: THREE.BackSide, [THREE.BackSide]: THREE.FrontSide,
                        [THREE.DoubleSide]: THREE.DoubleSide };
-    const use = (material, receive) => {
+    const use = (kind, receive) => {
         for (const m of meshes) {
-            m.material = material;
+            m.material = m.userData.sbMaterials[kind];
             m.receiveShadow = receive;
-            /* three's default for VSM is the material's own side, else the opposite one */
-            material.shadowSide = p.shadow_side === 'engine'
-                ? (type === THREE.VSMShadowMap ? m.userData.sbFileSide : fileSide[m.userData.sbFileSide])
-                : THREE.DoubleSide;
+            m.material.shadowSide = p.shadow_side === 'engine' ? fileSide[m.userData.sbFileSide] : THREE.DoubleSide;
         }
     };
     /* a float depth buffer: three's default 16-bit one, at the loader's far plane of 2e6 for a file with
@@ -197,15 +202,16 @@ export async function render(req) {
         for (let k = 0; k < req.outputs.length; k++) {
             const what = req.outputs[k];
             if (what === 'shadow' || what === 'distance')
-                use(materials.shadow, true);
+                use('shadow', true);
             else if (what === 'lit' || what === 'unlit')
-                use(materials.lit, what === 'lit');
+                use('lit', what === 'lit');
             else
                 throw new Error(`no output ${what}`);
+            const wait = readOnePixel(gl);  /* the target stays bound */
+            draw();  /* untimed: programs compiled, the shadow map allocated, as Babylon's adapter does */
+            wait();
             if (k === 0)
-                ms = timeFrames(draw, readOnePixel(gl), req.warmup, req.frames);  /* the target stays bound */
-            else
-                draw();
+                ms = timeFrames(draw, wait, req.warmup, req.frames);
             renderer.readRenderTargetPixels(target, 0, 0, w, h, rows);
             takeChannel(rows, w, h, 4, what === 'distance' ? 1 : 0, out, k * w * h);
         }
@@ -214,7 +220,6 @@ export async function render(req) {
         target.depthTexture.dispose();
         target.dispose();
         light.shadow.dispose();
-        materials.shadow.dispose(), materials.lit.dispose();
         scene.remove(root);
     }
     return { version, renderer: rendererString(gl), ms, data: base64(out) };

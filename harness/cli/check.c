@@ -273,7 +273,8 @@ int check_main(const struct options *o)
     programs_free(&programs);
     gl_context_destroy();
 out:
-    results_set_free(&record, status != EXIT_USAGE);  /* after a usage error: nothing to say of it */
+    /* after a usage error: nothing to say of it; after an engine's fault, what was kept */
+    results_set_free(&record, status != EXIT_USAGE || engine_faulted());
     cJSON_Delete(provenance);
     regression_free(&r);
     for (int s = 0; s < scene_count; s++)

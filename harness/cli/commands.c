@@ -152,7 +152,7 @@ const struct command_def commands[COMMAND_COUNT] = {
             "records parameters its name no longer means, an improvement or baselines of a\n"
             "scene not shipped (ORPHANED) with --strict, or a parameter that no cell sets or\n"
             "that changes nothing; 2 bad usage or an unreadable baseline (one line naming\n"
-            "the file and the problem). --update records the cells as one set: stopped\n"
+            "the file and the problem), or an engine that cannot render. --update records the cells as one set: stopped\n"
             "before the end, it leaves the baselines as they were.\n",
     },
     [CMD_TUNE] = {

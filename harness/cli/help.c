@@ -100,7 +100,8 @@ void cli_help_main(struct strbuf *out)
     strbuf_printf(out, "\n'shadowbench <command> --help' or 'shadowbench help <command>' explains each\n"
                        "command's options; docs/cli.md has them all.\n"
                        "exit status: 0 ok, 1 a check failed (e.g. NaN in a technique's output) or a\n"
-                       "runtime error, 2 bad usage or input.\n");
+                       "runtime error, 2 bad usage or input, or an engine that cannot start or render\n"
+                       "(run, tune, check: one line naming the engine and the cell).\n");
 }
 
 void cli_help_markdown(struct strbuf *out)

@@ -134,6 +134,20 @@ static int check_options(struct options *o)
                       o->techniques[i]->engine, c->name);
             return -1;
         }
+    for (int i = 0; i < o->technique_count; i++) {
+        if (!technique_is_engine(o->techniques[i]))
+            continue;
+        if (o->cascades.count > 1) {  /* an engine gets one map: the nearest slice alone would lie */
+            log_error("--cascades %d: %s is an engine cell, rendered with one map over the view; engine cells "
+                      "take no cascades (docs/engines.md)", o->cascades.count, o->techniques[i]->name);
+            return -1;
+        }
+        if (o->cost_fetches) {
+            log_error("--cost fetches: %s is an engine cell, whose fetches are the engine's and are not counted "
+                      "(docs/engines.md)", o->techniques[i]->name);
+            return -1;
+        }
+    }
     engine_set_time_limit(o->engine_timeout);
     for (int i = 0; technique_list[i]; i++)
         if (!o->settings[i])

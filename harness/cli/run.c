@@ -113,11 +113,29 @@ static int run_scene(struct run *r, const struct scene *scene, struct scene_setu
     for (int i = 0; i < n; i++)
         if (!cells[i].failed)
             tc[live++] = tc[i];
+    bool *timing_failed = xcalloc((size_t)n, sizeof *timing_failed);
     if (!rc)
         rc = scene_setup_time(ss, &(struct scene_setup_timing){o->warmup, o->frames, o->timing, timing_progress,
-                                                               (void *)scene->name}, tc, live, times);
-    for (int i = n - 1, k = live - 1; i >= 0 && !rc; i--)  /* back to the cells' order */
-        times[i] = cells[i].failed ? (struct stage_times){NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN} : times[k--];
+                                                               (void *)scene->name,
+                                                               o->keep_going ? timing_failed : NULL},
+                              tc, live, times);
+    /* back to the cells' order: times[k] is the k-th timed cell's */
+    struct stage_times *timed = rc ? NULL : memcpy(xmalloc(sizeof *timed * (size_t)(live ? live : 1)), times,
+                                                   sizeof *timed * (size_t)live);
+    for (int i = 0, k = 0; i < n && !rc; i++) {
+        const struct stage_times none = {NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN};
+        if (cells[i].failed) {
+            times[i] = none;
+            continue;
+        }
+        if (timing_failed[k]) {  /* it rendered, then failed while timed: marked as one that failed */
+            cells[i].failed = xstrdup(engine_last_error());
+            metrics_none(&cells[i].m);
+        }
+        times[i] = timing_failed[k] ? none : timed[k];
+        k++;
+    }
+    free(timed), free(timing_failed);
     log_progress_done();
     for (int i = 0; i < n && !rc; i++) {
         struct cell *c = &cells[i];
@@ -137,8 +155,10 @@ static int run_scene(struct run *r, const struct scene *scene, struct scene_setu
                      c->m.dark_fraction, c->m.ms_total, c->m.nonfinite ? "  NON-FINITE VALUES" : "");
     }
     free(tc), free(times);
-    /* The scored mask is the same for every cell of the scene (same camera,
-     * same geometry): groundtruth.exr carries the last cell's. */
+    /* The scored mask is the same for every cell of shadowbench's own (same
+     * camera, same geometry, one GL pass); an engine cell's may differ by the
+     * silhouette pixels it sees otherwise (its mismatch_pixels):
+     * groundtruth.exr carries the last cell's. */
     if (!rc)
         rc = output_groundtruth(dir, &ss->gt, ss->scored);
     free(dir);
@@ -164,7 +184,7 @@ static int judge(const struct run *r)
             log_error("%s/%s: unscored: no pixel where the camera sees a surface that the light's frustum holds, "
                       "that sees the light above its horizon and that GL and the ray tracer agree on; its metrics "
                       "are null", r->cells[i].scene, r->cells[i].label);
-    return failed ? EXIT_USAGE : bad || unscored ? EXIT_CHECK_FAILED : EXIT_OK;
+    return failed || engine_faulted() ? EXIT_USAGE : bad || unscored ? EXIT_CHECK_FAILED : EXIT_OK;
 }
 
 /* A run larger than the main job says, before it starts, how long it will

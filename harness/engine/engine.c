@@ -35,6 +35,7 @@ static const char *const output_names[] = {
  * folder (the browser's profile, the images it writes). */
 static struct {
     pid_t pid;
+    pid_t browser;    /* Chromium's (a session of its own), or 0 */
     int in, out;      /* its stdin (we write), its stdout (we read) */
     char *dir;
     char *buf;        /* what has been read of its stdout past the last line */
@@ -42,6 +43,7 @@ static struct {
     long next_id;
     bool at_exit;     /* engine_shutdown registered */
     bool faulted;
+    char *start_failed;  /* why the driver did not start: said again for every later cell, not retried */
     double limit_s;
 } drv = {.pid = 0, .in = -1, .out = -1};
 
@@ -62,6 +64,11 @@ static void fault(const char *line)
 void engine_set_time_limit(double seconds) { drv.limit_s = seconds > 0 ? seconds : 0; }
 
 static double time_limit(void) { return drv.limit_s > 0 ? drv.limit_s : ENGINE_TIME_LIMIT_S; }
+
+/* The current cell's deadline (util_now_ms), its browser's start included. */
+static double deadline_ms;
+
+static double seconds_left(void) { return fmax(0, (deadline_ms - util_now_ms()) * 1e-3); }
 
 static int remove_entry(const char *path, const struct stat *st, int flag, struct FTW *ftw)
 {
@@ -92,6 +99,20 @@ static char *driver_log_tail(void)
     return tail ? tail : xstrdup("");
 }
 
+/* Whether process pid runs (a zombie, which no one may reap here, does not). */
+static bool running(pid_t pid)
+{
+    char path[64], state = 0;
+    snprintf(path, sizeof path, "/proc/%ld/stat", (long)pid);
+    FILE *f = kill(pid, 0) == 0 ? fopen(path, "r") : NULL;
+    if (f) {
+        if (fscanf(f, "%*d (%*[^)]) %c", &state) != 1)
+            state = 0;
+        fclose(f);
+    }
+    return f && state != 'Z';
+}
+
 void engine_shutdown(void)
 {
     if (drv.pid > 0) {
@@ -101,12 +122,20 @@ void engine_shutdown(void)
         pid_t done = 0;
         for (int i = 0; i < 50 && (done = waitpid(drv.pid, &status, WNOHANG)) == 0; i++)
             usleep(100 * 1000);
-        kill(-drv.pid, SIGKILL);  /* whatever of the group is left, the browser's processes included */
-        if (done == 0)
+        /* whatever is left after the driver's own close: the driver's group, and the browser's (a session
+         * of its own; its DevTools pipe closed, it exits by itself: this is for one that does not) */
+        if (done == 0) {
+            kill(-drv.pid, SIGKILL);
             waitpid(drv.pid, &status, 0);
+        }
+        /* its pipe closed, the browser exits and removes its temporary files; killed, it would leave them */
+        for (int i = 0; i < 30 && drv.browser > 0 && running(drv.browser); i++)
+            usleep(100 * 1000);
+        if (drv.browser > 0)
+            kill(-drv.browser, SIGKILL);
         util_child_group(0);
         close(drv.out);
-        drv.pid = 0, drv.out = -1;
+        drv.pid = drv.browser = 0, drv.out = -1;
     }
     remove_tree(drv.dir);
     free(drv.dir), free(drv.buf);
@@ -142,7 +171,11 @@ static cJSON *read_reply(double seconds, const char **why)
         const int ready = poll(&p, 1, (int)fmin(left, 1e9) + 1);
         if (ready < 0 && errno == EINTR)
             continue;
-        if (ready <= 0)
+        if (ready < 0) {
+            *why = "cannot wait for its driver";
+            return NULL;
+        }
+        if (ready == 0)
             continue;
         if (drv.len + 65536 > REPLY_MAX) {
             *why = "its driver's reply is too long";
@@ -258,11 +291,13 @@ static int start(const struct engine_request *r)
         if (getppid() != parent)
             _exit(127);
         signal(SIGPIPE, SIG_DFL), signal(SIGXFSZ, SIG_DFL);
-        const int log_fd = open(log_path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
+        const int log_fd = open(log_path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);  /* dup2'd to 2 */
         if (log_fd < 0 || dup2(to_child[0], 0) < 0 || dup2(from_child[1], 1) < 0 || dup2(log_fd, 2) < 0)
             _exit(127);
         execlp(node, node, script, chromium, drv.dir, engines_dir(), (char *)NULL);
-        dprintf(2, "cannot run %s: %s\n", node, strerror(errno));
+        static const char text[] = "cannot run node (Node.js; SB_NODE names another)\n";
+        if (write(2, text, sizeof text - 1) < 0)
+            _exit(127);
         _exit(127);
     }
     free(script), free(log_path);
@@ -280,14 +315,19 @@ static int start(const struct engine_request *r)
         drv.at_exit = true;
     }
     const char *why = NULL;
-    cJSON *ready = read_reply(time_limit(), &why);
+    cJSON *ready = read_reply(seconds_left(), &why);
     const bool ok = ready && cJSON_IsTrue(cJSON_GetObjectItem(ready, "ok"));
     if (!ok) {
         const char *error = cJSON_GetStringValue(cJSON_GetObjectItem(ready, "error"));
-        fail(r, "its browser did not start", error ? error : why);
+        char *what = util_printf("its browser did not start: %s", error ? error : why);
+        fail(r, what, NULL);
+        drv.start_failed = what;
         cJSON_Delete(ready);
         return -1;
     }
+    const cJSON *browser = cJSON_GetObjectItem(ready, "pid");
+    if (cJSON_IsNumber(browser) && browser->valuedouble > 1)
+        drv.browser = (pid_t)browser->valuedouble;
     cJSON_Delete(ready);
     return 0;
 }
@@ -377,6 +417,11 @@ static int take_times(const cJSON *ms, struct engine_result *out)
 
 int engine_render(const struct engine_request *r, struct engine_result *out)
 {
+    deadline_ms = util_now_ms() + time_limit() * 1e3;
+    if (drv.start_failed) {  /* one wait for a browser that does not start, not one a cell */
+        fail(r, drv.start_failed, NULL);
+        return -1;
+    }
     if (drv.pid <= 0 && start(r) != 0)
         return -1;
     char *output = util_printf("%s/cell.f32", drv.dir);
@@ -389,7 +434,7 @@ int engine_render(const struct engine_request *r, struct engine_result *out)
     line = xrealloc(line, len + 2);
     line[len] = '\n', line[len + 1] = '\0';
     const char *why = NULL;
-    cJSON *reply = write_all(drv.in, line, len + 1) == 0 ? read_reply(time_limit(), &why) : NULL;
+    cJSON *reply = write_all(drv.in, line, len + 1) == 0 ? read_reply(seconds_left(), &why) : NULL;
     free(line);
     if (!reply && !why)
         why = "its driver exited";

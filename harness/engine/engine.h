@@ -5,10 +5,12 @@
  * a cell needs it, which starts one headless Chromium for the whole
  * process, and hands it one cell at a time over a pipe.
  *
- * No browser outlives the command: the driver runs in its own process
- * group, which is killed by the shutdown at exit and by the signal
- * handler (util.h: util_child_group), and Chromium, on its DevTools pipe,
- * exits when the driver does. */
+ * No browser outlives the command: Chromium, on its DevTools pipe, exits
+ * when the driver does (and cleans up after itself). The driver runs in
+ * its own process group, which the signal handler kills (util.h:
+ * util_child_group); the shutdown at exit lets the driver close the
+ * browser, then kills what is left of both (the browser runs in a session
+ * of its own). */
 #ifndef SB_ENGINE_H
 #define SB_ENGINE_H
 
@@ -56,7 +58,9 @@ struct engine_result {
  * line that names the engine and the cell (no Chromium, an engine that is
  * not installed or fails to load, a page error, over the time limit, an
  * image of the wrong size). After a failure the driver is stopped; the
- * next request starts a new one. */
+ * next request starts a new one, but a browser that did not start is
+ * not waited for again: every later request fails at once with its
+ * reason. */
 int engine_render(const struct engine_request *r, struct engine_result *out);
 
 /* Whether an engine request has failed since the process started (a
@@ -64,8 +68,9 @@ int engine_render(const struct engine_request *r, struct engine_result *out);
 bool engine_faulted(void);
 const char *engine_last_error(void);
 
-/* The longest a cell may take, seconds (browser start and engine load
- * included); 0 restores the default, ENGINE_TIME_LIMIT_S. */
+/* The longest a request may take, seconds, from its start to its reply
+ * (the browser's start and the engine's load included); 0 restores the
+ * default, ENGINE_TIME_LIMIT_S. */
 #define ENGINE_TIME_LIMIT_S 120.0
 void engine_set_time_limit(double seconds);
 

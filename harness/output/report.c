@@ -267,7 +267,8 @@ static int scene_charts(const struct report *r, const char *scene, const char *d
     struct chart_points p;
     points_alloc(&p, r->cell_count);
     /* shadowbench's own cells first: the time charts hold only them, timed on
-     * the run's device (an engine's times are its browser's, charted apart) */
+     * the run's device (an engine's times are its browser's: the summary's
+     * engines_tradeoff charts them, over all scenes) */
     int own = 0;
     for (int engines = 0; engines <= 1; engines++) {
         if (engines)
@@ -383,8 +384,11 @@ static int overall_chart(const struct report *r, const char *device, bool engine
                                           {"mean penumbra_rmse", "visibility", p.pen, NULL, NULL, NULL, NAN}};
     char *title = util_printf("All %d scenes: mean error against mean time per frame%s", r->scene_count,
                               engines ? ", engine cells" : "");
+    const char *renderer = NULL;  /* a cell's that rendered (one that failed has none) */
+    for (int i = 0; i < r->cell_count && engines && !renderer; i++)
+        renderer = r->cells[i].engine_renderer;
     char *engine_device = engines ? util_printf("%s, in headless Chromium, timed by the page's clock",
-                                                m[0].first->gl_renderer) : NULL;
+                                                renderer ? renderer : "an engine's device") : NULL;
     char *sub = chart_subtitle(engines ? engine_device : device,
                                "; each point one technique configuration, its bar the mean quartiles");
     struct strbuf svg = {0};

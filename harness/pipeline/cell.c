@@ -212,8 +212,14 @@ int scene_setup_time(struct scene_setup *ss, const struct scene_setup_timing *ho
             out[i] = own_times[k++];
             continue;
         }
-        rc = engine_frames(ss, cells[i].technique, cells[i].settings, how->warmup, how->frames);
-        out[i] = (struct stage_times){NAN, NAN, NAN, NAN, NAN, ss->engine.ms, ss->engine.ms_q1, ss->engine.ms_q3};
+        const bool failed = engine_frames(ss, cells[i].technique, cells[i].settings, how->warmup, how->frames) != 0;
+        out[i] = failed ? (struct stage_times){NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN}
+                        : (struct stage_times){NAN, NAN, NAN, NAN, NAN, ss->engine.ms, ss->engine.ms_q1,
+                                               ss->engine.ms_q3};
+        if (failed && how->engine_failed)
+            how->engine_failed[i] = true;
+        else
+            rc = failed ? -1 : 0;
     }
     free(own), free(own_times);
     return rc;

@@ -144,6 +144,8 @@ struct scene_setup_timing {
     enum stage_timing timing;
     void (*on_round)(void *user, int round, int rounds);
     void *user;
+    bool *engine_failed;  /* NULL: an engine cell's failure fails the timing; else [n]: set for a failed
+                             engine cell (its times NaN) while the others are timed (run --keep-going) */
 };
 
 /* Times the n cells interleaved; out[i] is cell i's. An engine cell is
