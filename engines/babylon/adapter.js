@@ -45,12 +45,13 @@ export async function install() {
 // The camera distance for the coverage test, as the three adapter takes it
 // (engines/three/adapter.js): the pixel's exact ray cut with the plane of
 // the triangle drawn there.
+const termUniforms = { inverseViewProjection: BABYLON.Matrix.Identity(), size: new BABYLON.Vector2(1, 1) };
+
 class ShadowTerm extends BABYLON.MaterialPluginBase {
     constructor(material) {
         super(material, 'ShadowbenchShadowTerm', 200, { SB_SHADOW_TERM: false });
         this._enable(true);
-        this.inverseViewProjection = BABYLON.Matrix.Identity();
-        this.size = new BABYLON.Vector2(1, 1);
+
     }
     getClassName() { return 'ShadowbenchShadowTerm'; }
     prepareDefines(defines) { defines.SB_SHADOW_TERM = true; }
@@ -60,8 +61,8 @@ class ShadowTerm extends BABYLON.MaterialPluginBase {
                  fragment: 'uniform mat4 sbInverseViewProjection;\nuniform vec2 sbSize;' };
     }
     bindForSubMesh(ubo) {
-        ubo.updateMatrix('sbInverseViewProjection', this.inverseViewProjection);
-        ubo.updateFloat2('sbSize', this.size.x, this.size.y);
+        ubo.updateMatrix('sbInverseViewProjection', termUniforms.inverseViewProjection);
+        ubo.updateFloat2('sbSize', termUniforms.size.x, termUniforms.size.y);
     }
     getCustomCode(shaderType) {
         if (shaderType === 'vertex')
@@ -114,6 +115,13 @@ async function load(url) {
         }
         m.sbFileCulling = m.material ? m.material.backFaceCulling : true;
         m.alwaysSelectAsActiveMesh = true;
+        /* each mesh its own pair of materials, for the scene's life (the culling is per material) */
+        const lit = new BABYLON.StandardMaterial('sb-lit', scene);
+        lit.diffuseColor = new BABYLON.Color3(1, 1, 1);
+        lit.specularColor = new BABYLON.Color3(0, 0, 0);
+        const term = lit.clone('sb-shadow-term');
+        new ShadowTerm(term);  /* a plugin registers itself with its material */
+        m.sbMaterials = { lit, term };
     }
     current = { url, scene, camera, meshes };
     return current;
@@ -186,39 +194,33 @@ export async function render(req) {
     const { scene, camera, meshes } = await load(req.sceneUrl);
     const { light, generator } = makeLight(scene, req.light, p, req.map_size);
     setFilter(generator, req.technique, p);
-    const lit = new BABYLON.StandardMaterial('sb-lit', scene);
-    lit.diffuseColor = new BABYLON.Color3(1, 1, 1);
-    lit.specularColor = new BABYLON.Color3(0, 0, 0);
-    const term = lit.clone('sb-shadow-term');
-    const plugin = new ShadowTerm(term);
-    for (const m of [lit, term])
-        m.backFaceCulling = false;
     const map = generator.getShadowMap();
     map.renderList = meshes;
     const target = new BABYLON.RenderTargetTexture('sb-target', { width: w, height: h }, scene, false, true,
                                                    BABYLON.Constants.TEXTURETYPE_FLOAT, false,
                                                    BABYLON.Constants.TEXTURE_NEAREST_SAMPLINGMODE, true, false);
     camera.outputRenderTarget = target;  /* the camera draws into the float target, not the canvas */
-    const use = (material, receive) => {
+    const use = (kind, receive) => {
         for (const m of meshes) {
-            m.material = material;
+            m.material = m.sbMaterials[kind];
             m.receiveShadows = receive;
             /* shadow_side=engine: the file's culling in the map (the depth pass culls by the material) */
-            material.backFaceCulling = p.shadow_side === 'engine' ? m.sbFileCulling : false;
+            m.material.backFaceCulling = p.shadow_side === 'engine' ? m.sbFileCulling : false;
         }
     };
     const out = new Float32Array(w * h * req.outputs.length);
     let ms = [];
     try {
         /* the camera's matrices at this size (before its first frame, its cached ones are not) */
-        camera.getViewMatrix(true).multiply(camera.getProjectionMatrix(true)).invertToRef(plugin.inverseViewProjection);
-        plugin.size.set(w, h);
+        camera.getViewMatrix(true).multiply(camera.getProjectionMatrix(true))
+            .invertToRef(termUniforms.inverseViewProjection);
+        termUniforms.size.set(w, h);
         for (let k = 0; k < req.outputs.length; k++) {
             const what = req.outputs[k];
             if (what === 'shadow' || what === 'distance')
-                use(term, true);
+                use('term', true);
             else if (what === 'lit' || what === 'unlit')
-                use(lit, what === 'lit');
+                use('lit', what === 'lit');
             else
                 throw new Error(`no output ${what}`);
             /* every program compiled before a frame counts: Babylon skips a mesh whose shader is not ready */
@@ -246,8 +248,6 @@ export async function render(req) {
         target.dispose();
         generator.dispose();
         light.dispose();
-        plugin.dispose && plugin.dispose();
-        lit.dispose(), term.dispose();
     }
     return { version, renderer: rendererString(gl), ms, data: base64(out) };
 }

@@ -54,6 +54,16 @@ static int set_scene(struct options *o, const char *arg)
     return 0;
 }
 
+/* Adds t to the selection, once. */
+static void select_technique(struct options *o, const struct technique *t)
+{
+    for (int i = 0; i < o->technique_count; i++)
+        if (o->techniques[i] == t)
+            return;
+    if (o->technique_count < CLI_MAX_TECHNIQUES)
+        o->techniques[o->technique_count++] = t;
+}
+
 static int set_techniques(struct options *o, const char *list)
 {
     char *copy = xstrdup(list), *rest = copy;
@@ -70,27 +80,17 @@ static int set_techniques(struct options *o, const char *list)
         for (const struct technique *const *e = technique_list; *e && !t; e++)
             if (technique_is_engine(*e) && (!strcmp(name, "engines") || !strcmp(name, (*e)->engine))) {
                 group = true;
-                bool dup = false;
-                for (int i = 0; i < o->technique_count; i++)
-                    dup |= o->techniques[i] == *e;
-                if (!dup && o->technique_count < CLI_MAX_TECHNIQUES)
-                    o->techniques[o->technique_count++] = *e;
+                select_technique(o, *e);
             }
-        if (group)
-            continue;
-        if (!t) {
+        if (t) {
+            select_technique(o, t);
+        } else if (!group) {
             struct strbuf known = {0};
             technique_names(&known, ", ");
             log_error("--technique: unknown technique '%s' (known: %s; and engines, or an engine's name for its "
                       "modes)", name, known.data);
             strbuf_free(&known);
             rc = -1;
-        } else if (o->technique_count < CLI_MAX_TECHNIQUES) {
-            bool dup = false;
-            for (int i = 0; i < o->technique_count; i++)
-                dup |= o->techniques[i] == t;
-            if (!dup)
-                o->techniques[o->technique_count++] = t;
         }
     }
     free(copy);

@@ -101,7 +101,6 @@ int scene_setup_open(struct scene_setup *ss, const struct scene *s, const struct
     ss->scored = xcalloc(count, sizeof(float));  /* written whole even before any cell is scored */
     ss->shortcut = xmalloc(sizeof(float) * count);
     ss->timer = (struct stage_timer){.cascades = &ss->cascades, .mesh = &ss->mesh, .receiver = &ss->receiver};
-    ss->shadow_map_size = d->shadow_map_size;
     return 0;
 }
 
@@ -149,7 +148,8 @@ static int engine_frames(struct scene_setup *ss, const struct technique *t, cons
                                                           .frustum = &ss->cascades.map[0].frustum,
                                                           .label = label.data, .width = ss->width,
                                                           .height = ss->height,
-                                                          .map_size = own > 0 ? own : ss->shadow_map_size,
+                                                          .map_size = own > 0 ? own
+                                                                                : ss->cascades.map[0].desc.size_texels,
                                                           .warmup = warmup, .frames = frames,
                                                           .outputs = 1u << ENGINE_OUT_SHADOW |
                                                                      1u << ENGINE_OUT_DISTANCE},

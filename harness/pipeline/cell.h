@@ -95,7 +95,6 @@ struct scene_setup {
     struct depth_metrics depth;    /* the last cell's error by view depth */
     float *view_depth;             /* each pixel's view depth (the truth's hit along the camera's
                                       axis; -1: none), what cascades are cut by */
-    int shadow_map_size;           /* the run's: an engine cell's map at map_size 0 */
     bool engine_last;              /* the last frame was an engine's: ss->v holds it */
     struct engine_result engine;   /* the last engine frame's version, renderer and times */
 };
