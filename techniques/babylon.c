@@ -16,8 +16,8 @@
  *                    3 x 3 (medium), 9 on 5 x 5 (high, the default);
  * Not yet here: useContactHardeningShadow (PCSS). Set up as above it lights
  * every pixel on every scene here, with shadowbench's frustum and with
- * Babylon's own, so it is not shipped as a cell until that is understood
- * (docs/engines.md).
+ * Babylon's own, and so does Babylon's own minimal scene on SwiftShader, so
+ * it is not shipped as a cell until that is understood (docs/engines.md).
  *
  * Parameters shared by the modes:
  *   bias         ShadowGenerator.bias: added to the receiver's depth metric
