@@ -2,8 +2,9 @@
 # An engine's faults (docs/engines.md): each is one line that names the
 # engine and the cell, and exit status 2 — no Chromium, an engine that
 # fails to load, a page error, a cell over its time limit, an image of the
-# wrong size (the driver's own check of the page's reply says so first) —
-# or, with --keep-going, the cell marked failed in the matrix while the run
+# wrong size (the driver's own check of the page's reply, and the
+# harness's of the file), a driver that exits or answers another request,
+# an engine whose packages are not installed — or, with --keep-going, the cell marked failed in the matrix while the run
 # goes on, whether it failed when rendered or when timed. No browser outlives the command, whatever ends it:
 # a normal exit, a fault, a time limit, SIGTERM, SIGINT or SIGKILL.
 #
@@ -47,8 +48,8 @@ no_browser_left() {  # within 3 s: a dying browser's children may take a moment
   pgrep -af "$t/tmp" | head -5
 }
 
-run() {  # run [options]: one three cell on parallel_planes, small
-  TMPDIR="$t/tmp" SB_ENGINES="$t/engines" "$sb" run --scene parallel_planes --technique three_basic \
+run() {  # run [options]: one three cell on parallel_planes, small; the adapters in $engines
+  TMPDIR="$t/tmp" SB_ENGINES="${engines:-$t/engines}" "$sb" run --scene parallel_planes --technique three_basic \
     --settings default --width 64 --height 48 --gt-samples 16 --no-cache --frames 1 --warmup 0 \
     --out "$t/out" "$@" > "$t/stdout" 2> "$t/stderr"
 }
@@ -100,6 +101,32 @@ grep -q '"failed":.*broke while timed' "$t/out/matrix.json" ||
   fail "keep-going while timed: the matrix does not mark the cell failed"
 grep -q '"complete":	true' "$t/out/run.json" || fail "keep-going while timed: the run is not complete"
 no_browser_left "keep-going while timed"
+
+# A driver that misbehaves (a stand-in: engines/driver/driver.mjs of another
+# $SB_ENGINES): it exits, answers another request, or writes an image of
+# the wrong size; and an engine whose packages are not installed.
+mkdir -p "$t/bad/driver/node_modules" "$t/bad/three/node_modules"
+: > "$t/bad/driver/node_modules/.package-lock.json"
+: > "$t/bad/three/node_modules/.package-lock.json"
+driver() {  # driver BODY: JavaScript run for each request (req parsed; say prints a reply)
+  {
+    echo "import fs from 'node:fs';"
+    echo "import readline from 'node:readline';"
+    echo "const say = (r) => process.stdout.write(JSON.stringify(r) + String.fromCharCode(10));"
+    echo "say({ id: 0, ok: true, version: 'stand-in' });"
+    echo "readline.createInterface({ input: process.stdin }).on('line', (line) => { const req = JSON.parse(line); $1 });"
+  } > "$t/bad/driver/driver.mjs"
+}
+engines="$t/bad"
+driver 'process.exit(3);'
+run; expect $? "driver exits" "its driver exited"
+driver 'say({ id: req.id + 7, ok: true });'
+run; expect $? "another request" "its driver answered another request"
+driver 'fs.writeFileSync(req.output, "12345678"); say({ id: req.id, ok: true, version: "x", renderer: "y", ms: [1] });'
+run; expect $? "wrong size (the harness)" "an image of the wrong size: 8 bytes, not 2 image(s) of 64x48 float32"
+rm "$t/bad/three/node_modules/.package-lock.json"
+run; expect $? "not installed" "the packages of $t/bad/three are not installed"
+engines=""
 
 # A cell that works leaves nothing running either.
 rm -f "$t/engines/three/page.html"
