@@ -23,7 +23,7 @@
 // computed and the camera distance to a float render target; image
 // processing (tone mapping, colour curves) off.
 /* global BABYLON */
-import { base64, readOnePixel, rendererString, takeChannel, timeFrames } from '../common/page.js';
+import { base64, outputPass, readOnePixel, rendererString, takeChannel, timeFrames } from '../common/page.js';
 
 const FILTERS = { babylon_hard: 'none', babylon_poisson: 'poisson', babylon_pcf: 'pcf' };
 const QUALITY = { high: 0, medium: 1, low: 2 };  // ShadowGenerator.QUALITY_*
@@ -121,7 +121,7 @@ async function load(url) {
         lit.specularColor = new BABYLON.Color3(0, 0, 0);
         const term = lit.clone('sb-shadow-term');
         new ShadowTerm(term);  /* a plugin registers itself with its material */
-        m.sbMaterials = { lit, term };
+        m.sbMaterials = { lit, shadow: term };
     }
     current = { url, scene, camera, meshes };
     return current;
@@ -216,13 +216,8 @@ export async function render(req) {
             .invertToRef(termUniforms.inverseViewProjection);
         termUniforms.size.set(w, h);
         for (let k = 0; k < req.outputs.length; k++) {
-            const what = req.outputs[k];
-            if (what === 'shadow' || what === 'distance')
-                use('term', true);
-            else if (what === 'lit' || what === 'unlit')
-                use('lit', what === 'lit');
-            else
-                throw new Error(`no output ${what}`);
+            const pass = outputPass(req.outputs[k]);
+            use(pass.material, pass.receive);
             /* every program compiled before a frame counts: Babylon skips a mesh whose shader is not ready */
             for (const m of meshes)
                 await m.material.forceCompilationAsync(m);
@@ -241,7 +236,7 @@ export async function render(req) {
                 draw();
             const rows = await target.readPixels();
             takeChannel(new Float32Array(rows.buffer, rows.byteOffset, w * h * 4), w, h, 4,
-                        what === 'distance' ? 1 : 0, out, k * w * h);
+                        pass.channel, out, k * w * h);
         }
     } finally {
         camera.outputRenderTarget = null;

@@ -12,6 +12,19 @@ export function takeChannel(rows, w, h, channels, c, out, offset) {
     }
 }
 
+// How an adapter renders output `what` of a request (harness/engine/engine.h):
+// with which of its two materials (the shadow term, or the engine's lit
+// diffuse one), with the receivers' shadows on or off, and which channel
+// of the float target (shadow factor, camera distance) it reads.
+export function outputPass(what) {
+    const passes = { shadow: ['shadow', true, 0], distance: ['shadow', true, 1], lit: ['lit', true, 0],
+                     unlit: ['lit', false, 0] };
+    if (!(what in passes))
+        throw new Error(`no output ${what}`);
+    const [material, receive, channel] = passes[what];
+    return { material, receive, channel };
+}
+
 export function base64(floats) {
     const bytes = new Uint8Array(floats.buffer, floats.byteOffset, floats.byteLength);
     let s = '';

@@ -117,8 +117,7 @@ async function handle(req) {
     const tmp = `${req.output}.tmp.${process.pid}`;
     fs.writeFileSync(tmp, bytes);
     fs.renameSync(tmp, req.output);
-    return { id: req.id, ok: true, engine: req.engine, version: out.version, renderer: out.renderer, ms: out.ms,
-             notes: out.notes || [] };
+    return { id: req.id, ok: true, engine: req.engine, version: out.version, renderer: out.renderer, ms: out.ms };
 }
 
 async function main() {

@@ -23,7 +23,7 @@
 // blending.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
-import { base64, readOnePixel, rendererString, takeChannel, timeFrames } from '../common/page.js';
+import { base64, outputPass, readOnePixel, rendererString, takeChannel, timeFrames } from '../common/page.js';
 
 const TYPES = { three_basic: THREE.BasicShadowMap, three_pcf: THREE.PCFShadowMap, three_vsm: THREE.VSMShadowMap };
 
@@ -200,20 +200,15 @@ export async function render(req) {
     let ms = [];
     try {
         for (let k = 0; k < req.outputs.length; k++) {
-            const what = req.outputs[k];
-            if (what === 'shadow' || what === 'distance')
-                use('shadow', true);
-            else if (what === 'lit' || what === 'unlit')
-                use('lit', what === 'lit');
-            else
-                throw new Error(`no output ${what}`);
+            const pass = outputPass(req.outputs[k]);
+            use(pass.material, pass.receive);
             const wait = readOnePixel(gl);  /* the target stays bound */
             draw();  /* untimed: programs compiled, the shadow map allocated, as Babylon's adapter does */
             wait();
             if (k === 0)
                 ms = timeFrames(draw, wait, req.warmup, req.frames);
             renderer.readRenderTargetPixels(target, 0, 0, w, h, rows);
-            takeChannel(rows, w, h, 4, what === 'distance' ? 1 : 0, out, k * w * h);
+            takeChannel(rows, w, h, 4, pass.channel, out, k * w * h);
         }
     } finally {
         renderer.setRenderTarget(null);
