@@ -6,7 +6,13 @@
 //
 // A request: {"id", "engine", "scene", "width", "height", "light",
 //   "technique", "params", "map_size", "warmup", "frames", "outputs",
-//   "output"}; the reply: {"id", "ok": true, "engine", "version",
+//   "output"}, where "light" is {"kind" (spot, directional), "eye", "x", "y",
+//   "z" (the light's frame: it looks along -z, y up), "near", "far",
+//   "window" (l, r, b, t at the near plane: shadowbench's fitted frustum),
+//   "shape" (rect, disk, sun), "size" (a rect's [w, h]), "radius" (a
+//   disk's), "half_angle" (the sun's, radians), "size_uv" (the light's
+//   size in shadow-map UV at the near plane; the sun's: per world unit of
+//   depth)}; the reply: {"id", "ok": true, "engine", "version",
 //   "renderer", "ms": [...]} once the outputs are in the file "output"
 //   (float32, each output W x H, top row first, in the order asked), or
 //   {"id", "ok": false, "error": "one line"}.

@@ -339,8 +339,11 @@ static cJSON *v3_json(struct vec3 v)
 }
 
 /* The light as the adapters take it: the frustum's eye and axes (rows of
- * its view matrix), its depth range and its window at the near plane. */
-static cJSON *light_json(const struct light_frustum *f)
+ * its view matrix), its depth range and its window at the near plane; and
+ * the scene's light itself, for an engine's soft-shadow size: its shape,
+ * size (a rect's width and height, a disk's radius, world units; the sun's
+ * half-angle, radians) and its size in shadow-map UV (light_frustum.h). */
+static cJSON *light_json(const struct scene_light *sl, const struct light_frustum *f)
 {
     const float *m = f->view.m;
     const struct vec3 x = v3(m[0], m[4], m[8]), y = v3(m[1], m[5], m[9]), z = v3(m[2], m[6], m[10]);
@@ -355,6 +358,17 @@ static cJSON *light_json(const struct light_frustum *f)
     cJSON_AddNumberToObject(o, "far", f->far_world);
     const double window[4] = {f->l, f->r, f->b, f->t};
     cJSON_AddItemToObject(o, "window", cJSON_CreateDoubleArray(window, 4));
+    cJSON_AddStringToObject(o, "shape", light_shape_names[sl->shape]);
+    if (sl->shape == LIGHT_RECT) {
+        const double size[2] = {sl->width, sl->height};
+        cJSON_AddItemToObject(o, "size", cJSON_CreateDoubleArray(size, 2));
+    } else if (sl->shape == LIGHT_DISK) {
+        cJSON_AddNumberToObject(o, "radius", sl->radius);
+    } else {
+        cJSON_AddNumberToObject(o, "half_angle", sl->half_angle);
+    }
+    const double size_uv[2] = {f->light_size_uv[0], f->light_size_uv[1]};
+    cJSON_AddItemToObject(o, "size_uv", cJSON_CreateDoubleArray(size_uv, 2));
     return o;
 }
 
@@ -368,7 +382,7 @@ static cJSON *request_json(const struct engine_request *r, const char *output)
     free(scene);
     cJSON_AddNumberToObject(o, "width", r->width);
     cJSON_AddNumberToObject(o, "height", r->height);
-    cJSON_AddItemToObject(o, "light", light_json(r->frustum));
+    cJSON_AddItemToObject(o, "light", light_json(&r->scene->light, r->frustum));
     cJSON_AddStringToObject(o, "technique", r->t->name);
     cJSON_AddItemToObject(o, "params", params_json(r->t, r->settings));
     cJSON_AddNumberToObject(o, "map_size", r->map_size);
