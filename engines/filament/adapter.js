@@ -1,0 +1,455 @@
+// The Filament adapter (docs/engines.md): renders a cell with Filament's
+// WebAssembly build, its glTF loader (gltfio) and its own materials and
+// shadow code, and hands back its shadow factor.
+//
+// Filament ships compiled materials only (no matc in its npm package), so
+// there is no shadow-term material to write: the shadow factor is the
+// ratio of two renders with gltfio's own material, one light and nothing
+// else, the receivers' shadows on (lit) and off (unlit). Every term of a
+// light is multiplied by the one visibility (docs/engines.md, "Filament":
+// the argument, from the shaders Filament compiles), so lit / unlit is
+// that visibility wherever the unshadowed render is lit; where it is not
+// (N.L <= 0), Filament computes no visibility, and the factor is 1.
+//
+// Filament's JS bindings reach one shadow set-up: PCF at Filament's default
+// ShadowOptions (View::setShadowType and the soft and VSM options are not
+// bound; ShadowOptions cannot be passed: techniques/filament.c).
+//
+// The set-up choices a Filament user has to make, made as shadowbench's
+// own passes make them:
+// - the scene is loaded by gltfio; the file's KHR_lights_punctual light is
+//   not added to the scene (the scene's light is the request's);
+// - every material instance is gltfio's material as a white, fully rough
+//   dielectric (baseColorFactor 1, metallicFactor 0: glTF's default
+//   material is a metal, which has no diffuse term), no emissive, both
+//   faces drawn and lit (culling off, double-sided: the normal turned to
+//   face the camera, as the ground truth turns it), into the map too;
+// - flat normals where the file has none: gltfio computes them;
+// - the file's camera (gltfio's): its vertical field of view, aspect W/H,
+//   its near plane, its far plane at the scene's farthest corner, exposure
+//   exactly 1 (setExposureDirect; Filament's default is a physical
+//   camera), GL's pixel centres;
+// - no indirect light (an IndirectLight of intensity 0 and zero irradiance:
+//   without one Filament lights with a default), no post-processing (no
+//   tone mapping, no sRGB encoding, no dithering, no AA), no SSAO, no fog,
+//   no screen-space contact shadows (Filament's defaults);
+// - an area light becomes a SPOT at its centre along its -Z, whose outer
+//   cone is the smallest around that axis that holds shadowbench's fitted
+//   window (Filament's spot map is the square around the cone:
+//   ShadowMap::updatePunctual), its inner cone just inside it, its falloff
+//   radius (the map's far plane) the fitted frustum's farthest corner;
+// - a sun becomes a DIRECTIONAL light (a SUN would bend the light direction
+//   towards the reflection) with Filament's own fit.
+//
+// Float readback: the view renders into a RenderTarget whose attachments
+// are an RGBA32F colour and a DEPTH32F texture. Filament's JS Renderer
+// cannot read them; the WebGL calls Filament makes are watched (which
+// texture has which format, which framebuffer holds which textures), and
+// after the frame the adapter reads that framebuffer with readPixels as
+// float, and the depth with a small WebGL2 pass of its own (depth -> camera
+// distance), every GL binding it touches restored (Filament caches GL
+// state). Filament's WebGL backend runs its commands in Engine.execute(),
+// on this thread, so the frame is complete when it returns.
+/* global Filament */
+import { base64, outputPass, rendererString, takeChannel, timeFrames } from '../common/page.js';
+
+
+let gl = null, engine = null, renderer = null, view = null, version = null, tracker = null, reader = null;
+let current = null;  // { url, asset, scene, camera, renderables }
+
+// Keeps, for each texture Filament allocates, its format and size, and
+// for each framebuffer, which textures are attached, with a sequence
+// number: the newest framebuffer holding a colour and a depth texture of
+// the asked formats and size is the RenderTarget's.
+function watch(ctx) {
+    const textures = new Map(), framebuffers = new Map();
+    let seq = 0;
+    const storage = ctx.texStorage2D;
+    ctx.texStorage2D = function (target, levels, format, w, h) {
+        storage.call(this, target, levels, format, w, h);
+        if (target === this.TEXTURE_2D)
+            textures.set(this.getParameter(this.TEXTURE_BINDING_2D), { format, w, h });
+    };
+    const attach = ctx.framebufferTexture2D;
+    ctx.framebufferTexture2D = function (target, attachment, textarget, texture, level) {
+        attach.call(this, target, attachment, textarget, texture, level);
+        const fb = this.getParameter(target === this.READ_FRAMEBUFFER ? this.READ_FRAMEBUFFER_BINDING
+                                                                        : this.DRAW_FRAMEBUFFER_BINDING);
+        if (!fb)
+            return;
+        const entry = framebuffers.get(fb) || {};
+        entry[attachment] = texture;
+        entry.seq = ++seq;
+        framebuffers.set(fb, entry);
+    };
+    return {
+        find(colorFormat, depthFormat, w, h) {
+            let best = null;
+            for (const [fb, e] of framebuffers) {
+                const c = textures.get(e[ctx.COLOR_ATTACHMENT0]), d = textures.get(e[ctx.DEPTH_ATTACHMENT]);
+                if (c && d && c.format === colorFormat && d.format === depthFormat && c.w === w && c.h === h &&
+                    d.w === w && d.h === h && ctx.isFramebuffer(fb) && (!best || e.seq > best.seq))
+                    best = { fb, depth: e[ctx.DEPTH_ATTACHMENT], seq: e.seq };
+            }
+            return best;
+        },
+    };
+}
+
+// Runs f with the GL state it may change saved first and restored after,
+// exactly (Filament's backend caches its bindings and enables).
+function withSavedState(f) {
+    const g = gl;
+    const enables = [g.BLEND, g.CULL_FACE, g.DEPTH_TEST, g.SCISSOR_TEST, g.STENCIL_TEST, g.POLYGON_OFFSET_FILL,
+                     g.RASTERIZER_DISCARD, g.SAMPLE_ALPHA_TO_COVERAGE, g.SAMPLE_COVERAGE, g.DITHER];
+    const saved = {
+        enabled: enables.map((e) => g.isEnabled(e)),
+        read: g.getParameter(g.READ_FRAMEBUFFER_BINDING), draw: g.getParameter(g.DRAW_FRAMEBUFFER_BINDING),
+        program: g.getParameter(g.CURRENT_PROGRAM), vao: g.getParameter(g.VERTEX_ARRAY_BINDING),
+        viewport: g.getParameter(g.VIEWPORT), mask: g.getParameter(g.COLOR_WRITEMASK),
+        active: g.getParameter(g.ACTIVE_TEXTURE), pack: g.getParameter(g.PIXEL_PACK_BUFFER_BINDING),
+        packs: [g.PACK_ALIGNMENT, g.PACK_ROW_LENGTH, g.PACK_SKIP_PIXELS, g.PACK_SKIP_ROWS].map((p) => [p, g.getParameter(p)]),
+    };
+    g.activeTexture(g.TEXTURE0);
+    saved.texture = g.getParameter(g.TEXTURE_BINDING_2D);
+    saved.sampler = g.getParameter(g.SAMPLER_BINDING);
+    try {
+        g.bindBuffer(g.PIXEL_PACK_BUFFER, null);
+        g.pixelStorei(g.PACK_ALIGNMENT, 4), g.pixelStorei(g.PACK_ROW_LENGTH, 0);
+        g.pixelStorei(g.PACK_SKIP_PIXELS, 0), g.pixelStorei(g.PACK_SKIP_ROWS, 0);
+        return f();
+    } finally {
+        g.bindTexture(g.TEXTURE_2D, saved.texture);
+        g.bindSampler(0, saved.sampler);
+        g.activeTexture(saved.active);
+        for (const [p, v] of saved.packs)
+            g.pixelStorei(p, v);
+        g.bindBuffer(g.PIXEL_PACK_BUFFER, saved.pack);
+        g.colorMask(...saved.mask);
+        g.viewport(...saved.viewport);
+        g.bindVertexArray(saved.vao);
+        g.useProgram(saved.program);
+        g.bindFramebuffer(g.READ_FRAMEBUFFER, saved.read);
+        g.bindFramebuffer(g.DRAW_FRAMEBUFFER, saved.draw);
+        enables.forEach((e, i) => (saved.enabled[i] ? g.enable(e) : g.disable(e)));
+    }
+}
+
+// Filament's camera projection is reversed-Z with an infinite far plane
+// (FCamera::setProjection; the depth buffer holds near / view depth), so
+// view depth is near / d; the distance along the pixel centre's ray is
+// that times the ray's length per unit of view depth, as the ground truth
+// measures it. d = 0 is the cleared far plane: nothing seen.
+const DISTANCE_VS = `#version 300 es
+void main() { gl_Position = vec4(vec2(gl_VertexID & 1, gl_VertexID >> 1) * 4.0 - 1.0, 0.0, 1.0); }`;
+const DISTANCE_FS = `#version 300 es
+precision highp float;
+uniform highp sampler2D depth;
+uniform vec2 size, tanHalf;
+uniform float near;
+out vec4 color;
+void main() {
+    float d = texelFetch(depth, ivec2(gl_FragCoord.xy), 0).r;
+    vec2 p = (2.0 * gl_FragCoord.xy / size - 1.0) * tanHalf;
+    color = vec4(d > 0.0 ? near / d * sqrt(1.0 + dot(p, p)) : -1.0, 0.0, 0.0, 1.0);
+}`;
+
+// The depth -> distance pass: its program, sampler, and a float target per size.
+function distanceReader() {
+    const g = gl;
+    const shader = (type, text) => {
+        const s = g.createShader(type);
+        g.shaderSource(s, text);
+        g.compileShader(s);
+        if (!g.getShaderParameter(s, g.COMPILE_STATUS))
+            throw new Error(`the distance pass does not compile: ${g.getShaderInfoLog(s)}`);
+        return s;
+    };
+    const program = g.createProgram();
+    g.attachShader(program, shader(g.VERTEX_SHADER, DISTANCE_VS));
+    g.attachShader(program, shader(g.FRAGMENT_SHADER, DISTANCE_FS));
+    g.linkProgram(program);
+    if (!g.getProgramParameter(program, g.LINK_STATUS))
+        throw new Error(`the distance pass does not link: ${g.getProgramInfoLog(program)}`);
+    const at = (n) => g.getUniformLocation(program, n);
+    const uniforms = { depth: at('depth'), size: at('size'), tanHalf: at('tanHalf'), near: at('near') };
+    const sampler = g.createSampler();  /* a depth texture read as values: no comparison, nearest */
+    g.samplerParameteri(sampler, g.TEXTURE_COMPARE_MODE, g.NONE);
+    g.samplerParameteri(sampler, g.TEXTURE_MIN_FILTER, g.NEAREST);
+    g.samplerParameteri(sampler, g.TEXTURE_MAG_FILTER, g.NEAREST);
+    const vao = g.createVertexArray();
+    let target = null;
+    return (depth, w, h, cam, out) => withSavedState(() => {
+        if (!target || target.w !== w || target.h !== h) {
+            if (target)
+                g.deleteFramebuffer(target.fb), g.deleteTexture(target.tex);
+            const tex = g.createTexture();
+            g.bindTexture(g.TEXTURE_2D, tex);
+            g.texStorage2D(g.TEXTURE_2D, 1, g.R32F, w, h);
+            const fb = g.createFramebuffer();
+            g.bindFramebuffer(g.DRAW_FRAMEBUFFER, fb);
+            g.framebufferTexture2D(g.DRAW_FRAMEBUFFER, g.COLOR_ATTACHMENT0, g.TEXTURE_2D, tex, 0);
+            target = { w, h, tex, fb };
+        }
+        g.bindFramebuffer(g.DRAW_FRAMEBUFFER, target.fb);
+        for (const e of [g.BLEND, g.CULL_FACE, g.DEPTH_TEST, g.SCISSOR_TEST, g.STENCIL_TEST, g.RASTERIZER_DISCARD,
+                         g.SAMPLE_ALPHA_TO_COVERAGE, g.SAMPLE_COVERAGE, g.POLYGON_OFFSET_FILL])
+            g.disable(e);
+        g.colorMask(true, true, true, true);
+        g.viewport(0, 0, w, h);
+        g.useProgram(program);
+        g.bindVertexArray(vao);
+        g.bindTexture(g.TEXTURE_2D, depth);
+        g.bindSampler(0, sampler);
+        g.uniform1i(uniforms.depth, 0);
+        g.uniform2f(uniforms.size, w, h);
+        g.uniform2f(uniforms.tanHalf, cam.tanY * w / h, cam.tanY);
+        g.uniform1f(uniforms.near, cam.near);
+        g.drawArrays(g.TRIANGLES, 0, 3);
+        g.bindFramebuffer(g.READ_FRAMEBUFFER, target.fb);
+        g.readPixels(0, 0, w, h, g.RED, g.FLOAT, out);
+    });
+}
+
+// Reads the colour of framebuffer fb as float RGBA rows, bottom row first.
+function readColor(fb, x, y, w, h, out) {
+    withSavedState(() => {
+        gl.bindFramebuffer(gl.READ_FRAMEBUFFER, fb);
+        gl.readPixels(x, y, w, h, gl.RGBA, gl.FLOAT, out);
+    });
+}
+
+export async function install() {
+    const pkg = await (await fetch('/engines/filament/node_modules/filament/package.json')).json();
+    version = pkg.version;
+    const canvas = document.getElementById('canvas');
+    /* the context Filament.Engine.create asks for (its defaults): getContext hands it back to Filament,
+     * watched, with float colour targets enabled */
+    const options = { majorVersion: 2, minorVersion: 0, antialias: false, depth: true, alpha: false };
+    gl = canvas.getContext('webgl2', options);
+    if (!gl)
+        throw new Error('no WebGL2');
+    if (!gl.getExtension('EXT_color_buffer_float'))
+        throw new Error('no EXT_color_buffer_float: float targets cannot be read back');
+    tracker = watch(gl);
+    await new Promise((resolve) => Filament.init([], resolve));
+    engine = Filament.Engine.create(canvas, options);
+    if (engine.context !== gl)
+        throw new Error('Filament made a WebGL context of its own: its frames cannot be read back');
+    renderer = engine.createRenderer();
+    view = engine.createView();
+    view.setPostProcessingEnabled(false);
+    view.setAntiAliasing(Filament.View$AntiAliasing.NONE);
+    view.setAmbientOcclusion(Filament.View$AmbientOcclusion.NONE);
+    reader = distanceReader();
+}
+
+// The asset's scene: its renderables, not its lights; gltfio's material
+// instances made white, fully rough dielectrics, double-sided.
+async function load(url) {
+    if (current && current.url === url)
+        return current;
+    if (current)
+        unload();
+    const loader = engine.createAssetLoader();
+    const bytes = new Uint8Array(await (await fetch(url)).arrayBuffer());
+    const asset = loader.createAsset(bytes);
+    if (!asset)
+        throw new Error('gltfio cannot read the scene file');
+    await new Promise((resolve) => asset.loadResources(resolve, null, url, 1));
+    const cameras = asset.getCameraEntities();
+    if (!cameras.length)
+        throw new Error('the scene has no camera');
+    const scene = engine.createScene();
+    const rm = engine.getRenderableManager();
+    const renderables = asset.getRenderableEntities();
+    for (const e of renderables) {
+        scene.addEntity(e);
+        const inst = rm.getInstance(e);
+        for (let k = 0, n = rm.getPrimitiveCount(inst); k < n; k++) {
+            const mi = rm.getMaterialInstanceAt(inst, k);
+            mi.setFloat4Parameter('baseColorFactor', [1, 1, 1, 1]);
+            mi.setFloatParameter('metallicFactor', 0);
+            mi.setFloatParameter('roughnessFactor', 1);
+            mi.setFloat3Parameter('emissiveFactor', [0, 0, 0]);
+            mi.setDoubleSided(true);
+            mi.setCullingMode(Filament.CullingMode.NONE);
+        }
+        inst.delete();
+    }
+    /* no indirect light: Filament lights a scene without one with a default */
+    const ibl = Filament.IndirectLight.Builder().irradianceSh(1, new Float32Array([0, 0, 0])).intensity(0)
+        .build(engine);
+    scene.setIndirectLight(ibl);
+    current = { url, loader, asset, scene, ibl, renderables,
+                camera: engine.getCameraComponent(cameras[0]) };
+    return current;
+}
+
+function unload() {
+    engine.destroyScene(current.scene);
+    engine.destroyIndirectLight(current.ibl);
+    current.loader.destroyAsset(current.asset);
+    current.loader.delete();
+    current = null;
+}
+
+const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+
+// The scene's light as Filament's nearest light, casting shadows.
+function makeLight(L, p) {
+    const entity = Filament.EntityManager.get().create();
+    const ahead = [-L.z[0], -L.z[1], -L.z[2]];
+    let b;
+    if (L.kind === 'directional') {
+        /* illuminance pi lux: a white Lambertian surface facing the light is 1 */
+        b = Filament.LightManager.Builder(Filament.LightManager$Type.DIRECTIONAL).intensity(Math.PI);
+    } else {
+        const [l, r, bt, t] = L.window;
+        /* the window's farthest corner from the axis: the cone holds the window */
+        const corner = Math.hypot(Math.max(-l, r), Math.max(-bt, t));
+        const outer = Math.atan(corner / L.near);
+        /* Filament's spot map ends at the falloff radius: by default, the fitted far plane's farthest
+         * corner, a little beyond (the least that lights every scored point) */
+        const radius = p.falloff > 0 ? p.falloff : L.far * Math.hypot(1, corner / L.near) * 1.01;
+        /* SPOT: lumens / pi candela; a white Lambertian surface facing it at the frustum's middle depth is 1 */
+        const middle = 0.5 * (L.near + L.far);
+        b = Filament.LightManager.Builder(Filament.LightManager$Type.SPOT)
+            .position(L.eye).falloff(radius).spotLightCone(outer * 0.999, outer)
+            .intensity(Math.PI * Math.PI * middle * middle);
+    }
+    b.direction(ahead).color([1, 1, 1]).castShadows(true);
+    b.build(engine, entity);
+    return entity;
+}
+
+// Filament's JS bindings (npm filament 1.53.4) bind neither View::setShadowType
+// nor its soft or VSM options, and LightManager::ShadowOptions cannot be
+// passed at all (embind: an unbound field type): a light's shadow is PCF at
+// Filament's default ShadowOptions, whatever the page asks.
+function checkTechnique(technique) {
+    if (technique !== 'filament_pcf')
+        throw new Error(`Filament has no technique ${technique}`);
+}
+
+// The distance from eye to the farthest corner of box, a little beyond.
+function farthestCorner(box, eye) {
+    let d = 0;
+    for (let k = 0; k < 8; k++) {
+        const c = [k & 1 ? box.max[0] : box.min[0], k & 2 ? box.max[1] : box.min[1], k & 4 ? box.max[2] : box.min[2]];
+        d = Math.max(d, Math.hypot(c[0] - eye[0], c[1] - eye[1], c[2] - eye[2]));
+    }
+    return 1.01 * d;
+}
+
+export async function render(req) {
+    const { width: w, height: h } = req;
+    const { scene, camera, renderables } = await load(req.sceneUrl);
+    checkTechnique(req.technique);
+    /* the file's vertical field of view, aspect W/H, its near plane */
+    /* gltfio set the projection from the file's yfov: its [1][1] is 1 / tan(yfov / 2) */
+    /* its far plane at the scene's farthest corner: gltfio's for a file with no zfar is 1e8, with which
+     * Filament's directional shadow, fitted to the view frustum's far end (shadowFar 0), casts nothing */
+    const near = camera.getNear(), far = farthestCorner(current.asset.getBoundingBox(), camera.getPosition());
+    const tanY = 1 / camera.getCullingProjectionMatrix()[5];
+    camera.setProjectionFov(360 / Math.PI * Math.atan(tanY), w / h, near, far, Filament.Camera$Fov.VERTICAL);
+    camera.setExposureDirect(1.0);
+    const cam = { near, tanY };
+    view.setCamera(camera);
+    view.setScene(scene);
+    view.setViewport([0, 0, w, h]);
+
+    const light = makeLight(req.light, req.params);
+    scene.addEntity(light);
+    const Tex = Filament.Texture, U = Filament.Texture$Usage;
+    const color = Tex.Builder().width(w).height(h).levels(1).sampler(Filament.Texture$Sampler.SAMPLER_2D)
+        .format(Filament.Texture$InternalFormat.RGBA32F).usage(U.COLOR_ATTACHMENT.value | U.SAMPLEABLE.value)
+        .build(engine);
+    const depth = Tex.Builder().width(w).height(h).levels(1).sampler(Filament.Texture$Sampler.SAMPLER_2D)
+        .format(Filament.Texture$InternalFormat.DEPTH32F).usage(U.DEPTH_ATTACHMENT.value | U.SAMPLEABLE.value)
+        .build(engine);
+    const target = Filament.RenderTarget.Builder().texture(Filament.RenderTarget$AttachmentPoint.COLOR, color)
+        .texture(Filament.RenderTarget$AttachmentPoint.DEPTH, depth).build(engine);
+    view.setRenderTarget(target);
+    renderer.setClearOptions({ clearColor: [0, 0, 0, 0], clear: true, discard: true });
+
+    const rm = engine.getRenderableManager();
+    const receive = (on) => {
+        for (const e of renderables) {
+            const inst = rm.getInstance(e);
+            rm.setReceiveShadows(inst, on);
+            rm.setCastShadows(inst, true);
+            inst.delete();
+        }
+    };
+    let gpu = null;
+    const draw = () => {
+        renderer.renderStandaloneView(view);
+        engine.execute();
+        if (!gpu) {
+            gpu = tracker.find(gl.RGBA32F, gl.DEPTH_COMPONENT32F, w, h);
+            if (!gpu)
+                throw new Error("the RenderTarget's WebGL framebuffer was not found");
+        }
+    };
+    const pixel = new Float32Array(4);
+    const wait = () => readColor(gpu.fb, 0, 0, 1, 1, pixel);
+    const n = w * h;
+    const rows = { lit: null, unlit: null, distance: null };
+    const want = new Set(req.outputs);
+    /* the renders the outputs need: the shadow factor is lit / unlit */
+    const renders = [];
+    if (want.has('shadow') || want.has('lit'))
+        renders.push('lit');
+    if (want.has('shadow') || want.has('unlit'))
+        renders.push('unlit');
+    if (!renders.length)
+        renders.push('lit');
+    let ms = [];
+    try {
+        for (let k = 0; k < renders.length; k++) {
+            receive(outputPass(renders[k]).receive);
+            draw();  /* untimed: programs compiled, the shadow map allocated */
+            wait();
+            if (k === 0)
+                ms = timeFrames(draw, wait, req.warmup, req.frames);
+            rows[renders[k]] = new Float32Array(n * 4);
+            readColor(gpu.fb, 0, 0, w, h, rows[renders[k]]);
+            if (k === 0 && want.has('distance')) {
+                rows.distance = new Float32Array(n);
+                reader(gpu.depth, w, h, cam, rows.distance);
+            }
+        }
+    } finally {
+        view.setRenderTarget(null);
+        engine.destroyRenderTarget(target);
+        engine.destroyTexture(color);
+        engine.destroyTexture(depth);
+        scene.remove(light);
+        engine.destroyEntity(light);
+    }
+    const out = new Float32Array(n * req.outputs.length);
+    req.outputs.forEach((what, k) => {
+        if (what === 'lit' || what === 'unlit')
+            takeChannel(rows[what], w, h, 4, 0, out, k * n);
+        else if (what === 'distance')
+            takeChannel(rows.distance, w, h, 1, 0, out, k * n);
+        else if (what === 'shadow')
+            takeChannel(shadowFactor(rows.lit, rows.unlit, n), w, h, 1, 0, out, k * n);
+        else
+            throw new Error(`no output ${what}`);
+    });
+    return { version, renderer: rendererString(gl), ms, data: base64(out) };
+}
+
+// lit / unlit per pixel (red channel: the light and material are white);
+// 1 where the unshadowed render is dark: Filament evaluates no visibility
+// where N.L <= 0.
+function shadowFactor(lit, unlit, n) {
+    const v = new Float32Array(n);
+    for (let i = 0; i < n; i++)
+        v[i] = unlit[4 * i] > 0 ? lit[4 * i] / unlit[4 * i] : 1;
+    return v;
+}
+
+window.sbRender = render;
