@@ -6,7 +6,11 @@
 # budget). Skips (77) where the engines are not installed.
 set -u
 sb=$1 src=$2 cache=$3 out=$4
-[ -e "$src/engines/three/node_modules/.package-lock.json" ] && [ -e "$src/engines/babylon/node_modules/.package-lock.json" ] &&
-  [ -x /usr/bin/chromium ] || { echo "skipped: the engines are not installed (tools/setup installs them)"; exit 77; }
+# every engine folder (each with a lockfile) and the driver
+skip() { echo "skipped: the engines are not installed (tools/setup installs them)"; exit 77; }
+[ -x /usr/bin/chromium ] || skip
+for lock in "$src"/engines/*/package-lock.json; do
+  [ -e "$(dirname "$lock")/node_modules/.package-lock.json" ] || skip
+done
 exec "$sb" check -q --technique engines --baselines "$src/results/baselines" --tuned "$src/results/tuned" \
   --cache "$cache" --out "$out" --scene grazing_receiver --scene thin_features --scene contact_hardening

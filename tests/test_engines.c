@@ -1,20 +1,34 @@
 /* The engine adapters against what they must equal (docs/engines.md):
- *   - the shadow term alone: what the adapter hands back equals the ratio
- *     of the engine's own lit render with shadows to the same without, on
- *     lit pixels, within 1e-5 (two float32 renders whose only difference
- *     is the one factor: a few ulps), for every mode, on an area-light
- *     scene and a sun scene;
+ *   - the shadow term alone: where an adapter writes the engine's shadow
+ *     term itself (three, Babylon), it equals the ratio of the engine's own
+ *     lit render with shadows to the same without, on lit pixels, within
+ *     1e-5 (two float32 renders whose only difference is the one factor: a
+ *     few ulps), for every mode, on an area-light scene and a sun scene;
+ *   - where the term IS that ratio (Filament: no shadow-term material),
+ *     what makes the ratio the shadow factor: the unshadowed render is 0
+ *     exactly where the light is wholly behind the surface (no ambient, no
+ *     emissive, no indirect light) and above 0 where it is wholly in front
+ *     (the light reaches every scored point); the ratio lies in [0, 1 +
+ *     1e-5] on lit pixels; and on the pixels the truth sees fully lit, at
+ *     least a quarter have a ratio within 1e-6 of 1 (a term the shadowed
+ *     variant multiplies in besides the visibility would move them all;
+ *     Filament's own light acne at its default biases moves about half of
+ *     them on the sun scenes, a few on the spot scenes);
  *   - coverage: on every shipped scene the engine sees a surface exactly
  *     where the ray tracer's camera rays hit one, at the same distance
  *     (METRICS_DEPTH_TOLERANCE), silhouettes aside and counted: a pixel
  *     that disagrees must lie next to a change of the truth's coverage or
- *     a jump of its distance;
- *   - on parallel_planes, three's BasicShadowMap and Babylon's unfiltered
- *     map are a hard edge within a texel of shadowbench's own `hard`: row
+ *     a jump of its distance; but for the scenes an engine's table row
+ *     lists as known off (Filament's depth on the very large planes), which
+ *     must still be off, by at most 1 %;
+ *   - on parallel_planes, each engine's nearest mode to one comparison is a
+ *     hard edge within its filter's reach of shadowbench's own `hard`: row
  *     by row, their edges' world positions on the receiver differ by at
- *     most one shadow-map texel there, plus the pixel each is found to
- *     (the coverage and edge checks take each engine's one-comparison
- *     mode).
+ *     most the filter's half-width and one texel of the engine's own map,
+ *     plus the pixel each is found to (three's BasicShadowMap and Babylon's
+ *     unfiltered map: a texel of shadowbench's map, which is theirs;
+ *     Filament, which has no unfiltered mode: its PCF's 2 texels either
+ *     side and a texel, of its map around the spot's cone).
  * Skips (77) when the engines are not installed. */
 #include "check.h"
 #include "base/util.h"
@@ -55,7 +69,59 @@ static void *settings_of(const struct technique *t, const char *list)
     return s;
 }
 
-/* Every mode: shadow == lit / unlit on lit pixels. */
+/* How each engine is checked: its mode nearest to one comparison (its
+ * camera and its light's frustum against shadowbench's), that mode's
+ * filter's reach past the edge in its own texels, whether its map is
+ * Filament's spot map (the square around the cone that holds the fitted
+ * window, engines/filament/adapter.js) rather than shadowbench's, and
+ * whether the adapter's shadow term is the lit / unlit ratio itself. */
+struct engine_check {
+    const char *engine, *edge_mode, *edge_settings;
+    double kernel_texels;
+    bool map_around_cone, term_is_ratio;
+    const char *const *depth_off;  /* scenes where its depth is known off the truth's; NULL-terminated */
+};
+
+/* Filament's distance is its depth buffer's. On these scenes, a plane much
+ * larger than the view (120 x 240 under the cascade scenes' camera, a 6 x 6
+ * plane 0.06 under sun_parallel_planes') is drawn off the truth by 0.1 to
+ * 0.7 %, growing towards the horizon, which the exact ray cut of three's
+ * and Babylon's adapters avoids and Filament's compiled materials cannot
+ * (docs/engines.md). The test pins it: still off, by no more than 1 %. */
+static const char *const filament_depth_off[] = {"cascade_distance", "cascade_pancake", "cascade_pop",
+                                                 "cascade_seam", "cascade_shimmer", "sun_parallel_planes", NULL};
+#define DEPTH_OFF_BOUND 0.01f
+
+static const struct engine_check engine_checks[] = {
+    {"three", "three_basic", "normal_bias=0.02", 0, false, false, NULL},
+    {"babylon", "babylon_hard", "normal_bias=0.02", 0, false, false, NULL},
+    /* Castano's 3 x 3 tent from 4 bilinear taps: 4 x 4 texels (techniques/filament.c) */
+    {"filament", "filament_pcf", NULL, 2, true, true, filament_depth_off},
+};
+#define ENGINE_CHECKS (int)(sizeof engine_checks / sizeof engine_checks[0])
+
+static const struct engine_check *check_of(const struct technique *t)
+{
+    for (int i = 0; i < ENGINE_CHECKS; i++)
+        if (strcmp(engine_checks[i].engine, t->engine) == 0)
+            return &engine_checks[i];
+    return NULL;
+}
+
+/* Renders outputs of t at its settings on ss (the caller's W x H images). */
+static int render_outputs(const struct technique *t, const void *settings, struct scene *s, struct scene_setup *ss,
+                          float *img[ENGINE_OUTPUT_COUNT], unsigned outputs)
+{
+    struct engine_result e = {0};
+    memcpy(e.image, img, sizeof e.image);
+    return engine_render(&(struct engine_request){.t = t, .settings = settings, .scene = s,
+                                                  .frustum = &ss->cascades.map[0].frustum, .label = t->name,
+                                                  .width = W, .height = H, .map_size = 1024, .frames = 1,
+                                                  .outputs = outputs},
+                         &e);
+}
+
+/* Every mode that writes its shadow term itself: shadow == lit / unlit on lit pixels. */
 static void shadow_term_is_the_ratio(const char *scene_name)
 {
     struct scene s = {0};
@@ -70,17 +136,10 @@ static void shadow_term_is_the_ratio(const char *scene_name)
     for (int k = 0; k < ENGINE_OUTPUT_COUNT; k++)
         img[k] = xmalloc(sizeof(float) * n);
     for (const struct technique *const *t = technique_list; *t; t++) {
-        if (!technique_is_engine(*t))
+        if (!technique_is_engine(*t) || check_of(*t)->term_is_ratio)
             continue;
         void *settings = settings_of(*t, "normal_bias=0.02");
-        struct engine_result e = {0};
-        memcpy(e.image, img, sizeof img);
-        const int rc = engine_render(&(struct engine_request){.t = *t, .settings = settings, .scene = &s,
-                                                              .frustum = &ss.cascades.map[0].frustum,
-                                                              .label = (*t)->name, .width = W, .height = H,
-                                                              .map_size = 1024, .frames = 1,
-                                                              .outputs = (1u << ENGINE_OUTPUT_COUNT) - 1},
-                                     &e);
+        const int rc = render_outputs(*t, settings, &s, &ss, img, (1u << ENGINE_OUTPUT_COUNT) - 1);
         CHECK(rc == 0, "%s on %s: rendered", (*t)->name, scene_name);
         float peak = 0;
         for (size_t i = 0; i < n && !rc; i++)
@@ -113,6 +172,85 @@ static void shadow_term_is_the_ratio(const char *scene_name)
     scene_setup_free(&ss), scene_free(&s);
 }
 
+/* Every mode whose shadow term is lit / unlit: what makes that ratio the
+ * engine's shadow factor (see the top of this file). Returns the pixels
+ * the truth sees with the light wholly behind them, which the caller
+ * wants some of over its scenes. */
+static long ratio_is_the_factor(const char *scene_name)
+{
+    struct scene s = {0};
+    struct scene_setup ss = {0};
+    long behind_all = 0;
+    if (open_scene(&s, &ss, scene_name) != 0) {
+        CHECK(false, "%s: set-up", scene_name);
+        scene_setup_free(&ss), scene_free(&s);
+        return 0;
+    }
+    const size_t n = (size_t)W * H;
+    float *img[ENGINE_OUTPUT_COUNT];
+    for (int k = 0; k < ENGINE_OUTPUT_COUNT; k++)
+        img[k] = xmalloc(sizeof(float) * n);
+    for (const struct technique *const *t = technique_list; *t; t++) {
+        if (!technique_is_engine(*t) || !check_of(*t)->term_is_ratio)
+            continue;
+        void *settings = settings_of(*t, NULL);
+        const int rc = render_outputs(*t, settings, &s, &ss, img, (1u << ENGINE_OUTPUT_COUNT) - 1);
+        CHECK(rc == 0, "%s on %s: rendered", (*t)->name, scene_name);
+        const float *lit = img[ENGINE_OUT_LIT], *unlit = img[ENGINE_OUT_UNLIT], *d = img[ENGINE_OUT_DISTANCE];
+        long behind = 0, behind_bright = 0, front = 0, front_dark = 0, lighted = 0, outside = 0, full = 0,
+             full_one = 0, shadowed = 0;
+        double worst = 0;
+        for (size_t i = 0; i < n && !rc; i++) {
+            const float g = ss.gt.distance[i];
+            if (g < 0 || !(fabsf(d[i] - g) <= METRICS_DEPTH_TOLERANCE * g))
+                continue;  /* no surface, or not the truth's (a silhouette) */
+            if (ss.gt.h[i] == 0) {
+                behind++;
+                behind_bright += unlit[i] != 0;
+            }
+            if (ss.gt.h[i] == 1) {
+                front++;
+                front_dark += !(unlit[i] > 0);
+            }
+            if (!(unlit[i] > 0))
+                continue;
+            lighted++;
+            const double ratio = (double)lit[i] / unlit[i];
+            if (!(ratio >= 0 && ratio <= 1 + 1e-5)) {
+                outside++;
+                worst = fmax(worst, fabs(ratio - 0.5) + 0.5);
+            }
+            shadowed += ratio < 0.5;
+            if (ss.gt.mask[i] > 0.5f && ss.gt.v[i] == 1) {
+                full++;
+                full_one += fabs(ratio - 1) <= 1e-6;
+                if (fabs(ratio - 1) > 1e-6 && getenv("SB_TEST_VERBOSE") && full - full_one < 6)
+                    printf("  %s (%zu, %zu): fully lit in the truth, lit / unlit %.7g\n", (*t)->name, i % W, i / W,
+                           ratio);
+            }
+        }
+        CHECK(!rc && behind_bright == 0, "%s on %s: %ld of %ld pixels with the light wholly behind them are lit "
+              "(ambient, emissive or indirect light)", (*t)->name, scene_name, behind_bright, behind);
+        CHECK(!rc && front_dark == 0, "%s on %s: %ld of %ld pixels with the light wholly in front are dark (the "
+              "light does not reach them)", (*t)->name, scene_name, front_dark, front);
+        CHECK(!rc && outside == 0, "%s on %s: %ld of %ld lit pixels have lit / unlit outside [0, 1 + 1e-5] (worst "
+              "%.6g)", (*t)->name, scene_name, outside, lighted, worst);
+        CHECK(!rc && shadowed > 0, "%s on %s: a shadow to compare", (*t)->name, scene_name);
+        CHECK(!rc && full > 0 && full_one * 4 >= full, "%s on %s: of %ld pixels the truth sees fully lit, %ld have "
+              "lit / unlit within 1e-6 of 1, under a quarter", (*t)->name, scene_name, full, full_one);
+        printf("%s on %s: unlit 0 on %ld of %ld pixels with the light behind, lit on %ld of %ld with it in front; "
+               "lit / unlit in [0, 1 + 1e-5] on %ld of %ld lit pixels; 1 within 1e-6 on %ld of %ld fully lit\n",
+               (*t)->name, scene_name, behind - behind_bright, behind, front - front_dark, front,
+               lighted - outside, lighted, full_one, full);
+        behind_all += behind;
+        free(settings);
+    }
+    for (int k = 0; k < ENGINE_OUTPUT_COUNT; k++)
+        free(img[k]);
+    scene_setup_free(&ss), scene_free(&s);
+    return behind_all;
+}
+
 /* Whether pixel i of the truth lies on a silhouette: a neighbour's ray
  * hits nothing where it hits, or hits at a distance more than 2 % off. */
 static bool silhouette(const float *d, int x, int y)
@@ -130,8 +268,17 @@ static bool silhouette(const float *d, int x, int y)
     return false;
 }
 
-static void coverage_matches_truth(const char *technique)
+static bool listed(const char *const *list, const char *name)
 {
+    for (; list && *list; list++)
+        if (strcmp(*list, name) == 0)
+            return true;
+    return false;
+}
+
+static void coverage_matches_truth(const struct engine_check *c)
+{
+    const char *technique = c->edge_mode;
     char **paths = NULL;
     const int count = catalog_shipped(&paths);
     CHECK(count > 10, "the shipped scenes");
@@ -147,7 +294,7 @@ static void coverage_matches_truth(const char *technique)
             scene_setup_cell(&ss, t, settings, &m) != 0) {
             CHECK(false, "%s: rendered", paths[k]);
         } else {
-            long hits = 0, edge = 0, inner = 0;
+            long hits = 0, edge = 0, inner = 0, beyond_bound = 0;
             for (int y = 0; y < H; y++)
                 for (int x = 0; x < W; x++) {
                     const size_t i = (size_t)y * W + x;
@@ -157,18 +304,27 @@ static void coverage_matches_truth(const char *technique)
                                        (g < 0 || fabsf(e - g) <= METRICS_DEPTH_TOLERANCE * g);
                     if (!agree)
                         silhouette(ss.gt.distance, x, y) ? edge++ : inner++;
+                    beyond_bound += !agree && !silhouette(ss.gt.distance, x, y) &&
+                                    !((g >= 0) == (e >= 0) && fabsf(e - g) <= DEPTH_OFF_BOUND * g);
                     if (!agree && getenv("SB_TEST_VERBOSE") && !silhouette(ss.gt.distance, x, y) && inner < 5)
                         printf("  %s (%d, %d): truth %.6g, engine %.6g\n", s.name, x, y, g, e);
                 }
-            CHECK(inner == 0, "%s: %ld pixels off the silhouettes disagree with the truth's camera rays", s.name,
-                  inner);
-            /* at most 1 % of the hits (seen: 13 of 5878 on thin_features), or the silhouette rule hides a shift */
-            CHECK(edge * 100 <= hits, "%s, %s: %ld silhouette pixels disagree, over 1 %% of %ld", technique, s.name,
-                  edge, hits);
+            if (listed(c->depth_off, s.name)) {
+                CHECK(inner > 0 && beyond_bound == 0, "%s, %s: known off the truth's depth: %ld pixels off the "
+                      "silhouettes disagree (none: take it off the list), %ld by more than %g", technique, s.name,
+                      inner, beyond_bound, (double)DEPTH_OFF_BOUND);
+            } else {
+                CHECK(inner == 0, "%s: %ld pixels off the silhouettes disagree with the truth's camera rays", s.name,
+                      inner);
+                /* at most 1 % of the hits (seen: 13 of 5878 on thin_features), or the silhouette rule hides a
+                 * shift */
+                CHECK(edge * 100 <= hits, "%s, %s: %ld silhouette pixels disagree, over 1 %% of %ld", technique,
+                      s.name, edge, hits);
+            }
             CHECK(m.mismatch_pixels == edge + inner, "%s: the metrics count %ld mismatches, the test %ld", s.name,
                   m.mismatch_pixels, edge + inner);
-            printf("%s, %s: coverage: %ld of %ld hit pixels, %ld silhouette pixels disagree\n", technique, s.name, hits,
-                   (long)W * H, edge);
+            printf("%s, %s: coverage: %ld of %ld hit pixels, %ld silhouette pixels disagree%s\n", technique, s.name,
+                   hits, (long)W * H, edge, listed(c->depth_off, s.name) ? " (its depth known off, within 1 %)" : "");
         }
         scene_setup_free(&ss), scene_free(&s);
     }
@@ -198,8 +354,19 @@ static int edge_in_row(const float *v, const float *scored, int y)
     return -1;
 }
 
-static void basic_is_hard(const char *technique)
+/* The engine's map texel on the receiver at depth d, world units: shadowbench's, or Filament's spot map around the
+ * cone that holds the fitted window (2 tan(outer) d / 1024, tan(outer) = the window's farthest corner / near). */
+static double engine_texel_world(const struct engine_check *c, const struct light_frustum *f, float d)
 {
+    if (!c->map_around_cone || f->sun)
+        return light_frustum_texel_world(f, 1024, d);
+    const double corner = hypot(fmax(-f->l, f->r), fmax(-f->b, f->t));
+    return 2.0 * corner / f->near_world * d / 1024.0;
+}
+
+static void basic_is_hard(const struct engine_check *c)
+{
+    const char *technique = c->edge_mode;
     struct scene s = {0};
     struct scene_setup ss = {0};
     if (open_scene(&s, &ss, "parallel_planes") != 0) {
@@ -208,7 +375,7 @@ static void basic_is_hard(const char *technique)
         return;
     }
     const struct technique *hard = technique_find("hard"), *basic = technique_find(technique);
-    void *hs = settings_of(hard, NULL), *bs = settings_of(basic, "normal_bias=0.02");
+    void *hs = settings_of(hard, NULL), *bs = settings_of(basic, c->edge_settings);
     const size_t n = (size_t)W * H;
     float *v_hard = xmalloc(sizeof(float) * n);
     struct metrics m;
@@ -218,7 +385,8 @@ static void basic_is_hard(const char *technique)
         memcpy(v_hard, ss.v, sizeof(float) * n);
         if (scene_setup_cell(&ss, basic, bs, &m) == 0) {
             const struct light_frustum *f = &ss.cascades.map[0].frustum;
-            const double texel = light_frustum_texel_world(f, 1024, f->far_world);
+            /* the filter's reach and a texel, of the engine's own map */
+            const double texel = (c->kernel_texels + 1) * engine_texel_world(c, f, f->far_world);
             for (int y = 0; y < H; y++) {
                 const int a = edge_in_row(v_hard, ss.scored, y), b = edge_in_row(ss.v, ss.scored, y);
                 if (a < 1 || b < 1)
@@ -229,14 +397,14 @@ static void basic_is_hard(const char *technique)
                 const double pixel = v3_length(v3_sub(hit_point(&s, ss.gt.distance, a, y),
                                                       hit_point(&s, ss.gt.distance, a - 1, y)));
                 worst = fmax(worst, gap / (texel + pixel));
-                CHECK(gap <= texel + pixel, "row %d: %s's edge %.4g from hard's, more than a texel (%.4g) and a pixel "
-                      "(%.4g)", y, technique, gap, texel, pixel);
+                CHECK(gap <= texel + pixel, "row %d: %s's edge %.4g from hard's, more than its filter's reach and a "
+                      "texel (%.4g) and a pixel (%.4g)", y, technique, gap, texel, pixel);
             }
         }
     }
     CHECK(rows > H / 2, "parallel_planes: %d rows with an edge in both", rows);
-    printf("parallel_planes: %s's edge vs hard's over %d rows: at most %.3f of (a texel + a pixel)\n", technique,
-           rows, worst);
+    printf("parallel_planes: %s's edge vs hard's over %d rows: at most %.3f of (its reach + a texel + a pixel)\n",
+           technique, rows, worst);
     free(v_hard), free(hs), free(bs);
     scene_setup_free(&ss), scene_free(&s);
 }
@@ -261,11 +429,15 @@ int main(void)
     }
     shadow_term_is_the_ratio("overlapping_occluders");
     shadow_term_is_the_ratio("sun_contact");
-    /* each engine's one-comparison mode: its camera, and its light's frustum against shadowbench's */
-    const char *const basic[] = {"three_basic", "babylon_hard"};
-    for (int i = 0; i < 2; i++) {
-        coverage_matches_truth(basic[i]);
-        basic_is_hard(basic[i]);
+    long behind = 0;
+    const char *const ratio_scenes[] = {"overlapping_occluders", "sun_wide", "floating_box_sphere", "sun_grazing"};
+    for (int i = 0; i < 4; i++)
+        behind += ratio_is_the_factor(ratio_scenes[i]);
+    CHECK(behind > 0, "the ratio checks' scenes show surfaces with the light behind them");
+    /* each engine's mode nearest one comparison: its camera, and its light's frustum against shadowbench's */
+    for (int i = 0; i < ENGINE_CHECKS; i++) {
+        coverage_matches_truth(&engine_checks[i]);
+        basic_is_hard(&engine_checks[i]);
     }
     programs_free(&programs);
     engine_shutdown();

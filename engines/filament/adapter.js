@@ -145,13 +145,13 @@ void main() { gl_Position = vec4(vec2(gl_VertexID & 1, gl_VertexID >> 1) * 4.0 -
 const DISTANCE_FS = `#version 300 es
 precision highp float;
 uniform highp sampler2D depth;
-uniform vec2 size, tanHalf;
-uniform float near;
+uniform vec2 size, tanHalf, projection;
 out vec4 color;
 void main() {
     float d = texelFetch(depth, ivec2(gl_FragCoord.xy), 0).r;
     vec2 p = (2.0 * gl_FragCoord.xy / size - 1.0) * tanHalf;
-    color = vec4(d > 0.0 ? near / d * sqrt(1.0 + dot(p, p)) : -1.0, 0.0, 0.0, 1.0);
+    float z = projection.y / (projection.x + 1.0 - 2.0 * d);
+    color = vec4(d > 0.0 ? z * sqrt(1.0 + dot(p, p)) : -1.0, 0.0, 0.0, 1.0);
 }`;
 
 // The depth -> distance pass: its program, sampler, and a float target per size.
@@ -172,7 +172,7 @@ function distanceReader() {
     if (!g.getProgramParameter(program, g.LINK_STATUS))
         throw new Error(`the distance pass does not link: ${g.getProgramInfoLog(program)}`);
     const at = (n) => g.getUniformLocation(program, n);
-    const uniforms = { depth: at('depth'), size: at('size'), tanHalf: at('tanHalf'), near: at('near') };
+    const uniforms = { depth: at('depth'), size: at('size'), tanHalf: at('tanHalf'), projection: at('projection') };
     const sampler = g.createSampler();  /* a depth texture read as values: no comparison, nearest */
     g.samplerParameteri(sampler, g.TEXTURE_COMPARE_MODE, g.NONE);
     g.samplerParameteri(sampler, g.TEXTURE_MIN_FILTER, g.NEAREST);
@@ -204,7 +204,7 @@ function distanceReader() {
         g.uniform1i(uniforms.depth, 0);
         g.uniform2f(uniforms.size, w, h);
         g.uniform2f(uniforms.tanHalf, cam.tanY * w / h, cam.tanY);
-        g.uniform1f(uniforms.near, cam.near);
+        g.uniform2f(uniforms.projection, cam.p22, cam.p32);
         g.drawArrays(g.TRIANGLES, 0, 3);
         g.bindFramebuffer(g.READ_FRAMEBUFFER, target.fb);
         g.readPixels(0, 0, w, h, g.RED, g.FLOAT, out);
@@ -281,8 +281,10 @@ async function load(url) {
     const ibl = Filament.IndirectLight.Builder().irradianceSh(1, new Float32Array([0, 0, 0])).intensity(0)
         .build(engine);
     scene.setIndirectLight(ibl);
-    current = { url, loader, asset, scene, ibl, renderables,
-                camera: engine.getCameraComponent(cameras[0]) };
+    const camera = engine.getCameraComponent(cameras[0]);
+    /* the file's near plane and yfov, as gltfio set them (its [1][1] is 1 / tan(yfov / 2)) */
+    current = { url, loader, asset, scene, ibl, renderables, camera, near: camera.getNear(),
+                tanY: 1 / camera.getCullingProjectionMatrix()[5] };
     return current;
 }
 
@@ -346,15 +348,18 @@ export async function render(req) {
     const { width: w, height: h } = req;
     const { scene, camera, renderables } = await load(req.sceneUrl);
     checkTechnique(req.technique);
-    /* the file's vertical field of view, aspect W/H, its near plane */
-    /* gltfio set the projection from the file's yfov: its [1][1] is 1 / tan(yfov / 2) */
-    /* its far plane at the scene's farthest corner: gltfio's for a file with no zfar is 1e8, with which
-     * Filament's directional shadow, fitted to the view frustum's far end (shadowFar 0), casts nothing */
-    const near = camera.getNear(), far = farthestCorner(current.asset.getBoundingBox(), camera.getPosition());
-    const tanY = 1 / camera.getCullingProjectionMatrix()[5];
-    camera.setProjectionFov(360 / Math.PI * Math.atan(tanY), w / h, near, far, Filament.Camera$Fov.VERTICAL);
+    /* the file's vertical field of view, aspect W/H; the far plane at the scene's farthest corner: gltfio's
+     * for a file with no zfar is 1e8, with which Filament's directional shadow, fitted to the view
+     * frustum's far end (shadowFar 0), casts nothing */
+    const far = farthestCorner(current.asset.getBoundingBox(), camera.getPosition());
+    const project = (near) => {
+        camera.setProjectionFov(360 / Math.PI * Math.atan(current.tanY), w / h, near, far,
+                                Filament.Camera$Fov.VERTICAL);
+        const P = camera.getProjectionMatrix();
+        return { tanY: current.tanY, p22: P[10], p32: P[14] };
+    };
+    const cam = project(current.near);
     camera.setExposureDirect(1.0);
-    const cam = { near, tanY };
     view.setCamera(camera);
     view.setScene(scene);
     view.setViewport([0, 0, w, h]);
