@@ -23,32 +23,34 @@
  * weighted as Castaño's 3 x 3 tent (ShadowSample_PCF_Low), which reads 4 x 4
  * texels: the edge is blurred over 2 texels on either side.
  *
- * The spot light's map (filament/src/ShadowMap.cpp, updateSpot and
- * updatePunctual): a perspective map around the cone, field of view twice
- * the outer cone angle, near 0.01, far the light's falloff radius. So the
- * one parameter that reaches it:
- *   falloff  LightManager::Builder::falloff, world units: the spot's
- *            falloff radius, which is also its map's far plane (its depth
- *            precision); 0: the fitted frustum's farthest corner, a little
- *            beyond (the least that lights every scored point). No effect on
- *            the sun. The light's attenuation it also sets cancels in the
- *            shadow factor (lit / unlit). */
+ * The one set-up choice a Filament user makes that reaches the shadow, as
+ * three's and Babylon's cells have it:
+ *   shadow_side  double: every material instance double-sided and not
+ *                culled, so both faces are drawn into the map (and lit
+ *                from either side), shadowbench's own choice; engine:
+ *                gltfio's default for the file's material (glTF's default
+ *                material is single-sided: back faces culled, in the map
+ *                too): a closed mesh's faces turned from the light leave
+ *                the map, and the front faces' depths decide. */
 #include "param_rows.h"
 
+static const char *const filament_sides[] = {"double", "engine", NULL};
+
 struct filament_pcf_settings {
-    float falloff;  /* world units; 0: derived */
+    int shadow_side;  /* index into filament_sides */
 };
 
 static const struct technique_param filament_pcf_params[] = {
-    {"falloff", "LightManager falloff radius of the spot, world units: its map's far plane; 0: the fitted "
-     "frustum's farthest corner", offsetof(struct filament_pcf_settings, falloff), PARAM_FLOAT, 0.0, 0.0, 1000.0,
-     NULL, NULL},
+    {"shadow_side", "faces drawn: double (both, shadowbench's choice) or engine (gltfio's culling of the file's "
+     "single-sided material, in the map too)", offsetof(struct filament_pcf_settings, shadow_side), PARAM_ENUM, 0,
+     0, 0, filament_sides, NULL},
     {NULL},
 };
 
-/* The falloff away from its default where it acts: a spot scene. */
+/* The faces away from their default where they act: closed meshes, whose back faces then leave the map (no
+ * change on thin_features: its plate faces the light). */
 static const struct technique_cell filament_pcf_cells[] = {
-    {"contact_hardening", {"falloff=50"}},
+    {"curved_receivers", {"shadow_side=engine"}},
     {NULL},
 };
 

@@ -23,7 +23,8 @@
 //   dielectric (baseColorFactor 1, metallicFactor 0: glTF's default
 //   material is a metal, which has no diffuse term), no emissive, both
 //   faces drawn and lit (culling off, double-sided: the normal turned to
-//   face the camera, as the ground truth turns it), into the map too;
+//   face the camera, as the ground truth turns it), into the map too
+//   (shadow_side=engine: gltfio's single-sided default, back faces culled);
 // - flat normals where the file has none: gltfio computes them;
 // - the file's camera (gltfio's): its vertical field of view, aspect W/H,
 //   its near plane, its far plane at the scene's farthest corner, exposure
@@ -135,11 +136,12 @@ function withSavedState(f) {
     }
 }
 
-// Filament's camera projection is reversed-Z with an infinite far plane
-// (FCamera::setProjection; the depth buffer holds near / view depth), so
-// view depth is near / d; the distance along the pixel centre's ray is
-// that times the ray's length per unit of view depth, as the ground truth
-// measures it. d = 0 is the cleared far plane: nothing seen.
+// The depth buffer holds Filament's reversed Z in [0, 1], 0.5 - 0.5 z/w of
+// the camera's GL projection P (Camera.getProjectionMatrix: an infinite far
+// plane, so d = near / view depth), so view depth is P[3][2] / (P[2][2] +
+// 1 - 2 d); the distance along the pixel centre's ray is that times the
+// ray's length per unit of view depth, as the ground truth measures it.
+// d = 0 is the cleared far plane: nothing seen.
 const DISTANCE_VS = `#version 300 es
 void main() { gl_Position = vec4(vec2(gl_VertexID & 1, gl_VertexID >> 1) * 4.0 - 1.0, 0.0, 1.0); }`;
 const DISTANCE_FS = `#version 300 es
@@ -272,8 +274,6 @@ async function load(url) {
             mi.setFloatParameter('metallicFactor', 0);
             mi.setFloatParameter('roughnessFactor', 1);
             mi.setFloat3Parameter('emissiveFactor', [0, 0, 0]);
-            mi.setDoubleSided(true);
-            mi.setCullingMode(Filament.CullingMode.NONE);
         }
         inst.delete();
     }
@@ -283,7 +283,14 @@ async function load(url) {
     scene.setIndirectLight(ibl);
     const camera = engine.getCameraComponent(cameras[0]);
     /* the file's near plane and yfov, as gltfio set them (its [1][1] is 1 / tan(yfov / 2)) */
-    current = { url, loader, asset, scene, ibl, renderables, camera, near: camera.getNear(),
+    const materials = [];
+    for (const e of renderables) {
+        const inst = rm.getInstance(e);
+        for (let k = 0, n = rm.getPrimitiveCount(inst); k < n; k++)
+            materials.push(rm.getMaterialInstanceAt(inst, k));
+        inst.delete();
+    }
+    current = { url, loader, asset, scene, ibl, renderables, materials, camera, near: camera.getNear(),
                 tanY: 1 / camera.getCullingProjectionMatrix()[5] };
     return current;
 }
@@ -299,7 +306,7 @@ function unload() {
 const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
 
 // The scene's light as Filament's nearest light, casting shadows.
-function makeLight(L, p) {
+function makeLight(L) {
     const entity = Filament.EntityManager.get().create();
     const ahead = [-L.z[0], -L.z[1], -L.z[2]];
     let b;
@@ -311,9 +318,9 @@ function makeLight(L, p) {
         /* the window's farthest corner from the axis: the cone holds the window */
         const corner = Math.hypot(Math.max(-l, r), Math.max(-bt, t));
         const outer = Math.atan(corner / L.near);
-        /* Filament's spot map ends at the falloff radius: by default, the fitted far plane's farthest
-         * corner, a little beyond (the least that lights every scored point) */
-        const radius = p.falloff > 0 ? p.falloff : L.far * Math.hypot(1, corner / L.near) * 1.01;
+        /* the light reaches the fitted far plane's farthest corner, a little beyond (the least that lights
+         * every scored point; ShadowMap::updateSpot, as read, also ends the map there) */
+        const radius = L.far * Math.hypot(1, corner / L.near) * 1.01;
         /* SPOT: lumens / pi candela; a white Lambertian surface facing it at the frustum's middle depth is 1 */
         const middle = 0.5 * (L.near + L.far);
         b = Filament.LightManager.Builder(Filament.LightManager$Type.SPOT)
@@ -348,23 +355,27 @@ export async function render(req) {
     const { width: w, height: h } = req;
     const { scene, camera, renderables } = await load(req.sceneUrl);
     checkTechnique(req.technique);
+    /* shadow_side: both faces (double-sided, not culled), or gltfio's default for glTF's default material
+     * (single-sided, back faces culled, into the map too) */
+    const both = req.params.shadow_side !== 'engine';
+    for (const mi of current.materials) {
+        mi.setDoubleSided(both);
+        mi.setCullingMode(both ? Filament.CullingMode.NONE : Filament.CullingMode.BACK);
+    }
     /* the file's vertical field of view, aspect W/H; the far plane at the scene's farthest corner: gltfio's
      * for a file with no zfar is 1e8, with which Filament's directional shadow, fitted to the view
      * frustum's far end (shadowFar 0), casts nothing */
     const far = farthestCorner(current.asset.getBoundingBox(), camera.getPosition());
-    const project = (near) => {
-        camera.setProjectionFov(360 / Math.PI * Math.atan(current.tanY), w / h, near, far,
-                                Filament.Camera$Fov.VERTICAL);
-        const P = camera.getProjectionMatrix();
-        return { tanY: current.tanY, p22: P[10], p32: P[14] };
-    };
-    const cam = project(current.near);
+    camera.setProjectionFov(360 / Math.PI * Math.atan(current.tanY), w / h, current.near, far,
+                            Filament.Camera$Fov.VERTICAL);
+    const P = camera.getProjectionMatrix();
+    const cam = { tanY: current.tanY, p22: P[10], p32: P[14] };
     camera.setExposureDirect(1.0);
     view.setCamera(camera);
     view.setScene(scene);
     view.setViewport([0, 0, w, h]);
 
-    const light = makeLight(req.light, req.params);
+    const light = makeLight(req.light);
     scene.addEntity(light);
     const Tex = Filament.Texture, U = Filament.Texture$Usage;
     const color = Tex.Builder().width(w).height(h).levels(1).sampler(Filament.Texture$Sampler.SAMPLER_2D)
