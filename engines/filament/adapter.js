@@ -11,9 +11,15 @@
 // that visibility wherever the unshadowed render is lit; where it is not
 // (N.L <= 0), Filament computes no visibility, and the factor is 1.
 //
-// Filament's JS bindings reach one shadow set-up: PCF at Filament's default
-// ShadowOptions (View::setShadowType and the soft and VSM options are not
-// bound; ShadowOptions cannot be passed: techniques/filament.c).
+// Filament's JS bindings reach one shadow type, PCF (View::setShadowType
+// and the soft and VSM options are not bound: techniques/filament.c), with
+// the light's ShadowOptions, which 1.53.4 binds but cannot pass: its
+// value_object has a field, `transform`, whose C++ type
+// (filament::math::quatf, a float quaternion) the bindings never register,
+// so LightManager.Builder.shadowOptions throws embind's UnboundTypeError.
+// The adapter supplies that one binding type and nothing else; Filament's
+// code, its glue's behaviour and every other binding are untouched
+// (loadFilament, supplyTransformType; docs/engines.md, "ShadowOptions").
 //
 // The set-up choices a Filament user has to make, made as shadowbench's
 // own passes make them:
@@ -221,8 +227,117 @@ function readColor(fb, x, y, w, h, out) {
     });
 }
 
+// Where the page finds Filament's glue (filament.js) and its wasm.
+const GLUE_DIR = '/engines/filament/node_modules/filament/';
+
+// The glue's embind type registration, a function of the Emscripten
+// closure that registers a binding type and completes whatever waits for
+// it. The one edit the adapter makes to the glue is to put it on the
+// module, before its definition (hoisted: the whole closure sees it).
+const REGISTER_TYPE = 'function registerType(rawType,registeredInstance,options={}){';
+const EXPOSE_REGISTER_TYPE = 'Module.sbRegisterType=registerType;';
+
+// Loads Filament's glue with registerType exposed (checked: it must be
+// found exactly once, or this is not the glue the adapter edits), as the
+// classic script it is, and initialises Filament.
+async function loadFilament() {
+    const text = await (await fetch(GLUE_DIR + 'filament.js')).text();
+    const found = text.split(REGISTER_TYPE).length - 1;
+    if (found !== 1)
+        throw new Error(`filament.js defines embind's registerType ${found} times, not once: not the glue this ` +
+                        'adapter edits');
+    const script = document.createElement('script');
+    script.text = text.replace(REGISTER_TYPE, () => EXPOSE_REGISTER_TYPE + REGISTER_TYPE);
+    document.head.appendChild(script);  /* a classic script runs as it is added */
+    const factory = window.Filament;
+    if (typeof factory !== 'function')
+        throw new Error('filament.js, edited, did not define Filament');
+    /* run from text, the glue has no script address (document.currentScript.src) to find its wasm beside:
+     * Emscripten's Module.locateFile says where */
+    window.Filament = Object.assign((module = {}) => factory({ ...module, locateFile: (file) => GLUE_DIR + file }),
+                                    factory);
+    await new Promise((resolve) => Filament.init([], resolve));
+}
+
+// Filament's ShadowOptions at its defaults (include/filament/LightManager.h
+// of 1.53.4, struct ShadowOptions; docs/engines.md), every field the JS
+// bindings register: embind passes a value_object whole (a missing field
+// throws), and the glue's own Filament.shadowOptions() leaves out lispsm,
+// shadowBulbRadius and transform. transform is the identity quaternion,
+// (x, y, z, w) = (0, 0, 0, 1); it turns a directional light's shadow
+// direction. Passed as they are, these render every pixel as no
+// ShadowOptions at all does (measured: docs/engines.md).
+const SHADOW_OPTIONS = Object.freeze({
+    mapSize: 1024, shadowCascades: 1, constantBias: 0.001, normalBias: 1, shadowFar: 0, shadowNearHint: 1,
+    shadowFarHint: 100, stable: false, lispsm: true, polygonOffsetConstant: 0.5, polygonOffsetSlope: 2,
+    screenSpaceContactShadows: false, stepCount: 8, maxShadowDistance: 0.3, shadowBulbRadius: 0.02,
+    transform: Object.freeze([0, 0, 0, 1]),
+});
+
+// Supplies the binding type ShadowOptions waits for. Which raw type that
+// is, embind's own UnboundTypeError says (its id: the bindings are built
+// without RTTI); the adapter goes on only when exactly one is unbound.
+// Registering it completes the value_object and replaces the methods left
+// as unbound-type throwers (Builder._shadowOptions,
+// LightManager._setShadowOptions). The type is a float quaternion (16
+// bytes; measured: of 16 floats written, the getter's copy brings back
+// the first 4, and the C++ struct ends there, 88 bytes; LightManager.h:
+// `math::quatf transform`), passed as embind's generic binding of an
+// unregistered class passes one: a pointer to a heap copy (the glue's
+// own __embind_register_value_object and simpleReadValueFromPointer).
+function supplyTransformType() {
+    const probe = () => {
+        const b = Filament.LightManager.Builder(Filament.LightManager$Type.DIRECTIONAL);
+        try {
+            b.shadowOptions(SHADOW_OPTIONS);
+            return null;
+        } catch (e) {
+            if (!(e instanceof Filament.UnboundTypeError))
+                throw e;
+            return e.message;
+        } finally {
+            b.delete();
+        }
+    };
+    const message = probe();
+    if (message === null)
+        return;  /* a build that binds it itself */
+    const m = /due to unbound types: (.*)$/.exec(message);
+    const types = m ? m[1].split(', ') : [];
+    if (types.length !== 1 || !/^0x[0-9a-f]+$/.test(types[0]))
+        throw new Error(`ShadowOptions waits for other binding types than one quaternion: ${message}`);
+    const M = Filament, QUAT_BYTES = 16;
+    M.sbRegisterType(parseInt(types[0], 16), {
+        name: 'filament::math::quatf',
+        argPackAdvance: 8,
+        /* to C++: a heap copy, freed once the call has copied it (the caller's destructors) */
+        toWireType(destructors, q) {
+            if (!Array.isArray(q) || q.length !== 4 || !q.every(Number.isFinite))
+                throw new TypeError('a quaternion is 4 numbers, (x, y, z, w)');
+            const p = M._malloc(QUAT_BYTES);
+            M.HEAPF32.set(q, p >> 2);  /* after _malloc, which may grow the heap */
+            destructors.push(M._free, p);
+            return p;
+        },
+        /* from C++: the getter's heap copy, read, then freed */
+        fromWireType(p) {
+            const q = Array.from(M.HEAPF32.subarray(p >> 2, (p >> 2) + 4));
+            M._free(p);
+            return q;
+        },
+        /* a 32-bit pointer, as the glue's simpleReadValueFromPointer reads one */
+        readValueFromPointer(pointer) { return this.fromWireType(M.HEAP32[pointer >> 2]); },
+        destructorFunction: null,
+    });
+    const still = probe();
+    if (still !== null)
+        throw new Error(`ShadowOptions still cannot be passed: ${still}`);
+}
+
 export async function install() {
-    const pkg = await (await fetch('/engines/filament/node_modules/filament/package.json')).json();
+    await loadFilament();
+    supplyTransformType();
+    const pkg = await (await fetch(GLUE_DIR + 'package.json')).json();
     version = pkg.version;
     const canvas = document.getElementById('canvas');
     /* the context Filament.Engine.create asks for (its defaults): getContext hands it back to Filament,
@@ -234,7 +349,6 @@ export async function install() {
     if (!gl.getExtension('EXT_color_buffer_float'))
         throw new Error('no EXT_color_buffer_float: float targets cannot be read back');
     tracker = watch(gl);
-    await new Promise((resolve) => Filament.init([], resolve));
     engine = Filament.Engine.create(canvas, options);
     if (engine.context !== gl)
         throw new Error('Filament made a WebGL context of its own: its frames cannot be read back');
@@ -305,8 +419,17 @@ function unload() {
 
 const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
 
-// The scene's light as Filament's nearest light, casting shadows.
-function makeLight(L) {
+// The cell's ShadowOptions: Filament's defaults, and the cell's parameters
+// under Filament's names (techniques/filament.c); the map mapSize texels a
+// side, which Filament clamps to [8, 2048] (LightManager::setShadowOptions).
+function shadowOptions(p, mapSize) {
+    return { ...SHADOW_OPTIONS, mapSize, constantBias: p.constant_bias, normalBias: p.normal_bias,
+             polygonOffsetConstant: p.polygon_offset_constant, polygonOffsetSlope: p.polygon_offset_slope,
+             lispsm: p.lispsm, stable: p.stable };
+}
+
+// The scene's light as Filament's nearest light, casting shadows with options.
+function makeLight(L, options) {
     const entity = Filament.EntityManager.get().create();
     const ahead = [-L.z[0], -L.z[1], -L.z[2]];
     let b;
@@ -327,15 +450,13 @@ function makeLight(L) {
             .position(L.eye).falloff(radius).spotLightCone(outer * 0.999, outer)
             .intensity(Math.PI * Math.PI * middle * middle);
     }
-    b.direction(ahead).color([1, 1, 1]).castShadows(true);
+    b.direction(ahead).color([1, 1, 1]).castShadows(true).shadowOptions(options);
     b.build(engine, entity);
     return entity;
 }
 
 // Filament's JS bindings (npm filament 1.53.4) bind neither View::setShadowType
-// nor its soft or VSM options, and LightManager::ShadowOptions cannot be
-// passed at all (embind: an unbound field type): a light's shadow is PCF at
-// Filament's default ShadowOptions, whatever the page asks.
+// nor its soft or VSM options: a light's shadow is PCF, whatever the page asks.
 function checkTechnique(technique) {
     if (technique !== 'filament_pcf')
         throw new Error(`Filament has no technique ${technique}`);
@@ -375,7 +496,7 @@ export async function render(req) {
     view.setScene(scene);
     view.setViewport([0, 0, w, h]);
 
-    const light = makeLight(req.light);
+    const light = makeLight(req.light, shadowOptions(req.params, req.map_size));
     scene.addEntity(light);
     const Tex = Filament.Texture, U = Filament.Texture$Usage;
     const color = Tex.Builder().width(w).height(h).levels(1).sampler(Filament.Texture$Sampler.SAMPLER_2D)
