@@ -242,6 +242,12 @@ struct technique {
     const struct technique_cell *regression;
     /* Optional: its presets, ending with {NULL}. */
     const struct technique_preset *presets;
+    /* Optional: the relative disagreement between its camera distance and
+     * the ray tracer's above which the scored mask calls a pixel a
+     * silhouette mismatch, where its renderer measurably cannot meet the
+     * harness's (0: METRICS_DEPTH_TOLERANCE, score/metrics.h). State the
+     * measurement next to the value. */
+    float depth_tolerance;
 };
 
 /* t's preset called name, or NULL. */

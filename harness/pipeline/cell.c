@@ -164,7 +164,7 @@ int scene_setup_cell(struct scene_setup *ss, const struct technique *t, const vo
     if (technique_is_engine(t)) {
         if (engine_frames(ss, t, settings, 0, 1) != 0)
             return -1;
-        scene_setup_score(ss, m);
+        scene_setup_score(ss, t, m);
         m->fetches_per_pixel = m->prep_texels = m->expensive_fraction = m->misclassified_fraction = NAN;
         return 0;
     }
@@ -173,7 +173,7 @@ int scene_setup_cell(struct scene_setup *ss, const struct technique *t, const vo
     ss->engine_last = false;
     if (!cell.programs.receiver || stage_timer_render(&ss->timer, &cell, true) != 0)
         return -1;
-    scene_setup_score(ss, m);
+    scene_setup_score(ss, t, m);
     struct receiver_cost cost;
     receiver_read_cost(&ss->receiver, &cost, ss->shortcut);
     metrics_cost(cost.fetches, cost.covered, cost.expensive, ss->shortcut, &ss->gt, ss->scored, ss->width * ss->height, m);
@@ -181,12 +181,17 @@ int scene_setup_cell(struct scene_setup *ss, const struct technique *t, const vo
     return 0;
 }
 
-void scene_setup_score(struct scene_setup *ss, struct metrics *m)
+float cell_depth_tolerance(const struct technique *t)
+{
+    return t->depth_tolerance > 0 ? t->depth_tolerance : METRICS_DEPTH_TOLERANCE;
+}
+
+void scene_setup_score(struct scene_setup *ss, const struct technique *t, struct metrics *m)
 {
     if (!ss->engine_last)  /* an engine's frame is in ss->v already */
         receiver_read(&ss->receiver, ss->v, ss->distance);
-    m->mismatch_pixels = metrics_score_mask(ss->gt.mask, ss->gt.distance, ss->distance,
-                                            ss->width * ss->height, ss->scored);
+    m->mismatch_pixels = metrics_score_mask(ss->gt.mask, ss->gt.distance, ss->distance, ss->width * ss->height,
+                                            cell_depth_tolerance(t), ss->scored);
     metrics_compute(ss->v, &ss->gt, ss->scored, ss->distance, m);
     depth_metrics_compute(ss->v, &ss->gt, ss->scored, ss->view_depth, ss->cascades.z, ss->cascades.band,
                           ss->cascades.count, &ss->depth);

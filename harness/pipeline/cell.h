@@ -130,10 +130,14 @@ static inline bool scene_setup_cell_ready(const struct stage_timer_cell *c)
  * costs unknown (NaN: null in its files). Returns 0 or -1 (logged). */
 int scene_setup_cell(struct scene_setup *ss, const struct technique *t, const void *settings, struct metrics *m);
 
-/* Scores what the receiver holds now (the last frame rendered) into m,
- * and its error by view depth into ss->depth: the accuracy metrics, not
+/* Scores what the receiver holds now (the last frame rendered, of t) into
+ * m, and its error by view depth into ss->depth: the accuracy metrics, not
  * the counted costs. */
-void scene_setup_score(struct scene_setup *ss, struct metrics *m);
+void scene_setup_score(struct scene_setup *ss, const struct technique *t, struct metrics *m);
+
+/* The relative camera-distance tolerance of t's scored mask: its own
+ * depth_tolerance where it states one, else METRICS_DEPTH_TOLERANCE. */
+float cell_depth_tolerance(const struct technique *t);
 
 /* How a scene's cells are timed (stage_timer.h): warmup untimed rounds,
  * then frames rounds, each round one frame of every cell in turn; on_round

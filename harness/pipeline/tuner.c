@@ -82,7 +82,7 @@ static int measure(struct tuner *tn, const int *point, int k, int warmup, int fr
             return -1;
         out->fetches = m->fetches_per_pixel;
     } else if (m) {
-        scene_setup_score(ss, m);
+        scene_setup_score(ss, tn->t, m);
         out->fetches = NAN;
     }
     out->ms = times.total_ms, out->ms_q1 = times.total_q1_ms, out->ms_q3 = times.total_q3_ms;

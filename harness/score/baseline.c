@@ -238,7 +238,7 @@ void baseline_compare(const struct baseline *b, const struct metrics *m, const f
                                                                       : BASELINE_PASS;
 }
 
-void baseline_spread(const float *v, const float *gl_distance, const struct metrics *m,
+void baseline_spread(const float *v, const float *gl_distance, float depth_tolerance, const struct metrics *m,
                      const struct gt_image *others, int n, double spread[BASELINE_GUARDS])
 {
     for (int g = 0; g < BASELINE_GUARDS; g++)
@@ -249,7 +249,8 @@ void baseline_spread(const float *v, const float *gl_distance, const struct metr
     float *scored = xmalloc(sizeof(float) * (size_t)count);
     for (int s = 0; s < n; s++) {
         struct metrics other = {0};
-        other.mismatch_pixels = metrics_score_mask(others[s].mask, others[s].distance, gl_distance, count, scored);
+        other.mismatch_pixels =
+            metrics_score_mask(others[s].mask, others[s].distance, gl_distance, count, depth_tolerance, scored);
         metrics_compute(v, &others[s], scored, gl_distance, &other);
         for (int g = 0; g < BASELINE_GUARDS; g++) {
             const int k = baseline_guards[g].metric;

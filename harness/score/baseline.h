@@ -100,9 +100,10 @@ void baseline_compare(const struct baseline *b, const struct metrics *m, const f
                       struct baseline_comparison *out);
 
 /* The largest change of each guarded metric when V_tech v (scored over
- * gl_distance) is scored against the n other ground truths of other seeds
- * instead of the one m was scored against. */
-void baseline_spread(const float *v, const float *gl_distance, const struct metrics *m,
+ * gl_distance, within the cell's depth_tolerance) is scored against the n
+ * other ground truths of other seeds instead of the one m was scored
+ * against. */
+void baseline_spread(const float *v, const float *gl_distance, float depth_tolerance, const struct metrics *m,
                      const struct gt_image *others, int n, double spread[BASELINE_GUARDS]);
 
 /* What a new baseline records. */

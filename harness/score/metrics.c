@@ -7,14 +7,13 @@
 #include <string.h>
 
 long metrics_score_mask(const float *gt_mask, const float *gt_distance, const float *gl_distance,
-                        int count, float *scored)
+                        int count, float depth_tolerance, float *scored)
 {
     long mismatch = 0;
     for (int i = 0; i < count; i++) {
         bool gt_hit = gt_distance[i] >= 0.0f, gl_hit = gl_distance[i] >= 0.0f;
         bool agree = gt_hit == gl_hit &&
-                     (!gt_hit || fabsf(gl_distance[i] - gt_distance[i]) <=
-                                     METRICS_DEPTH_TOLERANCE * gt_distance[i]);
+                     (!gt_hit || fabsf(gl_distance[i] - gt_distance[i]) <= depth_tolerance * gt_distance[i]);
         mismatch += !agree;
         scored[i] = agree && gt_mask[i] > 0.5f ? 1.0f : 0.0f;
     }

@@ -13,7 +13,9 @@
 /* Relative disagreement between the GL camera distance and the ray-traced
  * hit distance above which a pixel is a silhouette mismatch. Both sample the
  * same pixel centre on the same triangles, so on a shared surface they agree
- * to float rounding (~1e-6); across a silhouette they differ by far more. */
+ * to float rounding (~1e-6); across a silhouette they differ by far more.
+ * A technique whose renderer measurably cannot meet it states its own
+ * (technique.h's depth_tolerance; cell.h's cell_depth_tolerance). */
 #define METRICS_DEPTH_TOLERANCE 1e-3f
 
 /* Penumbra band: V_gt strictly inside (lo, hi), dilated by this many pixels. */
@@ -92,12 +94,13 @@ extern const struct metric_info metric_info[METRIC_COUNT];
 double metrics_value(const struct metrics *m, int k);
 
 /* scored[i] = 1 where gt_mask is set and GL saw the same surface (camera
- * distances agree within METRICS_DEPTH_TOLERANCE); returns the number of
- * mismatch pixels: where exactly one of GL and the ray tracer hit geometry,
- * or both did at different distances. gl_distance and gt_distance are -1
- * where nothing was hit. */
+ * distances agree within depth_tolerance, relative: METRICS_DEPTH_TOLERANCE
+ * or the technique's own); returns the number of mismatch pixels: where
+ * exactly one of GL and the ray tracer hit geometry, or both did at
+ * different distances. gl_distance and gt_distance are -1 where nothing was
+ * hit. */
 long metrics_score_mask(const float *gt_mask, const float *gt_distance, const float *gl_distance,
-                        int count, float *scored);
+                        int count, float depth_tolerance, float *scored);
 
 /* Fills every error metric of V_tech against gt over scored (not the
  * timings, not mismatch_pixels). Pixels whose V_tech is not finite are
