@@ -155,7 +155,8 @@ let current = null;  // { url, asset, root, camera, meshes, triangles }
 
 function loadContainer(url) {
     return new Promise((resolve, reject) => {
-        app.assets.loadFromUrl(url, 'container', (err, asset) => (err ? reject(new Error(String(err))) : resolve(asset)));
+        app.assets.loadFromUrl(url, 'container',
+                               (err, asset) => (err ? reject(new Error(String(err))) : resolve(asset)));
     });
 }
 
