@@ -9,12 +9,20 @@
  *     (METRICS_DEPTH_TOLERANCE), silhouettes aside and counted: a pixel
  *     that disagrees must lie next to a change of the truth's coverage or
  *     a jump of its distance;
- *   - on parallel_planes, three's BasicShadowMap and Babylon's unfiltered
- *     map are a hard edge within a texel of shadowbench's own `hard`: row
- *     by row, their edges' world positions on the receiver differ by at
- *     most one shadow-map texel there, plus the pixel each is found to
- *     (the coverage and edge checks take each engine's one-comparison
- *     mode).
+ *   - on parallel_planes, three's BasicShadowMap, Babylon's unfiltered
+ *     map and PlayCanvas's PCF1 are a hard edge within a texel of
+ *     shadowbench's own `hard`: row by row, their edges' world positions
+ *     on the receiver differ by at most one shadow-map texel there, plus
+ *     the pixel each is found to (the coverage and edge checks take each
+ *     engine's one-comparison mode). PlayCanvas's PCF1 is one hardware
+ *     compare of a linearly filtered map, a bilinear 2 x 2: across a
+ *     straight edge its 0.5 crossing is the nearest compare's step (the
+ *     midpoint between the two texel centres either side), so the same
+ *     bound holds. The bound stays shadowbench's texel (the test's 1024
+ *     map at the fitted far plane) although PlayCanvas's symmetric cone
+ *     makes its texels 1.4 to 2.0 times as wide here
+ *     (docs/engines.md): the test then says that the coarser map moves no
+ *     edge by more than a texel and a pixel of shadowbench's.
  * Skips (77) when the engines are not installed. */
 #include "check.h"
 #include "base/util.h"
@@ -72,7 +80,9 @@ static void shadow_term_is_the_ratio(const char *scene_name)
     for (const struct technique *const *t = technique_list; *t; t++) {
         if (!technique_is_engine(*t))
             continue;
-        void *settings = settings_of(*t, "normal_bias=0.02");
+        /* a normal bias against acne where the mode has one (PlayCanvas ignores it for VSM, so its
+         * playcanvas_vsm has none) */
+        void *settings = settings_of(*t, params_find(*t, "normal_bias") ? "normal_bias=0.02" : NULL);
         struct engine_result e = {0};
         memcpy(e.image, img, sizeof img);
         const int rc = engine_render(&(struct engine_request){.t = *t, .settings = settings, .scene = &s,
@@ -262,8 +272,8 @@ int main(void)
     shadow_term_is_the_ratio("overlapping_occluders");
     shadow_term_is_the_ratio("sun_contact");
     /* each engine's one-comparison mode: its camera, and its light's frustum against shadowbench's */
-    const char *const basic[] = {"three_basic", "babylon_hard"};
-    for (int i = 0; i < 2; i++) {
+    const char *const basic[] = {"three_basic", "babylon_hard", "playcanvas_pcf1"};
+    for (size_t i = 0; i < sizeof basic / sizeof *basic; i++) {
         coverage_matches_truth(basic[i]);
         basic_is_hard(basic[i]);
     }
