@@ -14,10 +14,29 @@
  *   babylon_pcf      usePercentageCloserFiltering: hardware-compare
  *                    (bilinear) taps on Castaño's kernels: 1 tap (low), 4 on
  *                    3 x 3 (medium), 9 on 5 x 5 (high, the default);
- * Not yet here: useContactHardeningShadow (PCSS). Set up as above it lights
- * every pixel on every scene here, with shadowbench's frustum and with
- * Babylon's own, and so does Babylon's own minimal scene on SwiftShader, so
- * it is not shipped as a cell until that is understood (docs/engines.md).
+ *   babylon_pcss     useContactHardeningShadow (computeShadowWithPCSS): a
+ *                    blocker search of 16 taps (32 at high) on a Poisson disk
+ *                    of radius contactHardeningLightSizeUVRatio in map UV,
+ *                    then 16, 32 or 64 comparison taps (low, medium, high) on
+ *                    a rotated Poisson disk of radius ratio * (the depth
+ *                    metric's gap between receiver and mean blocker + 10
+ *                    texels); the shadow is then faded towards lit by that
+ *                    gap (mix(shadow, 1, gap)), so a tight depth range lights
+ *                    a shadow whose blocker is far above its receiver:
+ *                    parallel_planes, fitted, is lit all over.
+ *
+ * babylon_pcss's parameters besides the shared ones:
+ *   light_size_uv_ratio  contactHardeningLightSizeUVRatio; 0 (the default):
+ *                    derived from the scene's light so that the filter's
+ *                    radius is the true penumbra's half-width where
+ *                    z_blocker * z_receiver = near * far (exact for the sun)
+ *                    (engines/babylon/adapter.js, derivedRatio). Babylon's
+ *                    own default is 0.1.
+ *   shadow_max_z_scale   light.shadowMaxZ = shadowMinZ + this * (the fitted
+ *                    depth range): the depth metric's range, and the map's
+ *                    far plane. A wider range shrinks the fade, but the
+ *                    derived ratio, which is also the blocker search's
+ *                    radius, grows with it.
  *
  * Parameters shared by the modes:
  *   bias         ShadowGenerator.bias: added to the receiver's depth metric
@@ -101,9 +120,40 @@ static const struct technique_cell babylon_pcf_cells[] = {
     {NULL},
 };
 
+struct babylon_pcss_settings {
+    BABYLON_SETTINGS;
+    int filtering_quality;
+    float light_size_uv_ratio;  /* map UV per unit of depth metric; 0: derived */
+    float shadow_max_z_scale;   /* >= 1 */
+};
+
+static const struct technique_param babylon_pcss_params[] = {
+    BABYLON_COMMON(struct babylon_pcss_settings),
+    BABYLON_QUALITY(struct babylon_pcss_settings),
+    {"light_size_uv_ratio", "ShadowGenerator.contactHardeningLightSizeUVRatio: the blocker search's radius and "
+     "the filter's per unit of depth-metric difference, map UV; 0: derived from the scene's light (Babylon's own "
+     "default is 0.1)", offsetof(struct babylon_pcss_settings, light_size_uv_ratio), PARAM_FLOAT, 0.0, 0.0, 1.0,
+     NULL, TUNE(0.0, 0.02, 0.05, 0.1, 0.2)},
+    {"shadow_max_z_scale", "light.shadowMaxZ as a multiple of the fitted depth range from shadowMinZ (1: the "
+     "fitted far plane): Babylon's PCSS fades a shadow towards lit by the depth metric's gap, which a wider range "
+     "shrinks", offsetof(struct babylon_pcss_settings, shadow_max_z_scale), PARAM_FLOAT, 1.0, 1.0, 1000.0, NULL,
+     TUNE(1.0, 2.0, 5.0, 20.0)},
+    {NULL},
+};
+
+static const struct technique_cell babylon_pcss_cells[] = {
+    {"grazing_receiver", {"bias=0.0005", "normal_bias=0.02", "map_size=512"}},
+    {"thin_features", {"shadow_side=engine"}},
+    {"parallel_planes", {"shadow_max_z_scale=20", "shadow_max_z_scale=20,light_size_uv_ratio=0.05",
+                         "shadow_max_z_scale=20,filtering_quality=low"}},
+    {NULL},
+};
+
 ENGINE_TECHNIQUE(babylon_hard, babylon, "babylonjs", .regression = babylon_hard_cells,
                  .summary = "Babylon.js ShadowGenerator, no filter: one nearest-texel comparison");
 ENGINE_TECHNIQUE(babylon_poisson, babylon, "babylonjs", .regression = babylon_poisson_cells,
                  .summary = "Babylon.js usePoissonSampling: 4 comparisons on a fixed Poisson pattern");
 ENGINE_TECHNIQUE(babylon_pcf, babylon, "babylonjs", .regression = babylon_pcf_cells,
                  .summary = "Babylon.js usePercentageCloserFiltering: bilinear-compare kernels of 1, 4 or 9 taps");
+ENGINE_TECHNIQUE(babylon_pcss, babylon, "babylonjs", .regression = babylon_pcss_cells,
+                 .summary = "Babylon.js useContactHardeningShadow: PCSS, blocker search then a Poisson filter");

@@ -41,7 +41,7 @@ static const char *const three_sides[] = {"double", "engine", NULL};
 #define THREE_BIASES(settings)                                                                      \
     {"bias", "shadow.bias: the receiver's depth offset, the map's depth units (negative: towards the " \
      "light)", offsetof(settings, bias), PARAM_FLOAT, 0.0, -0.05, 0.05, NULL,                         \
-     TUNE(0.0, -0.0001, -0.0005, -0.001, -0.002, -0.005)},                                             \
+     TUNE(0.0, -0.0001, -0.0005, -0.001, -0.002, -0.005, -0.01, -0.02)},                                             \
     {"normal_bias", "shadow.normalBias: the receiver moved along its normal, world units",            \
      offsetof(settings, normal_bias), PARAM_FLOAT, 0.0, 0.0, 1.0, NULL,                               \
      TUNE(0.0, 0.005, 0.01, 0.02, 0.05)},                                                              \
@@ -78,7 +78,7 @@ static const struct technique_param three_pcf_params[] = {
     THREE_BIASES(struct three_pcf_settings),
     THREE_SIDE(struct three_pcf_settings),
     {"radius", "shadow.radius: the Vogel disk's radius, texels", offsetof(struct three_pcf_settings, radius),
-     PARAM_FLOAT, 1.0, 0.0, 64.0, NULL, TUNE(1.0, 2.0, 3.0, 4.0, 6.0, 8.0)},
+     PARAM_FLOAT, 1.0, 0.0, 64.0, NULL, TUNE(1.0, 2.0, 3.0, 4.0, 6.0, 8.0, 12.0, 16.0)},
     {NULL},
 };
 

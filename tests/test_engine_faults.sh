@@ -3,10 +3,11 @@
 # engine and the cell, and exit status 2 — no Chromium, an engine that
 # fails to load, a page error, a cell over its time limit, an image of the
 # wrong size (the driver's own check of the page's reply, and the
-# harness's of the file), a driver that exits or answers another request,
+# harness's of the file), a driver that exits, answers another request or
+# replies with a line too long to be a reply,
 # an engine whose packages are not installed — or, with --keep-going, the cell marked failed in the matrix while the run
 # goes on, whether it failed when rendered or when timed. No browser outlives the command, whatever ends it:
-# a normal exit, a fault, a time limit, SIGTERM, SIGINT or SIGKILL.
+# a normal exit, a fault, a time limit, SIGTERM, SIGINT, SIGHUP or SIGKILL.
 #
 # The faults come from a copy of engines/ ($SB_ENGINES) whose three page
 # misbehaves as each case asks; the real driver and packages are linked.
@@ -83,6 +84,8 @@ page 'throw new Error("the adapter broke");'
 run --keep-going --technique hard; status=$?
 [ "$status" -eq 2 ] || fail "keep-going: exit $status, not 2"
 grep -q '"failed":' "$t/out/matrix.json" || fail "keep-going: the matrix does not mark the cell failed"
+grep -q '^"parallel_planes","three_basic",.*,false,".*the adapter broke"$' "$t/out/matrix.csv" ||
+  fail "keep-going: matrix.csv's failed column does not say why"
 grep -q '"cell":	"hard' "$t/out/matrix.json" || fail "keep-going: the run did not go on to hard"
 grep -q '"complete":	true' "$t/out/run.json" || fail "keep-going: the run is not complete"
 no_browser_left "keep-going"
@@ -122,6 +125,8 @@ driver 'process.exit(3);'
 run; expect $? "driver exits" "its driver exited"
 driver 'say({ id: req.id + 7, ok: true });'
 run; expect $? "another request" "its driver answered another request"
+driver 'say({ id: req.id, ok: true, version: "x".repeat(2 << 20) });'
+run; expect $? "reply too long" "its driver's reply is too long"
 driver 'fs.writeFileSync(req.output, "12345678"); say({ id: req.id, ok: true, version: "x", renderer: "y", ms: [1] });'
 run; expect $? "wrong size (the harness)" "an image of the wrong size: 8 bytes, not 2 image(s) of 64x48 float32"
 rm "$t/bad/three/node_modules/.package-lock.json"
@@ -140,15 +145,15 @@ no_browser_left "a normal exit"
 # signal; SIGKILL: 137) and takes the browser with it.
 rm -f "$t/engines/three/page.html"
 page 'return new Promise(() => {});'
-# The three at once, each with its own folder.
-for sig in TERM INT KILL; do
+# The four at once, each with its own folder.
+for sig in TERM INT HUP KILL; do
   mkdir -p "$t/tmp/$sig"
   TMPDIR="$t/tmp/$sig" SB_ENGINES="$t/engines" "$sb" run --scene parallel_planes --technique three_basic \
     --settings default --width 64 --height 48 --gt-samples 16 --no-cache --frames 1 --warmup 0 \
     --out "$t/out_$sig" 2> "$t/stderr_$sig" &
   eval "pid_$sig=$!"
 done
-for sig in TERM INT KILL; do
+for sig in TERM INT HUP KILL; do
   for i in $(seq 1 200); do  # until its browser runs (up to 20 s)
     pgrep -f "chromium.*$t/tmp/$sig/" > /dev/null && break
     sleep 0.1
@@ -156,15 +161,15 @@ for sig in TERM INT KILL; do
   pgrep -f "chromium.*$t/tmp/$sig/" > /dev/null || fail "SIG$sig: the browser never started"
 done
 sleep 0.5
-for sig in TERM INT KILL; do
+for sig in TERM INT HUP KILL; do
   eval "pid=\$pid_$sig"
   kill -s "$sig" "$pid"
   wait "$pid"; status=$?
-  case $sig in TERM) want=143 ;; INT) want=130 ;; KILL) want=137 ;; esac
+  case $sig in TERM) want=143 ;; INT) want=130 ;; HUP) want=129 ;; KILL) want=137 ;; esac
   [ "$status" -eq "$want" ] || fail "SIG$sig: exit $status, not $want"
 done
 no_browser_left "the signals"
-for sig in TERM INT KILL; do mv "$t/tmp/$sig"/* "$t/tmp/" 2>/dev/null; rmdir "$t/tmp/$sig"; done
+for sig in TERM INT HUP KILL; do mv "$t/tmp/$sig"/* "$t/tmp/" 2>/dev/null; rmdir "$t/tmp/$sig"; done
 
 # A signal's exit leaves the driver's folder (nothing can remove a tree
 # then); the next command's driver removes those of dead processes.

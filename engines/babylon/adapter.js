@@ -25,7 +25,7 @@
 /* global BABYLON */
 import { base64, outputPass, readOnePixel, rendererString, takeChannel, timeFrames } from '../common/page.js';
 
-const FILTERS = { babylon_hard: 'none', babylon_poisson: 'poisson', babylon_pcf: 'pcf' };
+const FILTERS = { babylon_hard: 'none', babylon_poisson: 'poisson', babylon_pcf: 'pcf', babylon_pcss: 'pcss' };
 const QUALITY = { high: 0, medium: 1, low: 2 };  // ShadowGenerator.QUALITY_*
 
 let engine = null, gl = null, version = null;
@@ -130,10 +130,10 @@ async function load(url) {
 const vec = (a) => new BABYLON.Vector3(a[0], a[1], a[2]);
 
 // GL's off-centre frustum (or box) of the window [l, r] x [b, t] at near
-// (the box's at every depth), looking down -Z, clip z in [-1, 1]; as
-// Babylon's column-major array.
-function projection(L) {
-    const [l, r, b, t] = L.window, n = L.near, f = L.far;
+// (the box's at every depth) out to far, looking down -Z, clip z in
+// [-1, 1]; as Babylon's column-major array.
+function projection(L, f) {
+    const [l, r, b, t] = L.window, n = L.near;
     if (L.kind === 'directional')
         return BABYLON.Matrix.FromArray([2 / (r - l), 0, 0, 0, 0, 2 / (t - b), 0, 0, 0, 0, -2 / (f - n), 0,
                                          -(r + l) / (r - l), -(t + b) / (t - b), -(f + n) / (f - n), 1]);
@@ -157,12 +157,15 @@ function makeLight(scene, L, p, mapSize) {
     light.position = eye;
     light.intensity = 0.5;  /* lit renders stay below StandardMaterial's clamp at 1 */
     light.specular = new BABYLON.Color3(0, 0, 0);
+    /* the depth range, which Babylon's depth metric is normalised by: the fitted one, which babylon_pcss's
+     * shadow_max_z_scale widens (its PCSS fades a shadow towards lit by the metric's gap between receiver
+     * and blocker) */
     light.shadowMinZ = L.near;
-    light.shadowMaxZ = L.far;
+    light.shadowMaxZ = L.near + (L.far - L.near) * (p.shadow_max_z_scale || 1);
     if (L.kind === 'directional')
         light.autoUpdateExtends = light.autoCalcShadowZBounds = false;
-    /* the fitted frustum, turned from the generator's world-up view to the light's own */
-    const ours = lightView(L).multiply(projection(L));
+    /* the fitted frustum out to shadowMaxZ, turned from the generator's world-up view to the light's own */
+    const ours = lightView(L).multiply(projection(L, light.shadowMaxZ));
     light.customProjectionMatrixBuilder = (view, renderList, result) => {
         const inverse = view.clone().invert();
         inverse.multiplyToRef(ours, result);
@@ -175,8 +178,23 @@ function makeLight(scene, L, p, mapSize) {
     return { light, generator: g };
 }
 
-function setFilter(g, technique, p) {
-    g.usePoissonSampling = g.usePercentageCloserFiltering = false;
+// contactHardeningLightSizeUVRatio from the scene's light. Babylon's PCSS
+// (computeShadowWithPCSS) filters over a disk of radius
+// ratio * (d_r - d_b) in map UV, d the depth metric
+// (z - shadowMinZ) / (shadowMaxZ - shadowMinZ) of receiver and blocker.
+// The true penumbra's half-width in UV is, for a spot whose light is L_uv
+// wide in UV at the near plane n, L_uv * n * (z_r - z_b) / (2 z_b z_r),
+// which one ratio matches where z_b z_r = n * far (taken here, far the
+// fitted frustum's); for the sun, whose cone is S_uv wide in UV per world
+// unit of depth, S_uv * (z_r - z_b) / 2, at every depth. Babylon's ratio is
+// one number for both axes: the mean of the light's two UV sizes.
+function derivedRatio(L, minZ, maxZ) {
+    const uv = 0.5 * (L.size_uv[0] + L.size_uv[1]), range = maxZ - minZ;
+    return L.kind === 'directional' ? 0.5 * uv * range : 0.5 * uv * range / L.far;
+}
+
+function setFilter(g, light, technique, p, L) {
+    g.usePoissonSampling = g.usePercentageCloserFiltering = g.useContactHardeningShadow = false;
     const filter = FILTERS[technique];
     if (filter === undefined)
         throw new Error(`Babylon has no technique ${technique}`);
@@ -184,6 +202,12 @@ function setFilter(g, technique, p) {
         g.usePoissonSampling = true;
     else if (filter === 'pcf')
         g.usePercentageCloserFiltering = true;
+    else if (filter === 'pcss') {
+        g.useContactHardeningShadow = true;
+        g.contactHardeningLightSizeUVRatio = p.light_size_uv_ratio > 0 ? p.light_size_uv_ratio
+                                                                        : derivedRatio(L, light.shadowMinZ,
+                                                                                       light.shadowMaxZ);
+    }
     if (p.filtering_quality !== undefined)
         g.filteringQuality = QUALITY[p.filtering_quality];
 }
@@ -193,7 +217,7 @@ export async function render(req) {
     engine.setSize(w, h);
     const { scene, camera, meshes } = await load(req.sceneUrl);
     const { light, generator } = makeLight(scene, req.light, p, req.map_size);
-    setFilter(generator, req.technique, p);
+    setFilter(generator, light, req.technique, p, req.light);
     const map = generator.getShadowMap();
     map.renderList = meshes;
     const target = new BABYLON.RenderTargetTexture('sb-target', { width: w, height: h }, scene, false, true,

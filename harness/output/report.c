@@ -108,7 +108,7 @@ static int write_matrix(const struct report *r)
     strbuf_printf(&csv, "scene,technique,params");
     for (int k = 0; k < METRIC_COUNT; k++)
         strbuf_printf(&csv, ",%s", metric_info[k].key);
-    strbuf_printf(&csv, ",gl_renderer,cell,scored\n");
+    strbuf_printf(&csv, ",gl_renderer,cell,scored,failed\n");
     cJSON *matrix = cJSON_CreateObject();
     cJSON *cells = cJSON_AddArrayToObject(matrix, "cells");
     for (int i = 0; i < r->cell_count; i++) {
@@ -126,7 +126,10 @@ static int write_matrix(const struct report *r)
         report_csv_field(&csv, r->cells[i].gl_renderer);
         strbuf_printf(&csv, ",");
         report_csv_field(&csv, r->cells[i].label);
-        strbuf_printf(&csv, ",%s\n", metrics_scored(&r->cells[i].m) ? "true" : "false");
+        strbuf_printf(&csv, ",%s,", metrics_scored(&r->cells[i].m) ? "true" : "false");
+        if (r->cells[i].failed)  /* run --keep-going's reason; an empty field: none */
+            report_csv_field(&csv, r->cells[i].failed);
+        strbuf_printf(&csv, "\n");
         cJSON_AddItemToArray(cells, row);
     }
     char *csv_path = util_printf("%s/matrix.csv", r->out_dir);
