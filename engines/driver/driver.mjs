@@ -12,7 +12,9 @@
 //   "shape" (rect, disk, sun), "size" (a rect's [w, h]), "radius" (a
 //   disk's), "half_angle" (the sun's, radians), "size_uv" (the light's
 //   size in shadow-map UV at the near plane; the sun's: per world unit of
-//   depth)}; the reply: {"id", "ok": true, "engine", "version",
+//   depth), "cone_tan" (a spot's: the tangent of the smallest cone about
+//   its axis holding the scene inside the window), "view_far" (the
+//   farthest view depth the camera sees)}; the reply: {"id", "ok": true, "engine", "version",
 //   "renderer", "ms": [...]} once the outputs are in the file "output"
 //   (float32, each output W x H, top row first, in the order asked), or
 //   {"id", "ok": false, "error": "one line"}.

@@ -339,12 +339,17 @@ static cJSON *v3_json(struct vec3 v)
 }
 
 /* The light as the adapters take it: the frustum's eye and axes (rows of
- * its view matrix), its depth range and its window at the near plane; and
- * the scene's light itself, for an engine's soft-shadow size: its shape,
- * size (a rect's width and height, a disk's radius, world units; the sun's
- * half-angle, radians) and its size in shadow-map UV (light_frustum.h). */
-static cJSON *light_json(const struct scene_light *sl, const struct light_frustum *f)
+ * its view matrix), its depth range and its window at the near plane; the
+ * scene's light itself, for an engine's soft-shadow size: its shape, size
+ * (a rect's width and height, a disk's radius, world units; the sun's
+ * half-angle, radians) and its size in shadow-map UV (light_frustum.h);
+ * and what an engine that fits its own frustum needs to cover
+ * shadowbench's: a spot's cone (light_frustum_cone_tan) and the farthest
+ * view depth the camera sees. */
+static cJSON *light_json(const struct engine_request *r)
 {
+    const struct light_frustum *f = r->frustum;
+    const struct scene_light *sl = &r->scene->light;
     const float *m = f->view.m;
     const struct vec3 x = v3(m[0], m[4], m[8]), y = v3(m[1], m[5], m[9]), z = v3(m[2], m[6], m[10]);
     const struct vec3 eye = v3_scale(v3_add(v3_add(v3_scale(x, m[12]), v3_scale(y, m[13])), v3_scale(z, m[14])), -1);
@@ -369,6 +374,9 @@ static cJSON *light_json(const struct scene_light *sl, const struct light_frustu
     }
     const double size_uv[2] = {f->light_size_uv[0], f->light_size_uv[1]};
     cJSON_AddItemToObject(o, "size_uv", cJSON_CreateDoubleArray(size_uv, 2));
+    if (!f->sun)
+        cJSON_AddNumberToObject(o, "cone_tan", light_frustum_cone_tan(r->scene, f));
+    cJSON_AddNumberToObject(o, "view_far", light_frustum_view_far(r->scene, (float)r->width / (float)r->height));
     return o;
 }
 
@@ -382,7 +390,7 @@ static cJSON *request_json(const struct engine_request *r, const char *output)
     free(scene);
     cJSON_AddNumberToObject(o, "width", r->width);
     cJSON_AddNumberToObject(o, "height", r->height);
-    cJSON_AddItemToObject(o, "light", light_json(&r->scene->light, r->frustum));
+    cJSON_AddItemToObject(o, "light", light_json(r));
     cJSON_AddStringToObject(o, "technique", r->t->name);
     cJSON_AddItemToObject(o, "params", params_json(r->t, r->settings));
     cJSON_AddNumberToObject(o, "map_size", r->map_size);

@@ -364,3 +364,36 @@ bool light_frustum_inside(const struct light_frustum *f, struct vec3 p)
     float x = q.x * k, y = q.y * k;
     return x >= f->l && x <= f->r && y >= f->b && y <= f->t;
 }
+
+float light_frustum_cone_tan(const struct scene *s, const struct light_frustum *f)
+{
+    /* the window at unit depth: half-planes n . (u, v) >= d */
+    const float k = 1.0f / f->near_world;
+    const struct vec3 n[4] = {v3(1, 0, 0), v3(-1, 0, 0), v3(0, 1, 0), v3(0, -1, 0)};
+    const float d[4] = {f->l * k, -f->r * k, f->b * k, -f->t * k};
+    float cone = 0;
+    for (size_t t = 0; t < s->triangle_count; t++) {
+        struct light_point tri[3], front[4];
+        for (int j = 0; j < 3; j++) {
+            const float *p = &s->positions[3 * s->indices[3 * t + j]];
+            const struct vec3 q = m4_point(f->view, v3(p[0], p[1], p[2]));
+            tri[j] = (struct light_point){q.x, q.y, -q.z};
+        }
+        struct vec3 poly[2][12];  /* a triangle clipped by five planes: 8 corners, with room for rounding */
+        int count = clip_front(tri, f->near_world, front);
+        for (int j = 0; j < count; j++)
+            poly[0][j] = v3(front[j].x / front[j].d, front[j].y / front[j].d, 0);
+        for (int j = 0; j < 4 && count > 0; j++)
+            count = clip_plane(poly[j & 1], count, n[j], d[j], poly[(j + 1) & 1]);
+        for (int j = 0; j < count; j++)  /* a convex polygon's farthest point from the axis is a corner */
+            cone = fmaxf(cone, hypotf(poly[0][j].x, poly[0][j].y));
+    }
+    return cone;
+}
+
+float light_frustum_view_far(const struct scene *s, float aspect)
+{
+    struct seen v;
+    const struct mat4 identity = m4_identity();
+    return see(s, aspect, s->camera.znear, INFINITY, &identity, &v) ? v.z_hi : -1.0f;
+}

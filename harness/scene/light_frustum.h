@@ -132,4 +132,15 @@ float light_frustum_texel_world(const struct light_frustum *f, int n, float d);
 /* Is the world point inside the frustum (and so covered by the map)? */
 bool light_frustum_inside(const struct light_frustum *f, struct vec3 p);
 
+/* The tangent of the half-angle of the smallest cone about an area
+ * light's axis (its -z) that holds every point of s inside f's window in
+ * front of its near plane: the cone an engine's symmetric spot frustum
+ * needs to cover what shadowbench's fitted one covers (docs/engines.md). */
+float light_frustum_cone_tan(const struct scene *s, const struct light_frustum *f);
+
+/* The farthest view depth at which the camera sees s's geometry, for
+ * images of the given aspect (the sun's fit's reach); -1 when it sees
+ * none. */
+float light_frustum_view_far(const struct scene *s, float aspect);
+
 #endif
