@@ -1,6 +1,6 @@
 /* The engine adapters against what they must equal (docs/engines.md):
  *   - the shadow term alone: where an adapter writes the engine's shadow
- *     term itself (three, Babylon), it equals the ratio of the engine's own
+ *     term itself (three, Babylon, PlayCanvas), it equals the ratio of the engine's own
  *     lit render with shadows to the same without, on lit pixels, within
  *     1e-5 (two float32 renders whose only difference is the one factor: a
  *     few ulps), for every mode, on an area-light scene and a sun scene;
@@ -14,10 +14,10 @@
  *     variant multiplies in besides the visibility would move them all;
  *     Filament's own light acne at its default biases moves about half of
  *     them on the sun scenes, a few on the spot scenes);
- *   - coverage: on every shipped scene the engine sees a surface exactly
- *     where the ray tracer's camera rays hit one, at the same distance
- *     (within its mode's depth tolerance: METRICS_DEPTH_TOLERANCE, or
- *     Filament's own, techniques/filament.c), silhouettes aside and
+ *   - coverage: on every shipped scene the engine sees a surface where the
+ *     ray tracer's camera rays hit one, at the same distance (within its
+ *     mode's depth tolerance: METRICS_DEPTH_TOLERANCE, or Filament's own
+ *     off the truth's silhouettes, techniques/filament.c), silhouettes aside and
  *     counted: a pixel that disagrees must lie next to a change of the
  *     truth's coverage or a jump of its distance. The check can fail: the
  *     engine's own distances moved 3 tolerances along every ray (another
@@ -25,18 +25,16 @@
  *     tolerance must still be needed: at METRICS_DEPTH_TOLERANCE some
  *     shipped scene disagrees off its silhouettes;
  *   - on parallel_planes, each engine's nearest mode to one comparison is a
- *     hard edge within its filter's reach of shadowbench's own `hard`: row
- *     by row, their edges' world positions on the receiver differ by at
- *     most the filter's half-width and one texel of the engine's own map,
- *     plus the pixel each is found to (three's BasicShadowMap and Babylon's
- *     unfiltered map: a texel of shadowbench's map, which is theirs;
- *     PlayCanvas's PCF1, one hardware compare of a linearly filtered map, a
- *     bilinear 2 x 2 whose 0.5 crossing across a straight edge is the
- *     nearest compare's step: a texel of shadowbench's map too, although
- *     its symmetric cone makes its own texels 1.4 to 2.0 times as wide
- *     here, so the coarser map must move no edge by more than that;
- *     Filament, which has no unfiltered mode: its PCF's 2 texels either
- *     side and a texel, of its map around the spot's cone).
+ *     hard edge within a texel of shadowbench's own `hard`: row by row,
+ *     their edges' world positions on the receiver differ by at most one
+ *     texel of shadowbench's map there, plus the pixel each is found to.
+ *     three's BasicShadowMap and Babylon's unfiltered map use shadowbench's
+ *     map; PlayCanvas's PCF1 (one hardware compare of a linearly filtered
+ *     map, a bilinear 2 x 2) and Filament's PCF (Castano's 3 x 3 tent: it
+ *     has no unfiltered mode) are symmetric filters, which leave a straight
+ *     edge's 0.5 crossing where one compare puts it, on maps 1.4 to 2 times
+ *     as coarse (their symmetric cones): the coarser maps must move no edge
+ *     by more than a texel of shadowbench's.
  * Skips (77) when the engines are not installed. */
 #include "check.h"
 #include "base/util.h"
@@ -78,23 +76,19 @@ static void *settings_of(const struct technique *t, const char *list)
 }
 
 /* How each engine is checked: its mode nearest to one comparison (its
- * camera and its light's frustum against shadowbench's), that mode's
- * filter's reach past the edge in its own texels, whether its map is
- * Filament's spot map (the square around the cone that holds the fitted
- * window, engines/filament/adapter.js) rather than shadowbench's, and
- * whether the adapter's shadow term is the lit / unlit ratio itself. */
+ * camera, and its light's frustum against shadowbench's) with the settings
+ * it is checked at, and whether the adapter's shadow term is the lit /
+ * unlit ratio itself. */
 struct engine_check {
     const char *engine, *edge_mode, *edge_settings;
-    double kernel_texels;
-    bool map_around_cone, term_is_ratio;
+    bool term_is_ratio;
 };
 
 static const struct engine_check engine_checks[] = {
-    {"three", "three_basic", "normal_bias=0.02", 0, false, false},
-    {"babylon", "babylon_hard", "normal_bias=0.02", 0, false, false},
-    {"playcanvas", "playcanvas_pcf1", "normal_bias=0.02", 0, false, false},
-    /* Castano's 3 x 3 tent from 4 bilinear taps: 4 x 4 texels (techniques/filament.c) */
-    {"filament", "filament_pcf", NULL, 2, true, true},
+    {"three", "three_basic", "normal_bias=0.02", false},
+    {"babylon", "babylon_hard", "normal_bias=0.02", false},
+    {"playcanvas", "playcanvas_pcf1", "normal_bias=0.02", false},
+    {"filament", "filament_pcf", NULL, true},
 };
 #define ENGINE_CHECKS (int)(sizeof engine_checks / sizeof engine_checks[0])
 
@@ -197,7 +191,7 @@ static long ratio_is_the_factor(const char *scene_name)
         const int rc = render_outputs(*t, settings, &s, &ss, img, (1u << ENGINE_OUTPUT_COUNT) - 1);
         CHECK(rc == 0, "%s on %s: rendered", (*t)->name, scene_name);
         const float *lit = img[ENGINE_OUT_LIT], *unlit = img[ENGINE_OUT_UNLIT], *d = img[ENGINE_OUT_DISTANCE];
-        const float tol = cell_depth_tolerance(*t);
+        const float tol = technique_depth_tolerance(*t);
         long behind = 0, behind_bright = 0, front = 0, front_dark = 0, lighted = 0, outside = 0, full = 0,
              full_one = 0, shadowed = 0;
         double worst = 0;
@@ -252,28 +246,13 @@ static long ratio_is_the_factor(const char *scene_name)
     return behind_all;
 }
 
-/* Whether pixel i of the truth lies on a silhouette: a neighbour's ray
- * hits nothing where it hits, or hits at a distance more than 2 % off. */
-static bool silhouette(const float *d, int x, int y)
-{
-    const float c = d[y * W + x];
-    for (int dy = -1; dy <= 1; dy++)
-        for (int dx = -1; dx <= 1; dx++) {
-            const int u = x + dx, v = y + dy;
-            if (u < 0 || v < 0 || u >= W || v >= H)
-                continue;
-            const float e = d[v * W + u];
-            if ((e < 0) != (c < 0) || (c >= 0 && fabsf(e - c) > 0.02f * c))
-                return true;
-        }
-    return false;
-}
-
 /* Where the engine's camera rays and the truth's disagree (one hits and
- * the other not, or both at distances more than tol apart, relative): how
- * many such pixels lie on the truth's silhouettes (edge) and how many off
- * them (inner); of the pixels off the silhouettes where both hit, how many
- * there are (both) and the largest relative difference (worst). */
+ * the other not, or both at distances more than tol apart, relative; on the
+ * truth's silhouettes, metrics_truth_silhouette, at most the harness's
+ * tolerance, as the scored mask takes them): how many such pixels lie on
+ * the truth's silhouettes (edge) and how many off them (inner); of the
+ * pixels off the silhouettes where both hit, how many there are (both) and
+ * the largest relative difference (worst). */
 struct disagreement {
     long edge, inner, both;
     double worst;
@@ -286,8 +265,9 @@ static struct disagreement disagreements(const float *truth, const float *engine
         for (int x = 0; x < W; x++) {
             const size_t i = (size_t)y * W + x;
             const float g = truth[i], e = engine[i];
-            const bool agree = (g >= 0) == (e >= 0) && (g < 0 || fabsf(e - g) <= tol * g);
-            const bool edge = silhouette(truth, x, y);
+            const bool edge = metrics_truth_silhouette(truth, W, H, x, y);
+            const float t = edge ? fminf(tol, METRICS_DEPTH_TOLERANCE) : tol;
+            const bool agree = (g >= 0) == (e >= 0) && (g < 0 || fabsf(e - g) <= t * g);
             r.edge += !agree && edge;
             r.inner += !agree && !edge;
             if (!edge && g >= 0 && e >= 0) {
@@ -307,7 +287,7 @@ static void coverage_matches_truth(const struct engine_check *c)
     const int count = catalog_shipped(&paths);
     CHECK(count > 10, "the shipped scenes");
     const struct technique *t = technique_find(technique);
-    const float tol = cell_depth_tolerance(t);
+    const float tol = technique_depth_tolerance(t);
     void *settings = settings_of(t, NULL);
     float *moved = xmalloc(sizeof(float) * W * H);
     int needs_wider = 0;
@@ -382,16 +362,6 @@ static int edge_in_row(const float *v, const float *scored, int y)
     return -1;
 }
 
-/* The engine's map texel on the receiver at depth d, world units: shadowbench's, or Filament's spot map around the
- * cone that holds the fitted window (2 tan(outer) d / 1024, tan(outer) = the window's farthest corner / near). */
-static double engine_texel_world(const struct engine_check *c, const struct light_frustum *f, float d)
-{
-    if (!c->map_around_cone || f->sun)
-        return light_frustum_texel_world(f, 1024, d);
-    const double corner = hypot(fmax(-f->l, f->r), fmax(-f->b, f->t));
-    return 2.0 * corner / f->near_world * d / 1024.0;
-}
-
 static void basic_is_hard(const struct engine_check *c)
 {
     const char *technique = c->edge_mode;
@@ -413,8 +383,10 @@ static void basic_is_hard(const struct engine_check *c)
         memcpy(v_hard, ss.v, sizeof(float) * n);
         if (scene_setup_cell(&ss, basic, bs, &m) == 0) {
             const struct light_frustum *f = &ss.cascades.map[0].frustum;
-            /* the filter's reach and a texel, of the engine's own map */
-            const double texel = (c->kernel_texels + 1) * engine_texel_world(c, f, f->far_world);
+            /* a texel of shadowbench's map, whatever the engine's own: PlayCanvas's and Filament's cones make
+             * theirs 1.4 to 2 times as wide here, and their filters (a bilinear compare, Castano's tent) are
+             * symmetric, which leaves a straight edge's 0.5 crossing where one compare puts it */
+            const double texel = light_frustum_texel_world(f, 1024, f->far_world);
             for (int y = 0; y < H; y++) {
                 const int a = edge_in_row(v_hard, ss.scored, y), b = edge_in_row(ss.v, ss.scored, y);
                 if (a < 1 || b < 1)
@@ -425,13 +397,13 @@ static void basic_is_hard(const struct engine_check *c)
                 const double pixel = v3_length(v3_sub(hit_point(&s, ss.gt.distance, a, y),
                                                       hit_point(&s, ss.gt.distance, a - 1, y)));
                 worst = fmax(worst, gap / (texel + pixel));
-                CHECK(gap <= texel + pixel, "row %d: %s's edge %.4g from hard's, more than its filter's reach and a "
-                      "texel (%.4g) and a pixel (%.4g)", y, technique, gap, texel, pixel);
+                CHECK(gap <= texel + pixel, "row %d: %s's edge %.4g from hard's, more than a texel (%.4g) and a "
+                      "pixel (%.4g)", y, technique, gap, texel, pixel);
             }
         }
     }
     CHECK(rows > H / 2, "parallel_planes: %d rows with an edge in both", rows);
-    printf("parallel_planes: %s's edge vs hard's over %d rows: at most %.3f of (its reach + a texel + a pixel)\n",
+    printf("parallel_planes: %s's edge vs hard's over %d rows: at most %.3f of (a texel + a pixel)\n",
            technique, rows, worst);
     free(v_hard), free(hs), free(bs);
     scene_setup_free(&ss), scene_free(&s);
@@ -455,6 +427,14 @@ int main(void)
         CHECK(false, "set-up");
         return check_finish();
     }
+    bool rows = true;  /* every engine has its row of engine_checks */
+    for (const struct technique *const *t = technique_list; *t; t++)
+        if (technique_is_engine(*t) && !check_of(*t)) {
+            CHECK(false, "%s: its engine %s has no row in engine_checks", (*t)->name, (*t)->engine);
+            rows = false;
+        }
+    if (!rows)
+        return check_finish();
     shadow_term_is_the_ratio("overlapping_occluders");
     shadow_term_is_the_ratio("sun_contact");
     long behind = 0;

@@ -211,17 +211,26 @@ static void test_score_mask(void)
     gt_dist[3] = gl_dist[3] = -1.0f;
     gt_mask[3] = 0.0f;
     gl_dist[4] = 10.0f * (1.0f + 0.5f * METRICS_DEPTH_TOLERANCE); /* within tolerance */
-    long mismatch = metrics_score_mask(gt_mask, gt_dist, gl_dist, N, METRICS_DEPTH_TOLERANCE, out);
+    long mismatch = metrics_score_mask(gt_mask, gt_dist, gl_dist, W, H, METRICS_DEPTH_TOLERANCE, out);
     CHECK(mismatch == 2, "mismatch pixels %ld (expected the silhouette and the GL miss)", mismatch);
     CHECK(out[0] == 0 && out[1] == 0 && out[2] == 0 && out[3] == 0 && out[4] == 1 && out[5] == 1,
           "scored mask %g %g %g %g %g %g", out[0], out[1], out[2], out[3], out[4], out[5]);
     /* a technique's own tolerance is the one applied: 2 % takes pixel 1's 1 % in, 0.5 % leaves it out */
-    mismatch = metrics_score_mask(gt_mask, gt_dist, gl_dist, N, 0.02f, out);
+    mismatch = metrics_score_mask(gt_mask, gt_dist, gl_dist, W, H, 0.02f, out);
     CHECK(mismatch == 1 && out[1] == 1 && out[2] == 0, "at 2 %%: %ld mismatch pixels, pixel 1 scored %g", mismatch,
           out[1]);
-    mismatch = metrics_score_mask(gt_mask, gt_dist, gl_dist, N, 0.005f, out);
+    mismatch = metrics_score_mask(gt_mask, gt_dist, gl_dist, W, H, 0.005f, out);
     CHECK(mismatch == 2 && out[1] == 0 && out[4] == 1, "at 0.5 %%: %ld mismatch pixels, pixel 1 scored %g",
           mismatch, out[1]);
+    /* but never on the truth's silhouettes: pixel (3, 2) beside a jump of the truth's distance, GL 1 % off
+     * there, is a mismatch at 2 % too; the pixel of the jump itself, where GL agrees, is scored */
+    gt_dist[2 * W + 2] = gl_dist[2 * W + 2] = 20.0f;
+    gl_dist[2 * W + 3] = 10.1f;
+    mismatch = metrics_score_mask(gt_mask, gt_dist, gl_dist, W, H, 0.02f, out);
+    CHECK(mismatch == 2 && out[2 * W + 3] == 0 && out[2 * W + 2] == 1 && out[1] == 1,
+          "a silhouette at 2 %%: %ld mismatch pixels, (3, 2) scored %g", mismatch, out[2 * W + 3]);
+    CHECK(metrics_truth_silhouette(gt_dist, W, H, 3, 2) && !metrics_truth_silhouette(gt_dist, W, H, 6, 6),
+          "the truth's silhouette: beside the jump, not far from it");
 }
 
 /* docs/metrics.md's metric table ("### Metrics", first column, `key`s) names

@@ -480,6 +480,14 @@ int engine_render(const struct engine_request *r, struct engine_result *out)
                    *renderer = cJSON_GetStringValue(cJSON_GetObjectItem(reply, "renderer"));
         snprintf(out->version, sizeof out->version, "%s", version ? version : "unknown");
         snprintf(out->renderer, sizeof out->renderer, "%s", renderer ? renderer : "unknown");
+        const cJSON *ratio = cJSON_GetObjectItem(reply, "texel_ratio");
+        for (int k = 0; k < 2; k++) {
+            const cJSON *v = cJSON_GetArrayItem(ratio, k);
+            out->texel_ratio[k] = cJSON_GetArraySize(ratio) == 2 && cJSON_IsNumber(v) && v->valuedouble > 0 &&
+                                          isfinite(v->valuedouble)
+                                      ? v->valuedouble
+                                      : NAN;
+        }
         char *data = NULL;
         size_t size = 0;
         const size_t count = (size_t)r->width * (size_t)r->height;

@@ -52,6 +52,9 @@ struct engine_result {
     char version[64];                   /* the engine's, as it reports it (three's "r187") */
     char renderer[256];                 /* the WebGL renderer string: the device of its times */
     double ms, ms_q1, ms_q3;            /* median and quartiles of its frames' times */
+    double texel_ratio[2];              /* its map's texel over shadowbench's fitted map's at the same
+                                           size, along the light's x and y (docs/engines.md); NaN where
+                                           the adapter does not say (a map not of one texel size) */
 };
 
 /* Renders r with its engine into out. Returns 0, or -1 after logging one

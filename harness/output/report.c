@@ -32,7 +32,13 @@ cJSON *report_cell_json(const struct cell *c)
         cJSON_AddStringToObject(e, "package", c->technique->engine_package);
         cJSON_AddStringToObject(e, "version", c->engine_version);
         cJSON_AddStringToObject(e, "renderer", c->engine_renderer);
+        if (isfinite(c->engine_texel_ratio[0]) && isfinite(c->engine_texel_ratio[1]))
+            cJSON_AddItemToObject(e, "texel_ratio", cJSON_CreateDoubleArray(c->engine_texel_ratio, 2));
     }
+    /* the scored mask's camera-distance tolerance off the truth's silhouettes (score/metrics.h) */
+    char tolerance[32];  /* the float's shortest decimal, not its double's digits */
+    snprintf(tolerance, sizeof tolerance, "%g", (double)technique_depth_tolerance(c->technique));
+    cJSON_AddRawToObject(o, "depth_tolerance", tolerance);
     if (c->cascades)
         cJSON_AddItemToObject(o, "cascades", cJSON_Duplicate(c->cascades, 1));
     if (c->cascades)  /* scored with its maps in hand */

@@ -60,6 +60,7 @@ void cell_take_setup(struct cell *c, const struct scene_setup *ss)
         c->engine_version = xstrdup(ss->engine.version);
         c->engine_renderer = xstrdup(ss->engine.renderer);
         c->gl_renderer = c->engine_renderer;
+        c->engine_texel_ratio[0] = ss->engine.texel_ratio[0], c->engine_texel_ratio[1] = ss->engine.texel_ratio[1];
     }
 }
 
@@ -181,17 +182,12 @@ int scene_setup_cell(struct scene_setup *ss, const struct technique *t, const vo
     return 0;
 }
 
-float cell_depth_tolerance(const struct technique *t)
-{
-    return t->depth_tolerance > 0 ? t->depth_tolerance : METRICS_DEPTH_TOLERANCE;
-}
-
 void scene_setup_score(struct scene_setup *ss, const struct technique *t, struct metrics *m)
 {
     if (!ss->engine_last)  /* an engine's frame is in ss->v already */
         receiver_read(&ss->receiver, ss->v, ss->distance);
-    m->mismatch_pixels = metrics_score_mask(ss->gt.mask, ss->gt.distance, ss->distance, ss->width * ss->height,
-                                            cell_depth_tolerance(t), ss->scored);
+    m->mismatch_pixels = metrics_score_mask(ss->gt.mask, ss->gt.distance, ss->distance, ss->width, ss->height,
+                                            technique_depth_tolerance(t), ss->scored);
     metrics_compute(ss->v, &ss->gt, ss->scored, ss->distance, m);
     depth_metrics_compute(ss->v, &ss->gt, ss->scored, ss->view_depth, ss->cascades.z, ss->cascades.band,
                           ss->cascades.count, &ss->depth);

@@ -38,6 +38,7 @@ struct cell {
                                             its browser's WebGL renderer) */
     char *engine_version;                /* an engine cell's engine version (owned), or NULL */
     char *engine_renderer;               /* its renderer string (owned; gl_renderer points to it) */
+    double engine_texel_ratio[2];        /* its map's texel over shadowbench's (engine.h); NaN: not said */
     char *failed;                        /* a failed engine cell's reason (run --keep-going; owned), or
                                             NULL; its metrics are then none (metrics_none) */
     char *notice;                        /* what the numbers do not show, one line (owned), or NULL:
@@ -134,10 +135,6 @@ int scene_setup_cell(struct scene_setup *ss, const struct technique *t, const vo
  * m, and its error by view depth into ss->depth: the accuracy metrics, not
  * the counted costs. */
 void scene_setup_score(struct scene_setup *ss, const struct technique *t, struct metrics *m);
-
-/* The relative camera-distance tolerance of t's scored mask: its own
- * depth_tolerance where it states one, else METRICS_DEPTH_TOLERANCE. */
-float cell_depth_tolerance(const struct technique *t);
 
 /* How a scene's cells are timed (stage_timer.h): warmup untimed rounds,
  * then frames rounds, each round one frame of every cell in turn; on_round

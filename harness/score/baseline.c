@@ -245,12 +245,12 @@ void baseline_spread(const float *v, const float *gl_distance, float depth_toler
         spread[g] = 0;
     if (n <= 0)
         return;
-    const int count = others[0].width * others[0].height;  /* at most RECEIVER_MAX_SIZE^2: an int */
+    const int w = others[0].width, h = others[0].height, count = w * h;  /* at most RECEIVER_MAX_SIZE^2: an int */
     float *scored = xmalloc(sizeof(float) * (size_t)count);
     for (int s = 0; s < n; s++) {
         struct metrics other = {0};
         other.mismatch_pixels =
-            metrics_score_mask(others[s].mask, others[s].distance, gl_distance, count, depth_tolerance, scored);
+            metrics_score_mask(others[s].mask, others[s].distance, gl_distance, w, h, depth_tolerance, scored);
         metrics_compute(v, &others[s], scored, gl_distance, &other);
         for (int g = 0; g < BASELINE_GUARDS; g++) {
             const int k = baseline_guards[g].metric;

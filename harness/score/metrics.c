@@ -6,17 +6,39 @@
 #include <stdlib.h>
 #include <string.h>
 
-long metrics_score_mask(const float *gt_mask, const float *gt_distance, const float *gl_distance,
-                        int count, float depth_tolerance, float *scored)
+bool metrics_truth_silhouette(const float *gt_distance, int width, int height, int x, int y)
+{
+    const float c = gt_distance[(size_t)y * (size_t)width + (size_t)x];
+    for (int dy = -1; dy <= 1; dy++)
+        for (int dx = -1; dx <= 1; dx++) {
+            const int u = x + dx, v = y + dy;
+            if (u < 0 || v < 0 || u >= width || v >= height)
+                continue;
+            const float e = gt_distance[(size_t)v * (size_t)width + (size_t)u];
+            if ((e < 0) != (c < 0) || (c >= 0 && fabsf(e - c) > METRICS_SILHOUETTE_JUMP * c))
+                return true;
+        }
+    return false;
+}
+
+long metrics_score_mask(const float *gt_mask, const float *gt_distance, const float *gl_distance, int width,
+                        int height, float depth_tolerance, float *scored)
 {
     long mismatch = 0;
-    for (int i = 0; i < count; i++) {
-        bool gt_hit = gt_distance[i] >= 0.0f, gl_hit = gl_distance[i] >= 0.0f;
-        bool agree = gt_hit == gl_hit &&
-                     (!gt_hit || fabsf(gl_distance[i] - gt_distance[i]) <= depth_tolerance * gt_distance[i]);
-        mismatch += !agree;
-        scored[i] = agree && gt_mask[i] > 0.5f ? 1.0f : 0.0f;
-    }
+    for (int y = 0; y < height; y++)
+        for (int x = 0; x < width; x++) {
+            const size_t i = (size_t)y * (size_t)width + (size_t)x;
+            const bool gt_hit = gt_distance[i] >= 0.0f, gl_hit = gl_distance[i] >= 0.0f;
+            /* a wider tolerance never takes a silhouette in */
+            const float tolerance = depth_tolerance > METRICS_DEPTH_TOLERANCE &&
+                                            metrics_truth_silhouette(gt_distance, width, height, x, y)
+                                        ? METRICS_DEPTH_TOLERANCE
+                                        : depth_tolerance;
+            const bool agree = gt_hit == gl_hit &&
+                               (!gt_hit || fabsf(gl_distance[i] - gt_distance[i]) <= tolerance * gt_distance[i]);
+            mismatch += !agree;
+            scored[i] = agree && gt_mask[i] > 0.5f ? 1.0f : 0.0f;
+        }
     return mismatch;
 }
 

@@ -15,7 +15,8 @@
  * same pixel centre on the same triangles, so on a shared surface they agree
  * to float rounding (~1e-6); across a silhouette they differ by far more.
  * A technique whose renderer measurably cannot meet it states its own
- * (technique.h's depth_tolerance; cell.h's cell_depth_tolerance). */
+ * (technique.h's depth_tolerance, technique_depth_tolerance), which applies
+ * off the truth's silhouettes only. */
 #define METRICS_DEPTH_TOLERANCE 1e-3f
 
 /* Penumbra band: V_gt strictly inside (lo, hi), dilated by this many pixels. */
@@ -95,12 +96,20 @@ double metrics_value(const struct metrics *m, int k);
 
 /* scored[i] = 1 where gt_mask is set and GL saw the same surface (camera
  * distances agree within depth_tolerance, relative: METRICS_DEPTH_TOLERANCE
- * or the technique's own); returns the number of mismatch pixels: where
- * exactly one of GL and the ray tracer hit geometry, or both did at
- * different distances. gl_distance and gt_distance are -1 where nothing was
- * hit. */
-long metrics_score_mask(const float *gt_mask, const float *gt_distance, const float *gl_distance,
-                        int count, float depth_tolerance, float *scored);
+ * or the technique's own, technique_depth_tolerance; a wider one applies
+ * only off the truth's silhouettes, metrics_truth_silhouette, where
+ * METRICS_DEPTH_TOLERANCE stays); returns the number of mismatch pixels:
+ * where exactly one of GL and the ray tracer hit geometry, or both did at
+ * different distances. gl_distance and gt_distance are width x height, -1
+ * where nothing was hit. */
+long metrics_score_mask(const float *gt_mask, const float *gt_distance, const float *gl_distance, int width,
+                        int height, float depth_tolerance, float *scored);
+
+/* Whether the truth's pixel (x, y) lies on a silhouette: a neighbour's
+ * camera ray hits nothing where this one hits (or the other way round), or
+ * hits more than METRICS_SILHOUETTE_JUMP farther or nearer, relative. */
+#define METRICS_SILHOUETTE_JUMP 0.02f
+bool metrics_truth_silhouette(const float *gt_distance, int width, int height, int x, int y);
 
 /* Fills every error metric of V_tech against gt over scored (not the
  * timings, not mismatch_pixels). Pixels whose V_tech is not finite are

@@ -2,7 +2,6 @@
 #include "base/image.h"
 #include "base/log.h"
 #include "base/util.h"
-#include "pipeline/cell.h"
 #include "techniques/params.h"
 
 #include <math.h>
@@ -30,10 +29,9 @@ static int render_side(struct viewer *v, int k)
     avg->total_ms += a * (now.total_ms - avg->total_ms);
     v->timed[k] = true;
     if (v->gt_samples > 0) {
-        const size_t count = (size_t)v->w * (size_t)v->h;
         v->m[k] = (struct metrics){0};
-        v->m[k].mismatch_pixels = metrics_score_mask(v->gt.mask, v->gt.distance, v->distance[k], (int)count,
-                                                     cell_depth_tolerance(t), v->scored[k]);
+        v->m[k].mismatch_pixels = metrics_score_mask(v->gt.mask, v->gt.distance, v->distance[k], v->w, v->h,
+                                                     technique_depth_tolerance(t), v->scored[k]);
         metrics_compute(v->v[k], &v->gt, v->scored[k], v->distance[k], &v->m[k]);
     }
     return 0;
