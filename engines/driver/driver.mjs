@@ -14,10 +14,13 @@
 //   size in shadow-map UV at the near plane; the sun's: per world unit of
 //   depth), "cone_tan" (a spot's: the tangent of the smallest cone about
 //   its axis holding the scene inside the window), "view_far" (the
-//   farthest view depth the camera sees)}; the reply: {"id", "ok": true, "engine", "version",
-//   "renderer", "ms": [...]} once the outputs are in the file "output"
-//   (float32, each output W x H, top row first, in the order asked), or
-//   {"id", "ok": false, "error": "one line"}.
+//   farthest view depth the camera sees)}; the reply: {"id", "ok": true,
+//   "engine", "version", "renderer", "ms": [...], "texel_ratio" (optional:
+//   [x, y], the engine's map's texel over shadowbench's at the same map
+//   size), "notice" (optional: one line on what the numbers do not show)}
+//   once the outputs are in the file "output" (float32, each output W x H,
+//   top row first, in the order asked), or {"id", "ok": false, "error":
+//   "one line"}.
 //
 // Chromium is launched with its DevTools pipe (no port): when this process
 // ends, however it ends, the pipe closes and Chromium exits with it.
@@ -125,7 +128,8 @@ async function handle(req) {
     const tmp = `${req.output}.tmp.${process.pid}`;
     fs.writeFileSync(tmp, bytes);
     fs.renameSync(tmp, req.output);
-    return { id: req.id, ok: true, engine: req.engine, version: out.version, renderer: out.renderer, ms: out.ms };
+    return { id: req.id, ok: true, engine: req.engine, version: out.version, renderer: out.renderer, ms: out.ms,
+             texel_ratio: out.texel_ratio, notice: out.notice };
 }
 
 async function main() {

@@ -480,6 +480,8 @@ int engine_render(const struct engine_request *r, struct engine_result *out)
                    *renderer = cJSON_GetStringValue(cJSON_GetObjectItem(reply, "renderer"));
         snprintf(out->version, sizeof out->version, "%s", version ? version : "unknown");
         snprintf(out->renderer, sizeof out->renderer, "%s", renderer ? renderer : "unknown");
+        const char *notice = cJSON_GetStringValue(cJSON_GetObjectItem(reply, "notice"));
+        snprintf(out->notice, sizeof out->notice, "%s", notice ? notice : "");
         const cJSON *ratio = cJSON_GetObjectItem(reply, "texel_ratio");
         for (int k = 0; k < 2; k++) {
             const cJSON *v = cJSON_GetArrayItem(ratio, k);

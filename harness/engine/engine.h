@@ -55,6 +55,8 @@ struct engine_result {
     double texel_ratio[2];              /* its map's texel over shadowbench's fitted map's at the same
                                            size, along the light's x and y (docs/engines.md); NaN where
                                            the adapter does not say (a map not of one texel size) */
+    char notice[256];                   /* what the adapter says the numbers do not show, one line;
+                                           "" for nothing */
 };
 
 /* Renders r with its engine into out. Returns 0, or -1 after logging one

@@ -61,6 +61,10 @@ void cell_take_setup(struct cell *c, const struct scene_setup *ss)
         c->engine_renderer = xstrdup(ss->engine.renderer);
         c->gl_renderer = c->engine_renderer;
         c->engine_texel_ratio[0] = ss->engine.texel_ratio[0], c->engine_texel_ratio[1] = ss->engine.texel_ratio[1];
+        if (ss->engine.notice[0] && !c->notice) {
+            c->notice = xstrdup(ss->engine.notice);
+            log_warn("%s on %s: %s", c->label, c->scene, c->notice);
+        }
     }
 }
 
