@@ -39,8 +39,14 @@
  *                    radius, grows with it.
  *
  * Parameters shared by the modes:
- *   bias         ShadowGenerator.bias: added to the receiver's depth metric
- *                (Babylon's default 0.00005).
+ *   bias         ShadowGenerator.bias (Babylon's default 0.00005): added to
+ *                the caster's depth metric in the map (babylon_hard,
+ *                babylon_poisson, which compare the metric); the modes that
+ *                compare the map's depth texture (babylon_pcf, babylon_pcss)
+ *                add it to the caster's clip-space z instead (times w:
+ *                post-projective depth, in [-1, 1] over the depth range;
+ *                shadowMapVertexMetric), so one value is not one offset
+ *                across the modes.
  *   normal_bias  ShadowGenerator.normalBias: the receiver moved along its
  *                normal, scaled by its slope to the light, world units.
  *   shadow_side  double: both faces drawn (backFaceCulling off), into the
@@ -54,9 +60,9 @@ static const char *const babylon_sides[] = {"double", "engine", NULL};
 static const char *const babylon_qualities[] = {"high", "medium", "low", NULL};  /* QUALITY_HIGH = 0, ... */
 
 #define BABYLON_COMMON(settings)                                                                      \
-    {"bias", "ShadowGenerator.bias: the receiver's depth offset, in the linear depth metric (0 = near, 1 = " \
-     "far)", offsetof(settings, bias), PARAM_FLOAT, 0.00005, 0.0, 0.05, NULL,                            \
-     TUNE(0.0, 0.00005, 0.0005, 0.001, 0.002, 0.005, 0.01, 0.02, 0.05)},                                  \
+    {"bias", "ShadowGenerator.bias: the casters' depth offset: in the linear depth metric (0 = near, 1 = " \
+     "far) for hard and poisson, in clip-space z for pcf and pcss", offsetof(settings, bias), PARAM_FLOAT,  \
+     0.00005, 0.0, 0.05, NULL, TUNE(0.0, 0.00005, 0.0005, 0.001, 0.002, 0.005, 0.01, 0.02, 0.05)},             \
     {"normal_bias", "ShadowGenerator.normalBias: the receiver moved along its normal, world units",      \
      offsetof(settings, normal_bias), PARAM_FLOAT, 0.0, 0.0, 1.0, NULL, TUNE(0.0, 0.005, 0.01, 0.02, 0.05)}, \
     {"shadow_side", "faces drawn: double (both, shadowbench's choice) or engine (the file's one-sided culling)", \
