@@ -56,7 +56,6 @@
  *                (Babylon's own default is 512). */
 #include "param_rows.h"
 
-static const char *const babylon_sides[] = {"double", "engine", NULL};
 static const char *const babylon_qualities[] = {"high", "medium", "low", NULL};  /* QUALITY_HIGH = 0, ... */
 
 #define BABYLON_COMMON(settings)                                                                      \
@@ -65,10 +64,8 @@ static const char *const babylon_qualities[] = {"high", "medium", "low", NULL}; 
      0.00005, 0.0, 0.05, NULL, TUNE(0.0, 0.00005, 0.0005, 0.001, 0.002, 0.005, 0.01, 0.02, 0.05)},             \
     {"normal_bias", "ShadowGenerator.normalBias: the receiver moved along its normal, world units",      \
      offsetof(settings, normal_bias), PARAM_FLOAT, 0.0, 0.0, 1.0, NULL, TUNE(0.0, 0.005, 0.01, 0.02, 0.05)}, \
-    {"shadow_side", "faces drawn: double (both, shadowbench's choice) or engine (the file's one-sided culling)", \
-     offsetof(settings, shadow_side), PARAM_ENUM, 0, 0, 0, babylon_sides, NULL},                         \
-    {"map_size", "the ShadowGenerator's map size, texels a side; 0: the run's --shadow-map-size",        \
-     offsetof(settings, map_size), PARAM_INT, 0, 0, 8192, NULL, NULL}
+    PARAM_ROW_ENGINE_SIDE(settings, "the file's one-sided culling, into the map and by the camera"),     \
+    PARAM_ROW_ENGINE_MAP_SIZE(settings, "the ShadowGenerator's map size", 8192)
 
 #define BABYLON_SETTINGS \
     float bias, normal_bias; \

@@ -71,8 +71,6 @@
 
 #include <stdio.h>
 
-static const char *const filament_sides[] = {"double", "engine", NULL};
-
 /* Filament's own limits on ShadowOptions::mapSize (LightManager::setShadowOptions). */
 #define FILAMENT_MAP_SIZE_MIN 8
 #define FILAMENT_MAP_SIZE_MAX 2048
@@ -100,16 +98,14 @@ static const struct technique_param filament_pcf_params[] = {
     {"polygon_offset_slope", "ShadowOptions.polygonOffsetSlope: glPolygonOffset factor in the map, times the "
      "depth slope", offsetof(struct filament_pcf_settings, polygon_offset_slope), PARAM_FLOAT, 2.0, 0.0, 64.0,
      NULL, TUNE(0.0, 1.0, 2.0, 4.0, 8.0)},
-    {"map_size", "ShadowOptions.mapSize, texels a side; 0: the run's --shadow-map-size (Filament draws at most "
-     UTIL_STR(FILAMENT_MAP_SIZE_MAX) ")", offsetof(struct filament_pcf_settings, map_size), PARAM_INT, 0, 0,
-     FILAMENT_MAP_SIZE_MAX, NULL, NULL},
+    PARAM_ROW_ENGINE_MAP_SIZE(struct filament_pcf_settings, "ShadowOptions.mapSize (at most "
+                              UTIL_STR(FILAMENT_MAP_SIZE_MAX) ")", FILAMENT_MAP_SIZE_MAX),
     {"lispsm", "ShadowOptions.lispsm: the sun's map warped by light-space perspective (the sun only)",
      offsetof(struct filament_pcf_settings, lispsm), PARAM_BOOL, 1, 0, 1, NULL, TUNE_CHOICES},
     {"stable", "ShadowOptions.stable: the sun's map fitted to a sphere and snapped to texels, no LiSPSM (the sun "
      "only)", offsetof(struct filament_pcf_settings, stable), PARAM_BOOL, 0, 0, 1, NULL, TUNE_CHOICES},
-    {"shadow_side", "faces drawn: double (both, shadowbench's choice) or engine (gltfio's culling of the file's "
-     "single-sided material, in the map too)", offsetof(struct filament_pcf_settings, shadow_side), PARAM_ENUM, 0,
-     0, 0, filament_sides, NULL},
+    PARAM_ROW_ENGINE_SIDE(struct filament_pcf_settings,
+                          "gltfio's culling of the file's single-sided material, in the map too"),
     {NULL},
 };
 

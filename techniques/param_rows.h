@@ -102,4 +102,16 @@
      "mask_dilate_blocks, at most " UTIL_STR(MASK_MAX_DILATE_BLOCKS) " (0 = off)",                                            \
      offsetof(settings, mask_dilate_world), PARAM_FLOAT, 0.0, 0.0, 100.0, NULL, NULL}
 
+/* Engine cells (docs/engines.md). engine: what the engine's own choice is,
+ * e.g. "three's default for the file's one-sided materials". */
+#define PARAM_ROW_ENGINE_SIDE(settings, engine)                                                         \
+    {"shadow_side", "faces drawn into the map: double (both, shadowbench's choice) or engine (" engine ")", \
+     offsetof(settings, shadow_side), PARAM_ENUM, 0, 0, 0, engine_side_names, NULL}
+
+/* what: the engine's own name for it, e.g. "shadow.mapSize"; max: the
+ * largest the engine draws. */
+#define PARAM_ROW_ENGINE_MAP_SIZE(settings, what, max)                                                   \
+    {"map_size", what ", texels a side; 0: the run's --shadow-map-size", offsetof(settings, map_size),  \
+     PARAM_INT, 0, 0, max, NULL, NULL}
+
 #endif

@@ -82,7 +82,6 @@
  *                     PCSS takes 16 of each, fixed. */
 #include "param_rows.h"
 
-static const char *const playcanvas_sides[] = {"double", "engine", NULL};
 static const char *const playcanvas_formats[] = {"32f", "16f", NULL};
 static const char *const playcanvas_blur_modes[] = {"gaussian", "box", NULL};
 
@@ -96,11 +95,8 @@ static const char *const playcanvas_blur_modes[] = {"gaussian", "box", NULL};
      offsetof(settings, normal_bias), PARAM_FLOAT, 0.0, 0.0, 1.0, NULL, TUNE(0.0, 0.005, 0.01, 0.02, 0.05)}
 
 #define PLAYCANVAS_MAP(settings)                                                                       \
-    {"shadow_side", "faces drawn into the map: double (both, shadowbench's choice) or engine (the file's " \
-     "culling, which PlayCanvas keeps)", offsetof(settings, shadow_side), PARAM_ENUM, 0, 0, 0,           \
-     playcanvas_sides, NULL},                                                                           \
-    {"map_size", "shadowResolution, texels a side; 0: the run's --shadow-map-size",                      \
-     offsetof(settings, map_size), PARAM_INT, 0, 0, 8192, NULL, NULL}
+    PARAM_ROW_ENGINE_SIDE(settings, "the file's culling, which PlayCanvas keeps"),                       \
+    PARAM_ROW_ENGINE_MAP_SIZE(settings, "shadowResolution", 8192)
 
 #define PLAYCANVAS_FORMAT(settings, what)                                                              \
     {"format", "the shadow type's precision: 32f (PlayCanvas's default) or 16f, " what,                  \

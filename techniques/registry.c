@@ -52,6 +52,8 @@ const char *const tap_rotation_names[] = {
     NULL,
 };
 
+const char *const engine_side_names[] = {"double", "engine", NULL};
+
 const struct technique *technique_find(const char *name)
 {
     for (const struct technique *const *t = technique_list; *t; t++)

@@ -100,6 +100,9 @@ enum tap_rotation {
 /* Their parameter spellings, by enum value, NULL-terminated. */
 extern const char *const tap_pattern_names[];
 extern const char *const tap_rotation_names[];
+/* An engine cell's shadow_side: double (both faces drawn into the map,
+ * shadowbench's own choice), engine (the engine's default culling). */
+extern const char *const engine_side_names[];
 
 /* The moments product's widest Gaussian prefilter (GLSL: SM_MAX_BLUR_RADIUS). */
 #define SM_MAX_BLUR_RADIUS_TEXELS 32

@@ -36,8 +36,6 @@
  *                is 512). */
 #include "param_rows.h"
 
-static const char *const three_sides[] = {"double", "engine", NULL};
-
 #define THREE_BIASES(settings)                                                                      \
     {"bias", "shadow.bias: the receiver's depth offset, the map's depth units (negative: towards the " \
      "light)", offsetof(settings, bias), PARAM_FLOAT, 0.0, -0.05, 0.05, NULL,                         \
@@ -45,13 +43,9 @@ static const char *const three_sides[] = {"double", "engine", NULL};
     {"normal_bias", "shadow.normalBias: the receiver moved along its normal, world units",            \
      offsetof(settings, normal_bias), PARAM_FLOAT, 0.0, 0.0, 1.0, NULL,                               \
      TUNE(0.0, 0.005, 0.01, 0.02, 0.05)},                                                              \
-    {"map_size", "shadow.mapSize, texels a side; 0: the run's --shadow-map-size",                     \
-     offsetof(settings, map_size), PARAM_INT, 0, 0, 8192, NULL, NULL}
+    PARAM_ROW_ENGINE_MAP_SIZE(settings, "shadow.mapSize", 8192)
 
-#define THREE_SIDE(settings)                                                                        \
-    {"shadow_side", "faces drawn into the map: double (both, shadowbench's choice) or engine (three's " \
-     "default for the file's one-sided materials)", offsetof(settings, shadow_side), PARAM_ENUM, 0, 0, 0, \
-     three_sides, NULL}
+#define THREE_SIDE(settings) PARAM_ROW_ENGINE_SIDE(settings, "three's default for the file's one-sided materials")
 
 #define THREE_SETTINGS \
     float bias, normal_bias; \
