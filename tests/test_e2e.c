@@ -224,8 +224,9 @@ static void check_unscored(void)
     const bool have_csv = util_read_file(csv, &text, &size) == 0;
     CHECK(have_csv, "%s cannot be read", csv);  /* unreadable is a failure, never a pass */
     if (have_csv)
-        CHECK(strstr(text, "\",,,,,") && strstr(text, ",false,\n"),
-              "matrix.csv: empty fields for null, scored false, failed empty: %s", text);
+        CHECK(strstr(text, "\",,,,,") && strstr(text, ",false,,,\n"),
+              "matrix.csv: empty fields for null, scored false, failed and an engine's texel ratios empty: %s",
+              text);
     free(text), free(csv), free(cell_dir), free(cmd), free(scene), free(out);
     strbuf_free(&err);
 }

@@ -114,7 +114,7 @@ static int write_matrix(const struct report *r)
     strbuf_printf(&csv, "scene,technique,params");
     for (int k = 0; k < METRIC_COUNT; k++)
         strbuf_printf(&csv, ",%s", metric_info[k].key);
-    strbuf_printf(&csv, ",gl_renderer,cell,scored,failed\n");
+    strbuf_printf(&csv, ",gl_renderer,cell,scored,failed,engine_texel_ratio_x,engine_texel_ratio_y\n");
     cJSON *matrix = cJSON_CreateObject();
     cJSON *cells = cJSON_AddArrayToObject(matrix, "cells");
     for (int i = 0; i < r->cell_count; i++) {
@@ -135,6 +135,10 @@ static int write_matrix(const struct report *r)
         strbuf_printf(&csv, ",%s,", metrics_scored(&r->cells[i].m) ? "true" : "false");
         if (r->cells[i].failed)  /* run --keep-going's reason; an empty field: none */
             report_csv_field(&csv, r->cells[i].failed);
+        for (int k = 0; k < 2; k++) {  /* an engine's map's texel over shadowbench's; empty: none said */
+            const double ratio = r->cells[i].engine_version ? r->cells[i].engine_texel_ratio[k] : NAN;
+            strbuf_printf(&csv, isfinite(ratio) ? ",%.6g" : ",", ratio);
+        }
         strbuf_printf(&csv, "\n");
         cJSON_AddItemToArray(cells, row);
     }
