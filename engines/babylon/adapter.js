@@ -23,7 +23,8 @@
 // computed and the camera distance to a float render target; image
 // processing (tone mapping, colour curves) off.
 /* global BABYLON */
-import { base64, outputPass, readOnePixel, rendererString, takeChannel, timeFrames } from '../common/page.js';
+import { base64, distanceGlsl, distanceVertexGlsl, outputPass, readOnePixel, rendererString, takeChannel,
+         timeFrames } from '../common/page.js';
 
 const FILTERS = { babylon_hard: 'none', babylon_poisson: 'poisson', babylon_pcf: 'pcf', babylon_pcss: 'pcss' };
 const QUALITY = { high: 0, medium: 1, low: 2 };  // ShadowGenerator.QUALITY_*
@@ -42,9 +43,11 @@ export async function install() {
     version = BABYLON.Engine.Version;
 }
 
-// The camera distance for the coverage test, as the three adapter takes it
-// (engines/three/adapter.js): the pixel's exact ray cut with the plane of
-// the triangle drawn there.
+// The camera distance for the coverage test (engines/common/page.js), from
+// Babylon's world position and eye, and the inverse view-projection.
+const CORNER = distanceVertexGlsl('vPositionW');
+const DISTANCE_GLSL = distanceGlsl({ world: 'vPositionW', eye: 'vEyePosition.xyz', size: 'sbSize',
+                                     inverse: 'sbInverseViewProjection' });
 const termUniforms = { inverseViewProjection: BABYLON.Matrix.Identity(), size: new BABYLON.Vector2(1, 1) };
 
 class ShadowTerm extends BABYLON.MaterialPluginBase {
@@ -66,16 +69,9 @@ class ShadowTerm extends BABYLON.MaterialPluginBase {
     }
     getCustomCode(shaderType) {
         if (shaderType === 'vertex')
-            return { CUSTOM_VERTEX_DEFINITIONS: 'flat varying vec3 sbCorner;',
-                     CUSTOM_VERTEX_MAIN_END: 'sbCorner = vPositionW;' };
+            return { CUSTOM_VERTEX_DEFINITIONS: CORNER.declaration, CUSTOM_VERTEX_MAIN_END: CORNER.main };
         return {
-            CUSTOM_FRAGMENT_DEFINITIONS: `flat varying vec3 sbCorner;
-float sbDistance() {
-    vec4 p = sbInverseViewProjection * vec4(2.0 * gl_FragCoord.xy / sbSize - 1.0, 0.0, 1.0);
-    vec3 ray = normalize(p.xyz / p.w - vEyePosition.xyz);
-    vec3 n = cross(dFdx(vPositionW), dFdy(vPositionW));
-    return dot(sbCorner - vEyePosition.xyz, n) / dot(ray, n);
-}`,
+            CUSTOM_FRAGMENT_DEFINITIONS: DISTANCE_GLSL,
             CUSTOM_FRAGMENT_BEFORE_FRAGCOLOR: 'color = vec4(shadow, sbDistance(), 0.0, 1.0);',
         };
     }

@@ -1,5 +1,6 @@
 // What every engine's page shares (docs/engines.md): the reply's image as
-// base64 of float32 rows, top row first, and the frame times.
+// base64 of float32 rows, top row first, the frame times, and the camera
+// distance's GLSL.
 
 // rows: a Float32Array of h rows of w * channels floats, bottom row first
 // (GL's readPixels); channel c of each pixel is copied to out at offset,
@@ -58,4 +59,36 @@ export function timeFrames(draw, wait, warmup, frames) {
 export function readOnePixel(gl) {
     const pixel = new Float32Array(4);
     return () => gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.FLOAT, pixel);
+}
+
+// The camera distance of the surface a pixel sees, for the coverage test
+// against the ray tracer's: the pixel centre's exact ray cut with the plane
+// of the triangle drawn there (a corner of it, flat, and its normal from the
+// position's derivatives). The interpolated position itself is off by up to
+// a third of a pixel on SwiftShader for triangles clipped at a near plane
+// much closer than their size (sun_parallel_planes).
+//
+// The vertex shader's part: the flat varying sbCorner, set to the vertex's
+// world position (the GLSL expression world).
+export function distanceVertexGlsl(world) {
+    return { declaration: 'flat varying vec3 sbCorner;', main: `sbCorner = ${world};` };
+}
+
+// The fragment shader's part: sbCorner and sbDistance(), given the names the
+// shader has for the interpolated world position (world), the camera's
+// world position (eye), the target's size in pixels (size, a vec2) and a
+// matrix from clip space back (inverse): to world space (the inverse of
+// projection times view), or, where the name of the view matrix is given
+// (view), to view space (the inverse projection), the ray then turned to
+// world space by the view's rotation. The caller declares the uniforms.
+export function distanceGlsl({ world, eye, size, inverse, view = null }) {
+    const ray = view ? `transpose(mat3(${view})) * (p.xyz / p.w)` : `p.xyz / p.w - ${eye}`;
+    return `
+flat varying vec3 sbCorner;
+float sbDistance() {
+    vec4 p = ${inverse} * vec4(2.0 * gl_FragCoord.xy / ${size} - 1.0, 0.0, 1.0);
+    vec3 ray = normalize(${ray});
+    vec3 n = cross(dFdx(${world}), dFdy(${world}));
+    return dot(sbCorner - ${eye}, n) / dot(ray, n);
+}`;
 }

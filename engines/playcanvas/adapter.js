@@ -52,7 +52,8 @@
 // and gamma) to write it and the camera distance to a float target, with
 // no blending.
 import * as pc from 'playcanvas';
-import { base64, outputPass, rendererString, takeChannel, timeFrames } from '../common/page.js';
+import { base64, distanceGlsl, distanceVertexGlsl, outputPass, readOnePixel, rendererString, takeChannel,
+         timeFrames } from '../common/page.js';
 
 const TYPES = {
     playcanvas_pcf1: { '32f': pc.SHADOW_PCF1_32F, '16f': pc.SHADOW_PCF1_16F },
@@ -85,31 +86,26 @@ export async function install() {
 }
 
 // The shadow-term material's chunks. The camera distance, for the coverage
-// test, as the other adapters take it (engines/three/adapter.js): the
-// pixel's exact ray cut with the plane of the triangle drawn there (a
-// corner of it, flat; its normal from the position's derivatives). Only
-// the forward pass: the caster pass shares the material.
+// test (engines/common/page.js), from PlayCanvas's world position, the
+// camera's position and the inverse view-projection. Only the forward
+// pass: the caster pass shares the material.
+const CORNER = distanceVertexGlsl('vPositionW');
 const VS_DECLARATION = `
 #ifdef FORWARD_PASS
-flat varying vec3 sbCorner;
+${CORNER.declaration}
 #endif`;
 const VS_END = `
 #ifdef FORWARD_PASS
-sbCorner = vPositionW;
+${CORNER.main}
 #endif`;
+const DISTANCE_GLSL = distanceGlsl({ world: 'vPositionW', eye: 'sbEye', size: 'sbSize',
+                                     inverse: 'sbInverseViewProjection' });
 const PS_DECLARATION = `
 #ifdef FORWARD_PASS
-flat varying vec3 sbCorner;
 uniform mat4 sbInverseViewProjection;
 uniform vec2 sbSize;
 uniform vec3 sbEye;
-float sbShadow = 1.0;
-float sbDistance() {
-    vec4 p = sbInverseViewProjection * vec4(2.0 * gl_FragCoord.xy / sbSize - 1.0, 0.0, 1.0);
-    vec3 ray = normalize(p.xyz / p.w - sbEye);
-    vec3 n = cross(dFdx(vPositionW), dFdy(vPositionW));
-    return dot(sbCorner - sbEye, n) / dot(ray, n);
-}
+float sbShadow = 1.0;${DISTANCE_GLSL}
 #endif`;
 const OUTPUT = `
 gl_FragColor = vec4(sbShadow, sbDistance(), 0.0, 1.0);`;
@@ -401,11 +397,11 @@ export async function render(req) {
         app.update(0);
         app.render();
     };
-    const pixel = new Float32Array(4);
     const bind = () => device.setFramebuffer(target.impl._glFrameBuffer);
+    const pixel = readOnePixel(gl);
     const wait = () => {
         bind();
-        gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.FLOAT, pixel);
+        pixel();
     };
     const rows = new Float32Array(w * h * 4), out = new Float32Array(w * h * req.outputs.length);
     let ms = [];

@@ -23,7 +23,8 @@
 // blending.
 import * as THREE from 'three';
 import { GLTFLoader } from 'three/addons/loaders/GLTFLoader.js';
-import { base64, outputPass, readOnePixel, rendererString, takeChannel, timeFrames } from '../common/page.js';
+import { base64, distanceGlsl, distanceVertexGlsl, outputPass, readOnePixel, rendererString, takeChannel,
+         timeFrames } from '../common/page.js';
 
 const TYPES = { three_basic: THREE.BasicShadowMap, three_pcf: THREE.PCFShadowMap, three_vsm: THREE.VSMShadowMap };
 
@@ -82,23 +83,14 @@ async function load(url) {
     return entry;
 }
 
-// The camera distance of the surface a pixel sees, for the coverage test
-// against the ray tracer's: the pixel centre's exact ray cut with the
-// plane of the triangle drawn there (a corner of it, flat, and its normal
-// from the position's derivatives). The interpolated position itself is off
-// by up to a third of a pixel on SwiftShader for triangles clipped at a
-// near plane much closer than their size (sun_parallel_planes).
+// The camera distance (engines/common/page.js): from three's own view
+// matrix and camera position, and the inverse projection.
+const CORNER = distanceVertexGlsl('sbWorld');
 const DISTANCE_GLSL = `
 varying vec3 sbWorld;
-flat varying vec3 sbCorner;
 uniform mat4 sbInverseProjection;
-uniform vec2 sbSize;
-float sbDistance() {
-    vec4 v = sbInverseProjection * vec4(2.0 * gl_FragCoord.xy / sbSize - 1.0, 0.0, 1.0);
-    vec3 ray = normalize(transpose(mat3(viewMatrix)) * (v.xyz / v.w));
-    vec3 n = cross(dFdx(sbWorld), dFdy(sbWorld));
-    return dot(sbCorner - cameraPosition, n) / dot(ray, n);
-}`;
+uniform vec2 sbSize;` + distanceGlsl({ world: 'sbWorld', eye: 'cameraPosition', size: 'sbSize',
+                                     inverse: 'sbInverseProjection', view: 'viewMatrix' });
 
 // The uniforms of the distance, shared by every shadow-term material and
 // set for each cell.
@@ -110,9 +102,10 @@ function shadowTermMaterial() {
     m.onBeforeCompile = (shader) => {
         Object.assign(shader.uniforms, sbUniforms);
         shader.vertexShader = shader.vertexShader
-            .replace('#include <common>', '#include <common>\nvarying vec3 sbWorld;\nflat varying vec3 sbCorner;')
-            .replace('#include <worldpos_vertex>',
-                     '#include <worldpos_vertex>\nsbWorld = sbCorner = (modelMatrix * vec4(transformed, 1.0)).xyz;');
+            .replace('#include <common>', `#include <common>\nvarying vec3 sbWorld;\n${CORNER.declaration}`)
+            .replace('#include <worldpos_vertex>', `#include <worldpos_vertex>
+sbWorld = (modelMatrix * vec4(transformed, 1.0)).xyz;
+${CORNER.main}`);
         shader.fragmentShader = shader.fragmentShader
             .replace('#include <common>', '#include <common>\n' + DISTANCE_GLSL)
             .replace(/gl_FragColor = vec4\( color, opacity \* \( 1\.0 - getShadowMask\(\) \) \);/,
