@@ -26,19 +26,19 @@
 //   camera is symmetric, its fov twice outerConeAngle, and the light reaches
 //   only inside the cone (the shadow is not evaluated outside it), so the
 //   cone is the smallest about the light's axis that holds every point of
-//   the scene inside shadowbench's fitted window (innerConeAngle;
-//   outerConeAngle 0.1 % wider in tangent, for smoothstep's sake), and its
-//   square map covers more than the window: coarser texels, by the factors
-//   docs/engines.md gives per scene. Its near and far are range / 1000 and
-//   range; the range is the distance of the fitted frustum's farthest
-//   point in that cone, 1 % beyond (the linear falloff must leave every
-//   scored point lit);
+//   the scene inside shadowbench's fitted window (the request's cone_tan:
+//   innerConeAngle; outerConeAngle 0.1 % wider in tangent, for smoothstep's
+//   sake), and its square map covers more than the window: coarser texels,
+//   by the factors the reply's texel_ratio gives. Its near and far are
+//   range / 1000 and range; the range is the distance of the fitted
+//   frustum's farthest point in that cone, 1 % beyond (the linear falloff
+//   must leave every scored point lit);
 // - a sun becomes a directional light with one cascade, whose map
 //   PlayCanvas fits itself: a square about the bounding sphere of the view
 //   frustum from the camera's near plane to shadowDistance, snapped to
 //   texels, its depth range the casters' boxes. shadowDistance is the
-//   farthest depth the camera sees (the geometry clipped to the view
-//   frustum, as shadowbench's own fit takes it), 0.1 % beyond;
+//   farthest depth the camera sees (the request's view_far, as
+//   shadowbench's own fit takes it), 0.1 % beyond;
 // - PCSS's penumbraSize from the scene's light (light_size_scale times):
 //   the sun's tan(half-angle); an area light's 3 mapSize a / (2 near far),
 //   a its disk's radius or its rect's mean half-side, near and far the
@@ -147,7 +147,7 @@ function shadowTermMaterial(flat) {
     return m;
 }
 
-let current = null;  // { url, asset, root, camera, meshes, triangles }
+let current = null;  // { url, asset, root, camera, meshes }
 
 function loadContainer(url) {
     return new Promise((resolve, reject) => {
@@ -156,40 +156,21 @@ function loadContainer(url) {
     });
 }
 
-// The scene's triangles in world space, 9 floats each: what the spot's cone
-// must hold, what the sun's shadowDistance must reach.
-function worldTriangles(meshInstances) {
-    const out = [];
-    const p = new pc.Vec3();
-    for (const mi of meshInstances) {
-        const positions = [], indices = [];
-        const n = mi.mesh.getPositions(positions);
-        if (!mi.mesh.getIndices(indices))
-            for (let i = 0; i < n; i++)
-                indices.push(i);
-        const world = mi.node.getWorldTransform();
-        const v = [];
-        for (let i = 0; i < n; i++) {
-            world.transformPoint(p.set(positions[3 * i], positions[3 * i + 1], positions[3 * i + 2]), p);
-            v.push(p.x, p.y, p.z);
-        }
-        for (const i of indices)
-            out.push(v[3 * i], v[3 * i + 1], v[3 * i + 2]);
-    }
-    return Float32Array.from(out);
+// Releases a loaded scene: its entities, materials and meshes.
+function release(asset, root, meshes) {
+    root.destroy();
+    for (const mi of meshes)
+        for (const m of Object.values(mi.sbMaterials))
+            m.destroy();
+    app.assets.remove(asset);
+    asset.unload();
 }
 
 async function load(url) {
     if (current && current.url === url)
         return current;
-    if (current) {  /* one scene at a time: its entities, materials and meshes go with it */
-        current.root.destroy();
-        for (const mi of current.meshes)
-            for (const m of Object.values(mi.sbMaterials))
-                m.destroy();
-        app.assets.remove(current.asset);
-        current.asset.unload();
-    }
+    if (current)  /* one scene at a time */
+        release(current.asset, current.root, current.meshes);
     current = null;
     const asset = await loadContainer(url);
     const root = asset.resource.instantiateRenderEntity();
@@ -197,8 +178,10 @@ async function load(url) {
     for (const l of root.findComponents('light'))
         l.entity.destroy();
     const camera = root.findComponents('camera')[0];
-    if (!camera)
+    if (!camera) {
+        release(asset, root, []);
         throw new Error('the scene has no camera');
+    }
     const meshes = [];
     for (const r of root.findComponents('render')) {
         r.castShadows = r.receiveShadows = true;
@@ -214,95 +197,12 @@ async function load(url) {
     }
     app.root.addChild(root);
     app.root.syncHierarchy();
-    current = { url, asset, root, camera, meshes, triangles: worldTriangles(meshes) };
+    current = { url, asset, root, camera, meshes };
     return current;
-}
-
-// The farthest view depth of the scene's geometry inside the camera's
-// frustum (near plane and sides; its far plane aside), as shadowbench's
-// own sun fit takes it (harness/scene/light_frustum.c, see()).
-function farthestSeen(triangles, camera, aspect) {
-    const w = camera.entity.getWorldTransform();
-    const eye = w.getTranslation(new pc.Vec3());
-    const x = w.getX(new pc.Vec3()).normalize(), y = w.getY(new pc.Vec3()).normalize();
-    const f = w.getZ(new pc.Vec3()).normalize().mulScalar(-1);
-    const ty = Math.tan(0.5 * camera.fov * pc.math.DEG_TO_RAD), tx = ty * aspect;
-    /* planes n . p >= d, normals inwards: near, top, bottom, right, left */
-    const planes = [[f, f.dot(eye) + camera.nearClip]];
-    for (const [axis, t] of [[y, ty], [y.clone().mulScalar(-1), ty], [x, tx], [x.clone().mulScalar(-1), tx]]) {
-        const n = f.clone().mulScalar(t).sub(axis);
-        planes.push([n, n.dot(eye)]);
-    }
-    let far = -Infinity;
-    for (let t = 0; t < triangles.length; t += 9) {
-        let poly = [0, 1, 2].map((k) => new pc.Vec3(triangles[t + 3 * k], triangles[t + 3 * k + 1],
-                                                      triangles[t + 3 * k + 2]));
-        for (const [n, d] of planes) {
-            const next = [];
-            for (let i = 0; i < poly.length; i++) {
-                const a = poly[i], b = poly[(i + 1) % poly.length];
-                const sa = n.dot(a) - d, sb = n.dot(b) - d;
-                if (sa >= 0)
-                    next.push(a);
-                if ((sa >= 0) !== (sb >= 0))
-                    next.push(new pc.Vec3().lerp(a, b, sa / (sa - sb)));
-            }
-            poly = next;
-        }
-        for (const q of poly)
-            far = Math.max(far, f.dot(q) - f.dot(eye));
-    }
-    if (!(far > 0))
-        throw new Error('the camera sees no geometry for the sun to shadow');
-    return far;
 }
 
 const vec = (a) => new pc.Vec3(a[0], a[1], a[2]);
 const DEG = 180 / Math.PI;
-
-// The tangent of the smallest cone about the spot's axis that holds every
-// point of the scene inside shadowbench's fitted window: each triangle in
-// the light's frame, clipped to the front of its near plane, projected,
-// clipped to the window (at unit depth); the farthest corner from the axis
-// (a convex polygon's farthest point is a corner). At most the window's
-// farthest corner.
-function spotCone(triangles, L) {
-    const [l, r, b, t] = L.window.map((v) => v / L.near);
-    const dot = (a, i) => a[0] * (triangles[i] - L.eye[0]) + a[1] * (triangles[i + 1] - L.eye[1]) +
-                          a[2] * (triangles[i + 2] - L.eye[2]);
-    /* half-planes a u + b v <= c of the window */
-    const edges = [[-1, 0, -l], [1, 0, r], [0, -1, -b], [0, 1, t]];
-    let k = 0;
-    for (let i = 0; i < triangles.length; i += 9) {
-        let poly = [0, 3, 6].map((o) => [dot(L.x, i + o), dot(L.y, i + o), -dot(L.z, i + o)]);
-        const front = [];
-        for (let j = 0; j < 3; j++) {
-            const a = poly[j], c = poly[(j + 1) % 3], ia = a[2] >= L.near, ic = c[2] >= L.near;
-            if (ia)
-                front.push(a);
-            if (ia !== ic) {
-                const s = (L.near - a[2]) / (c[2] - a[2]);
-                front.push([a[0] + s * (c[0] - a[0]), a[1] + s * (c[1] - a[1]), L.near]);
-            }
-        }
-        poly = front.map(([x, y, d]) => [x / d, y / d]);
-        for (const [eu, ev, ec] of edges) {
-            const next = [];
-            for (let j = 0; j < poly.length; j++) {
-                const a = poly[j], c = poly[(j + 1) % poly.length];
-                const sa = ec - eu * a[0] - ev * a[1], sc = ec - eu * c[0] - ev * c[1];
-                if (sa >= 0)
-                    next.push(a);
-                if ((sa >= 0) !== (sc >= 0))
-                    next.push([a[0] + (c[0] - a[0]) * sa / (sa - sc), a[1] + (c[1] - a[1]) * sa / (sa - sc)]);
-            }
-            poly = next;
-        }
-        for (const [u, v] of poly)
-            k = Math.max(k, Math.hypot(u, v));
-    }
-    return k;
-}
 
 // PCSS's penumbraSize for the scene's light (docs/engines.md): where the
 // engine's penumbra model equals the light's.
@@ -313,99 +213,140 @@ function penumbraSize(L, mapSize) {
     return 3 * mapSize * a / (2 * L.near * L.far);
 }
 
-// The scene's light as PlayCanvas's nearest light, its shadow set up by the cell.
-function makeLight(L, p, technique, mapSize, triangles, far) {
-    const want = TYPES[technique][p.format ?? '32f'];
+// The cell's shadow type, and what the light needs from the request,
+// checked before anything is created.
+function shadowType(technique, p, L) {
+    if (!TYPES[technique])
+        throw new Error(`PlayCanvas has no technique ${technique}`);
+    const format = p.format ?? '32f', type = TYPES[technique][format];
+    if (type === undefined)
+        throw new Error(`PlayCanvas's ${technique} has no format ${format}`);
+    if (L.kind === 'directional' && !(L.view_far > 0))
+        throw new Error('the camera sees no geometry for the sun to shadow');
+    if (L.kind !== 'directional' && !(L.cone_tan > 0))
+        throw new Error('nothing in front of the light for its cone to hold');
+    return type;
+}
+
+// The scene's light as PlayCanvas's nearest light, its shadow set up by the
+// cell; nothing is left behind if PlayCanvas refuses the shadow type.
+function makeLight(L, p, type, mapSize) {
     const entity = new pc.Entity('sb-light');
-    const sun = L.kind === 'directional';
-    entity.addComponent('light', { type: sun ? 'directional' : 'spot', color: new pc.Color(1, 1, 1), intensity: 1,
-                                   castShadows: true, affectSpecularity: false, shadowResolution: mapSize });
-    const light = entity.light;
-    /* the entity's axes: x the light's, -y its direction (-z), -z the shadow camera's up (its +y) */
-    const m = new pc.Mat4();
-    m.data.set([L.x[0], L.x[1], L.x[2], 0, L.z[0], L.z[1], L.z[2], 0, -L.y[0], -L.y[1], -L.y[2], 0, 0, 0, 0, 1]);
-    entity.setPosition(vec(L.eye));
-    entity.setRotation(new pc.Quat().setFromMat4(m));
-    light.shadowType = want;
-    if (light.shadowType !== want)
-        throw new Error(`PlayCanvas turned shadow type ${want} into ${light.shadowType} on this device`);
-    if (sun) {
-        light.numCascades = 1;
-        light.cascadeBlend = 0;
-        light.shadowDistance = far * 1.001;
+    try {
+        const sun = L.kind === 'directional';
+        entity.addComponent('light', { type: sun ? 'directional' : 'spot', color: new pc.Color(1, 1, 1),
+                                       intensity: 1, castShadows: true, affectSpecularity: false,
+                                       shadowResolution: mapSize });
+        const light = entity.light;
+        /* the entity's axes: x the light's, -y its direction (-z), -z the shadow camera's up (its +y) */
+        const m = new pc.Mat4();
+        m.data.set([L.x[0], L.x[1], L.x[2], 0, L.z[0], L.z[1], L.z[2], 0, -L.y[0], -L.y[1], -L.y[2], 0,
+                    0, 0, 0, 1]);
+        entity.setPosition(vec(L.eye));
+        entity.setRotation(new pc.Quat().setFromMat4(m));
+        light.shadowType = type;
+        if (light.shadowType !== type)
+            throw new Error(`PlayCanvas turned shadow type ${type} into ${light.shadowType} on this device`);
+        if (sun) {
+            light.numCascades = 1;
+            light.cascadeBlend = 0;
+            light.shadowDistance = L.view_far * 1.001;
+        } else {
+            const k = L.cone_tan;
+            light.innerConeAngle = Math.atan(k) * DEG;
+            light.outerConeAngle = Math.atan(k * 1.001) * DEG;
+            light.range = 1.01 * L.far * Math.sqrt(1 + k * k);
+        }
+        if (p.bias !== undefined)
+            light.shadowBias = p.bias;
+        if (p.normal_bias !== undefined)
+            light.normalOffsetBias = p.normal_bias;
+        if (p.vsm_blur_size !== undefined) {
+            light.vsmBlurSize = p.vsm_blur_size;
+            light.vsmBlurMode = BLUR_MODES[p.vsm_blur_mode];
+            light.vsmBias = p.vsm_bias;
+        }
+        if (p.light_size_scale !== undefined) {
+            light.penumbraSize = p.light_size_scale * penumbraSize(L, mapSize);
+            light.penumbraFalloff = p.penumbra_falloff;
+            light.shadowSamples = p.shadow_samples;
+            light.shadowBlockerSamples = p.shadow_blocker_samples;
+        }
+        app.root.addChild(entity);
+        return entity;
+    } catch (e) {
+        entity.destroy();
+        throw e;
+    }
+}
+
+// The light's map's texel over shadowbench's fitted map's at the same map
+// size, along the light's x and y (the request's window: l, r, b, t at
+// near). A spot's square map spans its outer cone; the sun's is the square
+// PlayCanvas fits about the view, 2 orthoHeight a side, read from its
+// shadow camera after a frame through accessors PlayCanvas marks internal
+// (LightComponent#light, CameraComponent#camera, Light#getRenderData: no
+// public one says the fit); null where they no longer say it.
+function texelRatio(L, entity, camera) {
+    const [l, r, b, t] = L.window;
+    let side;
+    if (L.kind === 'directional') {
+        const data = entity.light.light?.getRenderData?.(camera.camera, 0);
+        side = 2 * data?.shadowCamera?.orthoHeight;
     } else {
-        const k = spotCone(triangles, L);
-        if (!(k > 0))
-            throw new Error('nothing in front of the light for its cone to hold');
-        light.innerConeAngle = Math.atan(k) * DEG;
-        light.outerConeAngle = Math.atan(k * 1.001) * DEG;
-        light.range = 1.01 * L.far * Math.sqrt(1 + k * k);
+        side = 2 * Math.tan(entity.light.outerConeAngle / DEG) * L.near;
     }
-    if (p.bias !== undefined)
-        light.shadowBias = p.bias;
-    if (p.normal_bias !== undefined)
-        light.normalOffsetBias = p.normal_bias;
-    if (p.vsm_blur_size !== undefined) {
-        light.vsmBlurSize = p.vsm_blur_size;
-        light.vsmBlurMode = BLUR_MODES[p.vsm_blur_mode];
-        light.vsmBias = p.vsm_bias;
-    }
-    if (p.light_size_scale !== undefined) {
-        light.penumbraSize = p.light_size_scale * penumbraSize(L, mapSize);
-        light.penumbraFalloff = p.penumbra_falloff;
-        light.shadowSamples = p.shadow_samples;
-        light.shadowBlockerSamples = p.shadow_blocker_samples;
-    }
-    app.root.addChild(entity);
-    return entity;
+    return side > 0 && Number.isFinite(side) ? [side / (r - l), side / (t - b)] : null;
 }
 
 export async function render(req) {
-    if (!TYPES[req.technique])
-        throw new Error(`PlayCanvas has no technique ${req.technique}`);
-    const p = req.params, { width: w, height: h } = req;
-    const { camera, meshes, triangles } = await load(req.sceneUrl);
+    const L = req.light, p = req.params, { width: w, height: h } = req;
+    const type = shadowType(req.technique, p, L);
+    const { camera, meshes } = await load(req.sceneUrl);
     app.setCanvasResolution(pc.RESOLUTION_FIXED, w, h);
-    camera.enabled = true;
-    camera.aspectRatioMode = pc.ASPECT_MANUAL;
-    camera.aspectRatio = w / h;
-    camera.toneMapping = pc.TONEMAP_NONE;
-    camera.gammaCorrection = pc.GAMMA_NONE;
-    camera.clearColor = new pc.Color(1, -1, 0, 0);
-    const far = req.light.kind === 'directional' ? farthestSeen(triangles, camera, w / h) : 0;
-    const light = makeLight(req.light, p, req.technique, req.map_size, triangles, far);
-    const color = new pc.Texture(device, { name: 'sb-target', width: w, height: h, format: pc.PIXELFORMAT_RGBA32F,
-                                           mipmaps: false, minFilter: pc.FILTER_NEAREST, magFilter: pc.FILTER_NEAREST,
-                                           addressU: pc.ADDRESS_CLAMP_TO_EDGE, addressV: pc.ADDRESS_CLAMP_TO_EDGE });
-    const target = new pc.RenderTarget({ name: 'sb-target', colorBuffer: color, depth: true, stencil: false });
-    camera.renderTarget = target;
-    app.root.syncHierarchy();
-    const inverse = new pc.Mat4().mul2(camera.projectionMatrix, camera.viewMatrix).invert();
-    const eye = camera.entity.getPosition();
-    const use = (kind, receive) => {
-        for (const mi of meshes) {
-            const m = mi.sbMaterials[kind];
-            m.cull = p.shadow_side === 'engine' ? mi.sbFileCull : pc.CULLFACE_NONE;
-            m.setParameter('sbInverseViewProjection', inverse.data);
-            m.setParameter('sbSize', [w, h]);
-            m.setParameter('sbEye', [eye.x, eye.y, eye.z]);
-            mi.material = m;
-            mi.receiveShadow = receive;
-        }
-    };
-    const draw = () => {
-        app.update(0);
-        app.render();
-    };
-    const bind = () => device.setFramebuffer(target.impl._glFrameBuffer);
-    const pixel = readOnePixel(gl);
-    const wait = () => {
-        bind();
-        pixel();
-    };
     const rows = new Float32Array(w * h * 4), out = new Float32Array(w * h * req.outputs.length);
-    let ms = [];
+    let light = null, color = null, target = null, ms = [], texel_ratio = null;
     try {
+        camera.enabled = true;
+        camera.aspectRatioMode = pc.ASPECT_MANUAL;
+        camera.aspectRatio = w / h;
+        camera.toneMapping = pc.TONEMAP_NONE;
+        camera.gammaCorrection = pc.GAMMA_NONE;
+        camera.clearColor = new pc.Color(1, -1, 0, 0);
+        light = makeLight(L, p, type, req.map_size);
+        color = new pc.Texture(device, { name: 'sb-target', width: w, height: h, format: pc.PIXELFORMAT_RGBA32F,
+                                         mipmaps: false, minFilter: pc.FILTER_NEAREST,
+                                         magFilter: pc.FILTER_NEAREST, addressU: pc.ADDRESS_CLAMP_TO_EDGE,
+                                         addressV: pc.ADDRESS_CLAMP_TO_EDGE });
+        target = new pc.RenderTarget({ name: 'sb-target', colorBuffer: color, depth: true, stencil: false });
+        camera.renderTarget = target;
+        app.root.syncHierarchy();
+        const inverse = new pc.Mat4().mul2(camera.projectionMatrix, camera.viewMatrix).invert();
+        const eye = camera.entity.getPosition();
+        const use = (kind, receive) => {
+            for (const mi of meshes) {
+                const m = mi.sbMaterials[kind];
+                m.cull = p.shadow_side === 'engine' ? mi.sbFileCull : pc.CULLFACE_NONE;
+                m.setParameter('sbInverseViewProjection', inverse.data);
+                m.setParameter('sbSize', [w, h]);
+                m.setParameter('sbEye', [eye.x, eye.y, eye.z]);
+                mi.material = m;
+                mi.receiveShadow = receive;
+            }
+        };
+        const draw = () => {
+            app.update(0);
+            app.render();
+        };
+        /* the target's framebuffer, bound by hand: Texture#read, the public readback, is asynchronous (a
+         * pixel-pack buffer whose fence it polls every 16 ms), which a frame's time cannot wait on, and
+         * GraphicsDevice#setRenderTarget only records the target (updateBegin, which binds it, is internal) */
+        const bind = () => device.setFramebuffer(target.impl._glFrameBuffer);
+        const pixel = readOnePixel(gl);
+        const wait = () => {
+            bind();
+            pixel();
+        };
         for (let k = 0; k < req.outputs.length; k++) {
             const pass = outputPass(req.outputs[k]);
             use(pass.material, pass.receive);
@@ -417,14 +358,15 @@ export async function render(req) {
             gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT, rows);
             takeChannel(rows, w, h, 4, pass.channel, out, k * w * h);
         }
+        texel_ratio = texelRatio(L, light, camera);
     } finally {
         camera.renderTarget = null;
         camera.enabled = false;
-        target.destroy();
-        color.destroy();
-        light.destroy();
+        target?.destroy();
+        color?.destroy();
+        light?.destroy();
     }
-    return { version, renderer: rendererString(gl), ms, data: base64(out) };
+    return { version, renderer: rendererString(gl), ms, data: base64(out), ...(texel_ratio && { texel_ratio }) };
 }
 
 window.sbRender = render;
