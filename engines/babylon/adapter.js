@@ -54,7 +54,6 @@ class ShadowTerm extends BABYLON.MaterialPluginBase {
     constructor(material) {
         super(material, 'ShadowbenchShadowTerm', 200, { SB_SHADOW_TERM: false });
         this._enable(true);
-
     }
     getClassName() { return 'ShadowbenchShadowTerm'; }
     prepareDefines(defines) { defines.SB_SHADOW_TERM = true; }
@@ -146,7 +145,8 @@ function lightView(L) {
                                      dot(x), dot(y), dot(z), 1]);
 }
 
-function makeLight(scene, L, p, mapSize) {
+// The scene's light as Babylon's nearest light, its frustum shadowbench's.
+function makeLight(scene, L, p) {
     const eye = vec(L.eye), ahead = vec(L.z).negate();
     const light = L.kind === 'directional' ? new BABYLON.DirectionalLight('sb', ahead, scene)
                                            : new BABYLON.SpotLight('sb', eye, ahead, Math.PI * 0.99, 0, scene);
@@ -166,12 +166,15 @@ function makeLight(scene, L, p, mapSize) {
         const inverse = view.clone().invert();
         inverse.multiplyToRef(ours, result);
     };
-    const g = new BABYLON.ShadowGenerator(mapSize, light, true);
+    return light;
+}
+
+// The generator's biases; no darkness, no fade at the frustum's edge.
+function setGenerator(g, p) {
     g.bias = p.bias;
     g.normalBias = p.normal_bias;
     g.darkness = 0;
     g.frustumEdgeFalloff = 0;
-    return { light, generator: g };
 }
 
 // contactHardeningLightSizeUVRatio from the scene's light. Babylon's PCSS
@@ -189,11 +192,16 @@ function derivedRatio(L, minZ, maxZ) {
     return L.kind === 'directional' ? 0.5 * uv * range : 0.5 * uv * range / L.far;
 }
 
-function setFilter(g, light, technique, p, L) {
-    g.usePoissonSampling = g.usePercentageCloserFiltering = g.useContactHardeningShadow = false;
+// The cell's filter, checked before anything is created.
+function filterOf(technique) {
     const filter = FILTERS[technique];
     if (filter === undefined)
         throw new Error(`Babylon has no technique ${technique}`);
+    return filter;
+}
+
+function setFilter(g, light, filter, p, L) {
+    g.usePoissonSampling = g.usePercentageCloserFiltering = g.useContactHardeningShadow = false;
     if (filter === 'poisson')
         g.usePoissonSampling = true;
     else if (filter === 'pcf')
@@ -210,16 +218,9 @@ function setFilter(g, light, technique, p, L) {
 
 export async function render(req) {
     const p = req.params, { width: w, height: h } = req;
+    const filter = filterOf(req.technique);
     engine.setSize(w, h);
     const { scene, camera, meshes } = await load(req.sceneUrl);
-    const { light, generator } = makeLight(scene, req.light, p, req.map_size);
-    setFilter(generator, light, req.technique, p, req.light);
-    const map = generator.getShadowMap();
-    map.renderList = meshes;
-    const target = new BABYLON.RenderTargetTexture('sb-target', { width: w, height: h }, scene, false, true,
-                                                   BABYLON.Constants.TEXTURETYPE_FLOAT, false,
-                                                   BABYLON.Constants.TEXTURE_NEAREST_SAMPLINGMODE, true, false);
-    camera.outputRenderTarget = target;  /* the camera draws into the float target, not the canvas */
     const use = (kind, receive) => {
         for (const m of meshes) {
             m.material = m.sbMaterials[kind];
@@ -229,8 +230,18 @@ export async function render(req) {
         }
     };
     const out = new Float32Array(w * h * req.outputs.length);
-    let ms = [];
+    let light = null, generator = null, target = null, ms = [];
     try {
+        light = makeLight(scene, req.light, p);
+        generator = new BABYLON.ShadowGenerator(req.map_size, light, true);
+        setGenerator(generator, p);
+        setFilter(generator, light, filter, p, req.light);
+        const map = generator.getShadowMap();
+        map.renderList = meshes;
+        target = new BABYLON.RenderTargetTexture('sb-target', { width: w, height: h }, scene, false, true,
+                                                 BABYLON.Constants.TEXTURETYPE_FLOAT, false,
+                                                 BABYLON.Constants.TEXTURE_NEAREST_SAMPLINGMODE, true, false);
+        camera.outputRenderTarget = target;  /* the camera draws into the float target, not the canvas */
         /* the camera's matrices at this size (before its first frame, its cached ones are not) */
         camera.getViewMatrix(true).multiply(camera.getProjectionMatrix(true))
             .invertToRef(termUniforms.inverseViewProjection);
@@ -260,9 +271,9 @@ export async function render(req) {
         }
     } finally {
         camera.outputRenderTarget = null;
-        target.dispose();
-        generator.dispose();
-        light.dispose();
+        target?.dispose();
+        generator?.dispose();
+        light?.dispose();
     }
     return { version, renderer: rendererString(gl), ms, data: base64(out) };
 }
