@@ -13,13 +13,8 @@
 //
 // Filament's JS bindings reach one shadow type, PCF (View::setShadowType
 // and the soft and VSM options are not bound: techniques/filament.c), with
-// the light's ShadowOptions, which 1.53.4 binds but cannot pass: its
-// value_object has a field, `transform`, whose C++ type
-// (filament::math::quatf, a float quaternion) the bindings never register,
-// so LightManager.Builder.shadowOptions throws embind's UnboundTypeError.
-// The adapter supplies that one binding type and nothing else; Filament's
-// code, its glue's behaviour and every other binding are untouched
-// (loadFilament, supplyTransformType; docs/engines.md, "ShadowOptions").
+// the light's ShadowOptions, which 1.53.4 binds but cannot pass until the
+// one binding type they wait for is supplied (glue.js).
 //
 // The set-up choices a Filament user has to make, made as shadowbench's
 // own passes make them:
@@ -49,294 +44,18 @@
 //   towards the reflection) with Filament's own fit.
 //
 // Float readback: the view renders into a RenderTarget whose attachments
-// are an RGBA32F colour and a DEPTH32F texture. Filament's JS Renderer
-// cannot read them; the WebGL calls Filament makes are watched (which
-// texture has which format, which framebuffer holds which textures), and
-// after the frame the adapter reads that framebuffer with readPixels as
-// float, and the depth with a small WebGL2 pass of its own (depth -> camera
-// distance), every GL binding it touches restored (Filament caches GL
-// state). Filament's WebGL backend runs its commands in Engine.execute(),
-// on this thread, so the frame is complete when it returns.
+// are an RGBA32F colour and a DEPTH32F texture, which readback.js reads
+// (the colour as float, the depth as the camera distance).
 /* global Filament */
-import { base64, outputPass, rendererString, takeChannel, timeFrames } from '../common/page.js';
-
+import { base64, outputPass, readOnePixel, rendererString, takeChannel, timeFrames } from '../common/page.js';
+import { GLUE_DIR, SHADOW_OPTIONS, loadFilament } from './glue.js';
+import { distanceReader, readFramebuffer, watch } from './readback.js';
 
 let gl = null, engine = null, renderer = null, view = null, version = null, tracker = null, reader = null;
 let current = null;  // { url, asset, scene, camera, renderables }
 
-// Keeps, for each texture Filament allocates, its format and size, and
-// for each framebuffer, which textures are attached, with a sequence
-// number: the newest framebuffer holding a colour and a depth texture of
-// the asked formats and size is the RenderTarget's.
-function watch(ctx) {
-    const textures = new Map(), framebuffers = new Map();
-    let seq = 0;
-    const storage = ctx.texStorage2D;
-    ctx.texStorage2D = function (target, levels, format, w, h) {
-        storage.call(this, target, levels, format, w, h);
-        if (target === this.TEXTURE_2D)
-            textures.set(this.getParameter(this.TEXTURE_BINDING_2D), { format, w, h });
-    };
-    const attach = ctx.framebufferTexture2D;
-    ctx.framebufferTexture2D = function (target, attachment, textarget, texture, level) {
-        attach.call(this, target, attachment, textarget, texture, level);
-        const fb = this.getParameter(target === this.READ_FRAMEBUFFER ? this.READ_FRAMEBUFFER_BINDING
-                                                                        : this.DRAW_FRAMEBUFFER_BINDING);
-        if (!fb)
-            return;
-        const entry = framebuffers.get(fb) || {};
-        entry[attachment] = texture;
-        entry.seq = ++seq;
-        framebuffers.set(fb, entry);
-    };
-    return {
-        find(colorFormat, depthFormat, w, h) {
-            let best = null;
-            for (const [fb, e] of framebuffers) {
-                const c = textures.get(e[ctx.COLOR_ATTACHMENT0]), d = textures.get(e[ctx.DEPTH_ATTACHMENT]);
-                if (c && d && c.format === colorFormat && d.format === depthFormat && c.w === w && c.h === h &&
-                    d.w === w && d.h === h && ctx.isFramebuffer(fb) && (!best || e.seq > best.seq))
-                    best = { fb, depth: e[ctx.DEPTH_ATTACHMENT], seq: e.seq };
-            }
-            return best;
-        },
-    };
-}
-
-// Runs f with the GL state it may change saved first and restored after,
-// exactly (Filament's backend caches its bindings and enables).
-function withSavedState(f) {
-    const g = gl;
-    const enables = [g.BLEND, g.CULL_FACE, g.DEPTH_TEST, g.SCISSOR_TEST, g.STENCIL_TEST, g.POLYGON_OFFSET_FILL,
-                     g.RASTERIZER_DISCARD, g.SAMPLE_ALPHA_TO_COVERAGE, g.SAMPLE_COVERAGE, g.DITHER];
-    const saved = {
-        enabled: enables.map((e) => g.isEnabled(e)),
-        read: g.getParameter(g.READ_FRAMEBUFFER_BINDING), draw: g.getParameter(g.DRAW_FRAMEBUFFER_BINDING),
-        program: g.getParameter(g.CURRENT_PROGRAM), vao: g.getParameter(g.VERTEX_ARRAY_BINDING),
-        viewport: g.getParameter(g.VIEWPORT), mask: g.getParameter(g.COLOR_WRITEMASK),
-        active: g.getParameter(g.ACTIVE_TEXTURE), pack: g.getParameter(g.PIXEL_PACK_BUFFER_BINDING),
-        packs: [g.PACK_ALIGNMENT, g.PACK_ROW_LENGTH, g.PACK_SKIP_PIXELS, g.PACK_SKIP_ROWS].map((p) => [p, g.getParameter(p)]),
-    };
-    g.activeTexture(g.TEXTURE0);
-    saved.texture = g.getParameter(g.TEXTURE_BINDING_2D);
-    saved.sampler = g.getParameter(g.SAMPLER_BINDING);
-    try {
-        g.bindBuffer(g.PIXEL_PACK_BUFFER, null);
-        g.pixelStorei(g.PACK_ALIGNMENT, 4), g.pixelStorei(g.PACK_ROW_LENGTH, 0);
-        g.pixelStorei(g.PACK_SKIP_PIXELS, 0), g.pixelStorei(g.PACK_SKIP_ROWS, 0);
-        return f();
-    } finally {
-        g.bindTexture(g.TEXTURE_2D, saved.texture);
-        g.bindSampler(0, saved.sampler);
-        g.activeTexture(saved.active);
-        for (const [p, v] of saved.packs)
-            g.pixelStorei(p, v);
-        g.bindBuffer(g.PIXEL_PACK_BUFFER, saved.pack);
-        g.colorMask(...saved.mask);
-        g.viewport(...saved.viewport);
-        g.bindVertexArray(saved.vao);
-        g.useProgram(saved.program);
-        g.bindFramebuffer(g.READ_FRAMEBUFFER, saved.read);
-        g.bindFramebuffer(g.DRAW_FRAMEBUFFER, saved.draw);
-        enables.forEach((e, i) => (saved.enabled[i] ? g.enable(e) : g.disable(e)));
-    }
-}
-
-// The depth buffer holds Filament's reversed Z in [0, 1], 0.5 - 0.5 z/w of
-// the camera's GL projection P (Camera.getProjectionMatrix: an infinite far
-// plane, so d = near / view depth), so view depth is P[3][2] / (P[2][2] +
-// 1 - 2 d); the distance along the pixel centre's ray is that times the
-// ray's length per unit of view depth, as the ground truth measures it.
-// d = 0 is the cleared far plane: nothing seen.
-const DISTANCE_VS = `#version 300 es
-void main() { gl_Position = vec4(vec2(gl_VertexID & 1, gl_VertexID >> 1) * 4.0 - 1.0, 0.0, 1.0); }`;
-const DISTANCE_FS = `#version 300 es
-precision highp float;
-uniform highp sampler2D depth;
-uniform vec2 size, tanHalf, projection;
-out vec4 color;
-void main() {
-    float d = texelFetch(depth, ivec2(gl_FragCoord.xy), 0).r;
-    vec2 p = (2.0 * gl_FragCoord.xy / size - 1.0) * tanHalf;
-    float z = projection.y / (projection.x + 1.0 - 2.0 * d);
-    color = vec4(d > 0.0 ? z * sqrt(1.0 + dot(p, p)) : -1.0, 0.0, 0.0, 1.0);
-}`;
-
-// The depth -> distance pass: its program, sampler, and a float target per size.
-function distanceReader() {
-    const g = gl;
-    const shader = (type, text) => {
-        const s = g.createShader(type);
-        g.shaderSource(s, text);
-        g.compileShader(s);
-        if (!g.getShaderParameter(s, g.COMPILE_STATUS))
-            throw new Error(`the distance pass does not compile: ${g.getShaderInfoLog(s)}`);
-        return s;
-    };
-    const program = g.createProgram();
-    g.attachShader(program, shader(g.VERTEX_SHADER, DISTANCE_VS));
-    g.attachShader(program, shader(g.FRAGMENT_SHADER, DISTANCE_FS));
-    g.linkProgram(program);
-    if (!g.getProgramParameter(program, g.LINK_STATUS))
-        throw new Error(`the distance pass does not link: ${g.getProgramInfoLog(program)}`);
-    const at = (n) => g.getUniformLocation(program, n);
-    const uniforms = { depth: at('depth'), size: at('size'), tanHalf: at('tanHalf'), projection: at('projection') };
-    const sampler = g.createSampler();  /* a depth texture read as values: no comparison, nearest */
-    g.samplerParameteri(sampler, g.TEXTURE_COMPARE_MODE, g.NONE);
-    g.samplerParameteri(sampler, g.TEXTURE_MIN_FILTER, g.NEAREST);
-    g.samplerParameteri(sampler, g.TEXTURE_MAG_FILTER, g.NEAREST);
-    const vao = g.createVertexArray();
-    let target = null;
-    return (depth, w, h, cam, out) => withSavedState(() => {
-        if (!target || target.w !== w || target.h !== h) {
-            if (target)
-                g.deleteFramebuffer(target.fb), g.deleteTexture(target.tex);
-            const tex = g.createTexture();
-            g.bindTexture(g.TEXTURE_2D, tex);
-            g.texStorage2D(g.TEXTURE_2D, 1, g.R32F, w, h);
-            const fb = g.createFramebuffer();
-            g.bindFramebuffer(g.DRAW_FRAMEBUFFER, fb);
-            g.framebufferTexture2D(g.DRAW_FRAMEBUFFER, g.COLOR_ATTACHMENT0, g.TEXTURE_2D, tex, 0);
-            target = { w, h, tex, fb };
-        }
-        g.bindFramebuffer(g.DRAW_FRAMEBUFFER, target.fb);
-        for (const e of [g.BLEND, g.CULL_FACE, g.DEPTH_TEST, g.SCISSOR_TEST, g.STENCIL_TEST, g.RASTERIZER_DISCARD,
-                         g.SAMPLE_ALPHA_TO_COVERAGE, g.SAMPLE_COVERAGE, g.POLYGON_OFFSET_FILL])
-            g.disable(e);
-        g.colorMask(true, true, true, true);
-        g.viewport(0, 0, w, h);
-        g.useProgram(program);
-        g.bindVertexArray(vao);
-        g.bindTexture(g.TEXTURE_2D, depth);
-        g.bindSampler(0, sampler);
-        g.uniform1i(uniforms.depth, 0);
-        g.uniform2f(uniforms.size, w, h);
-        g.uniform2f(uniforms.tanHalf, cam.tanY * w / h, cam.tanY);
-        g.uniform2f(uniforms.projection, cam.p22, cam.p32);
-        g.drawArrays(g.TRIANGLES, 0, 3);
-        g.bindFramebuffer(g.READ_FRAMEBUFFER, target.fb);
-        g.readPixels(0, 0, w, h, g.RED, g.FLOAT, out);
-    });
-}
-
-// Reads the colour of framebuffer fb as float RGBA rows, bottom row first.
-function readColor(fb, x, y, w, h, out) {
-    withSavedState(() => {
-        gl.bindFramebuffer(gl.READ_FRAMEBUFFER, fb);
-        gl.readPixels(x, y, w, h, gl.RGBA, gl.FLOAT, out);
-    });
-}
-
-// Where the page finds Filament's glue (filament.js) and its wasm.
-const GLUE_DIR = '/engines/filament/node_modules/filament/';
-
-// The glue's embind type registration, a function of the Emscripten
-// closure that registers a binding type and completes whatever waits for
-// it. The one edit the adapter makes to the glue is to put it on the
-// module, before its definition (hoisted: the whole closure sees it).
-const REGISTER_TYPE = 'function registerType(rawType,registeredInstance,options={}){';
-const EXPOSE_REGISTER_TYPE = 'Module.sbRegisterType=registerType;';
-
-// Loads Filament's glue with registerType exposed (checked: it must be
-// found exactly once, or this is not the glue the adapter edits), as the
-// classic script it is, and initialises Filament.
-async function loadFilament() {
-    const text = await (await fetch(GLUE_DIR + 'filament.js')).text();
-    const found = text.split(REGISTER_TYPE).length - 1;
-    if (found !== 1)
-        throw new Error(`filament.js defines embind's registerType ${found} times, not once: not the glue this ` +
-                        'adapter edits');
-    const script = document.createElement('script');
-    script.text = text.replace(REGISTER_TYPE, () => EXPOSE_REGISTER_TYPE + REGISTER_TYPE);
-    document.head.appendChild(script);  /* a classic script runs as it is added */
-    const factory = window.Filament;
-    if (typeof factory !== 'function')
-        throw new Error('filament.js, edited, did not define Filament');
-    /* run from text, the glue has no script address (document.currentScript.src) to find its wasm beside:
-     * Emscripten's Module.locateFile says where */
-    window.Filament = Object.assign((module = {}) => factory({ ...module, locateFile: (file) => GLUE_DIR + file }),
-                                    factory);
-    await new Promise((resolve) => Filament.init([], resolve));
-}
-
-// Filament's ShadowOptions at its defaults (include/filament/LightManager.h
-// of 1.53.4, struct ShadowOptions; docs/engines.md), every field the JS
-// bindings register: embind passes a value_object whole (a missing field
-// throws), and the glue's own Filament.shadowOptions() leaves out lispsm,
-// shadowBulbRadius and transform. transform is the identity quaternion,
-// (x, y, z, w) = (0, 0, 0, 1); it turns a directional light's shadow
-// direction. Passed as they are, these render every pixel as no
-// ShadowOptions at all does (measured: docs/engines.md).
-const SHADOW_OPTIONS = Object.freeze({
-    mapSize: 1024, shadowCascades: 1, constantBias: 0.001, normalBias: 1, shadowFar: 0, shadowNearHint: 1,
-    shadowFarHint: 100, stable: false, lispsm: true, polygonOffsetConstant: 0.5, polygonOffsetSlope: 2,
-    screenSpaceContactShadows: false, stepCount: 8, maxShadowDistance: 0.3, shadowBulbRadius: 0.02,
-    transform: Object.freeze([0, 0, 0, 1]),
-});
-
-// Supplies the binding type ShadowOptions waits for. Which raw type that
-// is, embind's own UnboundTypeError says (its id: the bindings are built
-// without RTTI); the adapter goes on only when exactly one is unbound.
-// Registering it completes the value_object and replaces the methods left
-// as unbound-type throwers (Builder._shadowOptions,
-// LightManager._setShadowOptions). The type is a float quaternion (16
-// bytes; measured: of 16 floats written, the getter's copy brings back
-// the first 4, and the C++ struct ends there, 88 bytes; LightManager.h:
-// `math::quatf transform`), passed as embind's generic binding of an
-// unregistered class passes one: a pointer to a heap copy (the glue's
-// own __embind_register_value_object and simpleReadValueFromPointer).
-function supplyTransformType() {
-    const probe = () => {
-        const b = Filament.LightManager.Builder(Filament.LightManager$Type.DIRECTIONAL);
-        try {
-            b.shadowOptions(SHADOW_OPTIONS);
-            return null;
-        } catch (e) {
-            if (!(e instanceof Filament.UnboundTypeError))
-                throw e;
-            return e.message;
-        } finally {
-            b.delete();
-        }
-    };
-    const message = probe();
-    if (message === null)
-        return;  /* a build that binds it itself */
-    const m = /due to unbound types: (.*)$/.exec(message);
-    const types = m ? m[1].split(', ') : [];
-    if (types.length !== 1 || !/^0x[0-9a-f]+$/.test(types[0]))
-        throw new Error(`ShadowOptions waits for other binding types than one quaternion: ${message}`);
-    const M = Filament, QUAT_BYTES = 16;
-    M.sbRegisterType(parseInt(types[0], 16), {
-        name: 'filament::math::quatf',
-        argPackAdvance: 8,
-        /* to C++: a heap copy, freed once the call has copied it (the caller's destructors) */
-        toWireType(destructors, q) {
-            if (!Array.isArray(q) || q.length !== 4 || !q.every(Number.isFinite))
-                throw new TypeError('a quaternion is 4 numbers, (x, y, z, w)');
-            const p = M._malloc(QUAT_BYTES);
-            M.HEAPF32.set(q, p >> 2);  /* after _malloc, which may grow the heap */
-            destructors.push(M._free, p);
-            return p;
-        },
-        /* from C++: the getter's heap copy, read, then freed */
-        fromWireType(p) {
-            const q = Array.from(M.HEAPF32.subarray(p >> 2, (p >> 2) + 4));
-            M._free(p);
-            return q;
-        },
-        /* a 32-bit pointer, as the glue's simpleReadValueFromPointer reads one */
-        readValueFromPointer(pointer) { return this.fromWireType(M.HEAP32[pointer >> 2]); },
-        destructorFunction: null,
-    });
-    const still = probe();
-    if (still !== null)
-        throw new Error(`ShadowOptions still cannot be passed: ${still}`);
-}
-
 export async function install() {
     await loadFilament();
-    supplyTransformType();
     const pkg = await (await fetch(GLUE_DIR + 'package.json')).json();
     version = pkg.version;
     const canvas = document.getElementById('canvas');
@@ -357,7 +76,7 @@ export async function install() {
     view.setPostProcessingEnabled(false);
     view.setAntiAliasing(Filament.View$AntiAliasing.NONE);
     view.setAmbientOcclusion(Filament.View$AmbientOcclusion.NONE);
-    reader = distanceReader();
+    reader = distanceReader(gl);
 }
 
 // The asset's scene: its renderables, not its lights; gltfio's material
@@ -529,8 +248,8 @@ export async function render(req) {
                 throw new Error("the RenderTarget's WebGL framebuffer was not found");
         }
     };
-    const pixel = new Float32Array(4);
-    const wait = () => readColor(gpu.fb, 0, 0, 1, 1, pixel);
+    const pixel = readOnePixel(gl);
+    const wait = () => readFramebuffer(gl, gpu.fb, pixel);
     const n = w * h;
     const rows = { lit: null, unlit: null, distance: null };
     const want = new Set(req.outputs);
@@ -551,7 +270,7 @@ export async function render(req) {
             if (k === 0)
                 ms = timeFrames(draw, wait, req.warmup, req.frames);
             rows[renders[k]] = new Float32Array(n * 4);
-            readColor(gpu.fb, 0, 0, w, h, rows[renders[k]]);
+            readFramebuffer(gl, gpu.fb, () => gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT, rows[renders[k]]));
             if (k === 0 && want.has('distance')) {
                 rows.distance = new Float32Array(n);
                 reader(gpu.depth, w, h, cam, rows.distance);
