@@ -28,18 +28,20 @@
 //   (shadow_side=engine: gltfio's single-sided default, back faces culled);
 // - flat normals where the file has none: gltfio computes them;
 // - the file's camera (gltfio's): its vertical field of view, aspect W/H,
-//   its near plane, its far plane at the scene's farthest corner, exposure
-//   exactly 1 (setExposureDirect; Filament's default is a physical
-//   camera), GL's pixel centres;
+//   its near plane, its far plane at the farthest view depth it sees (the
+//   request's view_far, 1 % beyond: Filament's sun map covers the view to
+//   it), exposure exactly 1 (setExposureDirect; Filament's default is a
+//   physical camera), GL's pixel centres;
 // - no indirect light (an IndirectLight of intensity 0 and zero irradiance:
 //   without one Filament lights with a default), no post-processing (no
 //   tone mapping, no sRGB encoding, no dithering, no AA), no SSAO, no fog,
 //   no screen-space contact shadows (Filament's defaults);
-// - an area light becomes a SPOT at its centre along its -Z, whose outer
-//   cone is the smallest around that axis that holds shadowbench's fitted
-//   window (Filament's spot map is the square around the cone:
-//   ShadowMap::updatePunctual), its inner cone just inside it, its falloff
-//   radius (the map's far plane) the fitted frustum's farthest corner;
+// - an area light becomes a SPOT at its centre along its -Z, whose inner
+//   cone is the smallest around that axis that holds the scene inside
+//   shadowbench's fitted window (the request's cone_tan; Filament's spot
+//   map is the square around the outer cone, 0.1 % wider in tangent:
+//   ShadowMap::updatePunctual), its falloff radius (the map's far plane)
+//   the fitted far plane's farthest point in the cone, 1 % beyond;
 // - a sun becomes a DIRECTIONAL light (a SUN would bend the light direction
 //   towards the reflection) with Filament's own fit.
 //
@@ -136,8 +138,6 @@ function unload() {
     current = null;
 }
 
-const sub = (a, b) => [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-
 // The cell's ShadowOptions: Filament's defaults, and the cell's parameters
 // under Filament's names (techniques/filament.c); the map mapSize texels a
 // side, which Filament clamps to [8, 2048] (LightManager::setShadowOptions).
@@ -146,6 +146,9 @@ function shadowOptions(p, mapSize) {
              polygonOffsetConstant: p.polygon_offset_constant, polygonOffsetSlope: p.polygon_offset_slope,
              lispsm: p.lispsm, stable: p.stable };
 }
+
+// The outer cone's tangent over the inner's.
+const OUTER_CONE = 1.001;
 
 // The scene's light as Filament's nearest light, casting shadows with options.
 function makeLight(L, options) {
@@ -156,17 +159,16 @@ function makeLight(L, options) {
         /* illuminance pi lux: a white Lambertian surface facing the light is 1 */
         b = Filament.LightManager.Builder(Filament.LightManager$Type.DIRECTIONAL).intensity(Math.PI);
     } else {
-        const [l, r, bt, t] = L.window;
-        /* the window's farthest corner from the axis: the cone holds the window */
-        const corner = Math.hypot(Math.max(-l, r), Math.max(-bt, t));
-        const outer = Math.atan(corner / L.near);
-        /* the light reaches the fitted far plane's farthest corner, a little beyond (the least that lights
-         * every scored point; ShadowMap::updateSpot, as read, also ends the map there) */
-        const radius = L.far * Math.hypot(1, corner / L.near) * 1.01;
+        /* the smallest cone about the axis that holds the scene inside the fitted window (the request's), the
+         * outer 0.1 % wider in tangent, so that smoothstep's fall lies outside it */
+        const k = L.cone_tan;
+        /* the light reaches the fitted far plane's farthest point in that cone, 1 % beyond (the least that
+         * lights every scored point; ShadowMap::updateSpot, as read, also ends the map there) */
+        const radius = 1.01 * L.far * Math.sqrt(1 + k * k);
         /* SPOT: lumens / pi candela; a white Lambertian surface facing it at the frustum's middle depth is 1 */
         const middle = 0.5 * (L.near + L.far);
         b = Filament.LightManager.Builder(Filament.LightManager$Type.SPOT)
-            .position(L.eye).falloff(radius).spotLightCone(outer * 0.999, outer)
+            .position(L.eye).falloff(radius).spotLightCone(Math.atan(k), Math.atan(k * OUTER_CONE))
             .intensity(Math.PI * Math.PI * middle * middle);
     }
     b.direction(ahead).color([1, 1, 1]).castShadows(true).shadowOptions(options);
@@ -174,27 +176,23 @@ function makeLight(L, options) {
     return entity;
 }
 
-// Filament's JS bindings (npm filament 1.53.4) bind neither View::setShadowType
-// nor its soft or VSM options: a light's shadow is PCF, whatever the page asks.
-function checkTechnique(technique) {
-    if (technique !== 'filament_pcf')
-        throw new Error(`Filament has no technique ${technique}`);
-}
-
-// The distance from eye to the farthest corner of box, a little beyond.
-function farthestCorner(box, eye) {
-    let d = 0;
-    for (let k = 0; k < 8; k++) {
-        const c = [k & 1 ? box.max[0] : box.min[0], k & 2 ? box.max[1] : box.min[1], k & 4 ? box.max[2] : box.min[2]];
-        d = Math.max(d, Math.hypot(c[0] - eye[0], c[1] - eye[1], c[2] - eye[2]));
-    }
-    return 1.01 * d;
+// What the cell asks, checked before anything is made. Filament's JS
+// bindings (npm filament 1.53.4) bind neither View::setShadowType nor its
+// soft or VSM options: a light's shadow is PCF, whatever the page asks.
+function check(req) {
+    const L = req.light;
+    if (req.technique !== 'filament_pcf')
+        throw new Error(`Filament has no technique ${req.technique}`);
+    if (!(L.view_far > 0))
+        throw new Error('the camera sees no geometry');
+    if (L.kind !== 'directional' && !(L.cone_tan > 0))
+        throw new Error('nothing in front of the light for its cone to hold');
 }
 
 export async function render(req) {
     const { width: w, height: h } = req;
+    check(req);
     const { scene, camera, renderables } = await load(req.sceneUrl);
-    checkTechnique(req.technique);
     /* shadow_side: both faces (double-sided, not culled), or gltfio's default for glTF's default material
      * (single-sided, back faces culled, into the map too) */
     const both = req.params.shadow_side !== 'engine';
@@ -202,11 +200,11 @@ export async function render(req) {
         mi.setDoubleSided(both);
         mi.setCullingMode(both ? Filament.CullingMode.NONE : Filament.CullingMode.BACK);
     }
-    /* the file's vertical field of view, aspect W/H; the far plane at the scene's farthest corner: gltfio's
-     * for a file with no zfar is 1e8, with which Filament's directional shadow, fitted to the view
-     * frustum's far end (shadowFar 0), casts nothing */
-    const far = farthestCorner(current.asset.getBoundingBox(), camera.getPosition());
-    camera.setProjectionFov(360 / Math.PI * Math.atan(current.tanY), w / h, current.near, far,
+    /* the file's vertical field of view, aspect W/H; the far plane at the farthest view depth the camera
+     * sees (the request's), 1 % beyond: Filament's directional shadow covers the view frustum to its far
+     * plane (shadowFar 0), as shadowbench's own sun fit covers what the camera sees (gltfio's far plane for
+     * a file with no zfar, 1e8, leaves it casting nothing) */
+    camera.setProjectionFov(360 / Math.PI * Math.atan(current.tanY), w / h, current.near, 1.01 * req.light.view_far,
                             Filament.Camera$Fov.VERTICAL);
     const P = camera.getProjectionMatrix();
     const cam = { tanY: current.tanY, p22: P[10], p32: P[14] };
@@ -295,7 +293,21 @@ export async function render(req) {
         else
             throw new Error(`no output ${what}`);
     });
-    return { version, renderer: rendererString(gl), ms, data: base64(out) };
+    const texel_ratio = texelRatio(req.light, req.map_size);
+    return { version, renderer: rendererString(gl), ms, data: base64(out), ...(texel_ratio && { texel_ratio }) };
+}
+
+// A spot's map's texel over shadowbench's fitted map's at the same map size
+// M, along the light's x and y: the square around the outer cone against
+// the window [l, r] x [b, t] at near, drawn into M - 2 texels of M
+// (Filament keeps a 1-texel border). The sun's has none: LiSPSM warps its
+// map, whose texel then depends on depth.
+function texelRatio(L, mapSize) {
+    if (L.kind === 'directional')
+        return null;
+    const [l, r, b, t] = L.window;
+    const side = 2 * L.cone_tan * OUTER_CONE * L.near * mapSize / (mapSize - 2);
+    return [side / (r - l), side / (t - b)];
 }
 
 // lit / unlit per pixel (red channel: the light and material are white);
