@@ -138,9 +138,14 @@ function unload() {
     current = null;
 }
 
+// The largest shadow map Filament draws: LightManager::setShadowOptions
+// clamps mapSize to [8, 2048], silently (techniques/filament.c refuses a
+// map_size under 8; a run's --shadow-map-size reaches here as it is).
+const MAX_MAP_SIZE = 2048;
+
 // The cell's ShadowOptions: Filament's defaults, and the cell's parameters
 // under Filament's names (techniques/filament.c); the map mapSize texels a
-// side, which Filament clamps to [8, 2048] (LightManager::setShadowOptions).
+// side.
 function shadowOptions(p, mapSize) {
     return { ...SHADOW_OPTIONS, mapSize, constantBias: p.constant_bias, normalBias: p.normal_bias,
              polygonOffsetConstant: p.polygon_offset_constant, polygonOffsetSlope: p.polygon_offset_slope,
@@ -183,6 +188,8 @@ function check(req) {
     const L = req.light;
     if (req.technique !== 'filament_pcf')
         throw new Error(`Filament has no technique ${req.technique}`);
+    if (req.map_size > MAX_MAP_SIZE)
+        throw new Error(`Filament draws shadow maps of at most ${MAX_MAP_SIZE} texels a side, not ${req.map_size}`);
     if (!(L.view_far > 0))
         throw new Error('the camera sees no geometry');
     if (L.kind !== 'directional' && !(L.cone_tan > 0))
