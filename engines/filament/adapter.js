@@ -54,7 +54,8 @@ import { GLUE_DIR, SHADOW_OPTIONS, loadFilament } from './glue.js';
 import { distanceReader, readFramebuffer, watch } from './readback.js';
 
 let gl = null, engine = null, renderer = null, view = null, version = null, tracker = null, reader = null;
-let current = null;  // { url, asset, scene, camera, renderables }
+let loader = null;  // gltfio's asset loader, one for the page's life
+let current = null;  // { url, asset, scene, ibl, renderables, materials, camera, near, tanY }
 
 export async function install() {
     await loadFilament();
@@ -78,63 +79,85 @@ export async function install() {
     view.setPostProcessingEnabled(false);
     view.setAntiAliasing(Filament.View$AntiAliasing.NONE);
     view.setAmbientOcclusion(Filament.View$AmbientOcclusion.NONE);
+    /* one asset loader, as Filament's glue asks (createAssetLoader): each makes its own material provider,
+     * whose materials live as long as it does */
+    loader = engine.createAssetLoader();
     reader = distanceReader(gl);
 }
 
+// Runs make(builder), which ends in the builder's build(). The glue's
+// build() deletes the builder (filament.js: the Builder prototypes' build);
+// one that a call before it throws on is deleted here.
+function build(builder, make) {
+    try {
+        return make(builder);
+    } catch (e) {
+        builder.delete();
+        throw e;
+    }
+}
+
 // The asset's scene: its renderables, not its lights; gltfio's material
-// instances made white, fully rough dielectrics, double-sided.
+// instances made white, fully rough dielectrics, double-sided. What it has
+// made is released if a step after it throws (a scene with no camera).
 async function load(url) {
     if (current && current.url === url)
         return current;
     if (current)
         unload();
-    const loader = engine.createAssetLoader();
     const bytes = new Uint8Array(await (await fetch(url)).arrayBuffer());
     const asset = loader.createAsset(bytes);
     if (!asset)
         throw new Error('gltfio cannot read the scene file');
-    await new Promise((resolve) => asset.loadResources(resolve, null, url, 1));
-    const cameras = asset.getCameraEntities();
-    if (!cameras.length)
-        throw new Error('the scene has no camera');
-    const scene = engine.createScene();
-    const rm = engine.getRenderableManager();
-    const renderables = asset.getRenderableEntities();
-    for (const e of renderables) {
-        scene.addEntity(e);
-        const inst = rm.getInstance(e);
-        for (let k = 0, n = rm.getPrimitiveCount(inst); k < n; k++) {
-            const mi = rm.getMaterialInstanceAt(inst, k);
-            mi.setFloat4Parameter('baseColorFactor', [1, 1, 1, 1]);
-            mi.setFloatParameter('metallicFactor', 0);
-            mi.setFloatParameter('roughnessFactor', 1);
-            mi.setFloat3Parameter('emissiveFactor', [0, 0, 0]);
+    const made = { asset, scene: null, ibl: null };
+    try {
+        await new Promise((resolve) => asset.loadResources(resolve, null, url, 1));
+        const cameras = asset.getCameraEntities();
+        if (!cameras.length)
+            throw new Error('the scene has no camera');
+        const scene = made.scene = engine.createScene();
+        const rm = engine.getRenderableManager();
+        const renderables = asset.getRenderableEntities();
+        const materials = [];
+        for (const e of renderables) {
+            scene.addEntity(e);
+            const inst = rm.getInstance(e);
+            for (let k = 0, n = rm.getPrimitiveCount(inst); k < n; k++) {
+                const mi = rm.getMaterialInstanceAt(inst, k);
+                mi.setFloat4Parameter('baseColorFactor', [1, 1, 1, 1]);
+                mi.setFloatParameter('metallicFactor', 0);
+                mi.setFloatParameter('roughnessFactor', 1);
+                mi.setFloat3Parameter('emissiveFactor', [0, 0, 0]);
+                materials.push(mi);
+            }
+            inst.delete();
         }
-        inst.delete();
+        /* no indirect light: Filament lights a scene without one with a default */
+        made.ibl = build(Filament.IndirectLight.Builder(),
+                         (b) => b.irradianceSh(1, new Float32Array([0, 0, 0])).intensity(0).build(engine));
+        scene.setIndirectLight(made.ibl);
+        const camera = engine.getCameraComponent(cameras[0]);
+        /* the file's near plane and yfov, as gltfio set them (its [1][1] is 1 / tan(yfov / 2)) */
+        current = { url, ...made, renderables, materials, camera, near: camera.getNear(),
+                    tanY: 1 / camera.getCullingProjectionMatrix()[5] };
+        return current;
+    } catch (e) {
+        release(made);
+        throw e;
     }
-    /* no indirect light: Filament lights a scene without one with a default */
-    const ibl = Filament.IndirectLight.Builder().irradianceSh(1, new Float32Array([0, 0, 0])).intensity(0)
-        .build(engine);
-    scene.setIndirectLight(ibl);
-    const camera = engine.getCameraComponent(cameras[0]);
-    /* the file's near plane and yfov, as gltfio set them (its [1][1] is 1 / tan(yfov / 2)) */
-    const materials = [];
-    for (const e of renderables) {
-        const inst = rm.getInstance(e);
-        for (let k = 0, n = rm.getPrimitiveCount(inst); k < n; k++)
-            materials.push(rm.getMaterialInstanceAt(inst, k));
-        inst.delete();
-    }
-    current = { url, loader, asset, scene, ibl, renderables, materials, camera, near: camera.getNear(),
-                tanY: 1 / camera.getCullingProjectionMatrix()[5] };
-    return current;
+}
+
+// Releases what load() made of a scene.
+function release({ asset, scene, ibl }) {
+    if (scene)
+        engine.destroyScene(scene);
+    if (ibl)
+        engine.destroyIndirectLight(ibl);
+    loader.destroyAsset(asset);
 }
 
 function unload() {
-    engine.destroyScene(current.scene);
-    engine.destroyIndirectLight(current.ibl);
-    current.loader.destroyAsset(current.asset);
-    current.loader.delete();
+    release(current);
     current = null;
 }
 
@@ -155,30 +178,45 @@ function shadowOptions(p, mapSize) {
 // The outer cone's tangent over the inner's.
 const OUTER_CONE = 1.001;
 
-// The scene's light as Filament's nearest light, casting shadows with options.
+// The scene's light as Filament's nearest light, casting shadows with
+// options: its entity, released if Filament refuses the light.
 function makeLight(L, options) {
-    const entity = Filament.EntityManager.get().create();
     const ahead = [-L.z[0], -L.z[1], -L.z[2]];
-    let b;
-    if (L.kind === 'directional') {
-        /* illuminance pi lux: a white Lambertian surface facing the light is 1 */
-        b = Filament.LightManager.Builder(Filament.LightManager$Type.DIRECTIONAL).intensity(Math.PI);
-    } else {
-        /* the smallest cone about the axis that holds the scene inside the fitted window (the request's), the
-         * outer 0.1 % wider in tangent, so that smoothstep's fall lies outside it */
-        const k = L.cone_tan;
-        /* the light reaches the fitted far plane's farthest point in that cone, 1 % beyond (the least that
-         * lights every scored point; ShadowMap::updateSpot, as read, also ends the map there) */
-        const radius = 1.01 * L.far * Math.sqrt(1 + k * k);
-        /* SPOT: lumens / pi candela; a white Lambertian surface facing it at the frustum's middle depth is 1 */
-        const middle = 0.5 * (L.near + L.far);
-        b = Filament.LightManager.Builder(Filament.LightManager$Type.SPOT)
-            .position(L.eye).falloff(radius).spotLightCone(Math.atan(k), Math.atan(k * OUTER_CONE))
-            .intensity(Math.PI * Math.PI * middle * middle);
+    const sun = L.kind === 'directional';
+    const entity = Filament.EntityManager.get().create();
+    try {
+        build(Filament.LightManager.Builder(sun ? Filament.LightManager$Type.DIRECTIONAL
+                                                : Filament.LightManager$Type.SPOT), (b) => {
+            if (sun) {
+                /* illuminance pi lux: a white Lambertian surface facing the light is 1 */
+                b.intensity(Math.PI);
+            } else {
+                /* the smallest cone about the axis that holds the scene inside the fitted window (the
+                 * request's), the outer 0.1 % wider in tangent, so that smoothstep's fall lies outside it */
+                const k = L.cone_tan;
+                /* the light reaches the fitted far plane's farthest point in that cone, 1 % beyond (the least
+                 * that lights every scored point; ShadowMap::updateSpot, as read, also ends the map there) */
+                const radius = 1.01 * L.far * Math.sqrt(1 + k * k);
+                /* SPOT: lumens / pi candela; a white Lambertian surface facing it at the frustum's middle
+                 * depth is 1 */
+                const middle = 0.5 * (L.near + L.far);
+                b.position(L.eye).falloff(radius).spotLightCone(Math.atan(k), Math.atan(k * OUTER_CONE))
+                    .intensity(Math.PI * Math.PI * middle * middle);
+            }
+            return b.direction(ahead).color([1, 1, 1]).castShadows(true).shadowOptions(options).build(engine, entity);
+        });
+        return entity;
+    } catch (e) {
+        destroyLight(entity);
+        throw e;
     }
-    b.direction(ahead).color([1, 1, 1]).castShadows(true).shadowOptions(options);
-    b.build(engine, entity);
-    return entity;
+}
+
+// Destroys a light: its component, its entity, and the entity's JS handle.
+function destroyLight(entity) {
+    engine.destroyEntity(entity);
+    Filament.EntityManager.get().destroy(entity);
+    entity.delete();
 }
 
 // What the cell asks, checked before anything is made. Filament's JS
@@ -220,20 +258,6 @@ export async function render(req) {
     view.setScene(scene);
     view.setViewport([0, 0, w, h]);
 
-    const light = makeLight(req.light, shadowOptions(req.params, req.map_size));
-    scene.addEntity(light);
-    const Tex = Filament.Texture, U = Filament.Texture$Usage;
-    const color = Tex.Builder().width(w).height(h).levels(1).sampler(Filament.Texture$Sampler.SAMPLER_2D)
-        .format(Filament.Texture$InternalFormat.RGBA32F).usage(U.COLOR_ATTACHMENT.value | U.SAMPLEABLE.value)
-        .build(engine);
-    const depth = Tex.Builder().width(w).height(h).levels(1).sampler(Filament.Texture$Sampler.SAMPLER_2D)
-        .format(Filament.Texture$InternalFormat.DEPTH32F).usage(U.DEPTH_ATTACHMENT.value | U.SAMPLEABLE.value)
-        .build(engine);
-    const target = Filament.RenderTarget.Builder().texture(Filament.RenderTarget$AttachmentPoint.COLOR, color)
-        .texture(Filament.RenderTarget$AttachmentPoint.DEPTH, depth).build(engine);
-    view.setRenderTarget(target);
-    renderer.setClearOptions({ clearColor: [0, 0, 0, 0], clear: true, discard: true });
-
     const rm = engine.getRenderableManager();
     const receive = (on) => {
         for (const e of renderables) {
@@ -266,8 +290,20 @@ export async function render(req) {
         renders.push('unlit');
     if (!renders.length)
         renders.push('lit');
-    let ms = [];
+    const Tex = Filament.Texture, U = Filament.Texture$Usage, A = Filament.RenderTarget$AttachmentPoint;
+    const texture = (format, usage) => build(Tex.Builder(), (b) => b.width(w).height(h).levels(1)
+        .sampler(Filament.Texture$Sampler.SAMPLER_2D).format(format).usage(usage.value | U.SAMPLEABLE.value)
+        .build(engine));
+    let light = null, color = null, depth = null, target = null, ms = [];
     try {
+        light = makeLight(req.light, shadowOptions(req.params, req.map_size));
+        scene.addEntity(light);
+        color = texture(Filament.Texture$InternalFormat.RGBA32F, U.COLOR_ATTACHMENT);
+        depth = texture(Filament.Texture$InternalFormat.DEPTH32F, U.DEPTH_ATTACHMENT);
+        target = build(Filament.RenderTarget.Builder(),
+                       (b) => b.texture(A.COLOR, color).texture(A.DEPTH, depth).build(engine));
+        view.setRenderTarget(target);
+        renderer.setClearOptions({ clearColor: [0, 0, 0, 0], clear: true, discard: true });
         for (let k = 0; k < renders.length; k++) {
             receive(outputPass(renders[k]).receive);
             draw();  /* untimed: programs compiled, the shadow map allocated */
@@ -281,13 +317,18 @@ export async function render(req) {
                 reader(gpu.depth, w, h, cam, rows.distance);
             }
         }
-    } finally {
+    } finally {  /* what was made, in the reverse order */
         view.setRenderTarget(null);
-        engine.destroyRenderTarget(target);
-        engine.destroyTexture(color);
-        engine.destroyTexture(depth);
-        scene.remove(light);
-        engine.destroyEntity(light);
+        if (target)
+            engine.destroyRenderTarget(target);
+        if (depth)
+            engine.destroyTexture(depth);
+        if (color)
+            engine.destroyTexture(color);
+        if (light) {
+            scene.remove(light);
+            destroyLight(light);
+        }
     }
     const out = new Float32Array(n * req.outputs.length);
     req.outputs.forEach((what, k) => {

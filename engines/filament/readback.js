@@ -11,9 +11,9 @@
 
 // Watches ctx (before Filament gets it): for each texture Filament
 // allocates, its format and size, and for each framebuffer, which textures
-// are attached, with a sequence number. find() gives the newest
-// framebuffer holding a colour and a depth texture of the asked formats
-// and size: the RenderTarget's.
+// are attached, with a sequence number; a deleted texture or framebuffer
+// is forgotten. find() gives the newest framebuffer holding a colour and a
+// depth texture of the asked formats and size: the RenderTarget's.
 export function watch(ctx) {
     const textures = new Map(), framebuffers = new Map();
     let seq = 0;
@@ -35,13 +35,23 @@ export function watch(ctx) {
         entry.seq = ++seq;
         framebuffers.set(fb, entry);
     };
+    const deleteTexture = ctx.deleteTexture;
+    ctx.deleteTexture = function (texture) {
+        deleteTexture.call(this, texture);
+        textures.delete(texture);
+    };
+    const deleteFramebuffer = ctx.deleteFramebuffer;
+    ctx.deleteFramebuffer = function (fb) {
+        deleteFramebuffer.call(this, fb);
+        framebuffers.delete(fb);
+    };
     return {
         find(colorFormat, depthFormat, w, h) {
             let best = null;
             for (const [fb, e] of framebuffers) {
                 const c = textures.get(e[ctx.COLOR_ATTACHMENT0]), d = textures.get(e[ctx.DEPTH_ATTACHMENT]);
                 if (c && d && c.format === colorFormat && d.format === depthFormat && c.w === w && c.h === h &&
-                    d.w === w && d.h === h && ctx.isFramebuffer(fb) && (!best || e.seq > best.seq))
+                    d.w === w && d.h === h && (!best || e.seq > best.seq))
                     best = { fb, depth: e[ctx.DEPTH_ATTACHMENT], seq: e.seq };
             }
             return best;
