@@ -97,6 +97,48 @@ function build(builder, make) {
     }
 }
 
+// Loads the asset's resources: its files (buffers, images) fetched here,
+// each that fails to load one line at once, and handed with the data: URIs
+// (which gltfio decodes itself) to a ResourceLoader, with the glue's image
+// decoders (PNG and JPEG, KTX2), all deleted after. The glue's own
+// asset.loadResources never calls back when a fetch fails (Filament.fetch
+// has no failure path: the cell waited for the engine timeout), and keeps
+// for the page's life a copy of every URI (getResourceUris' vector: a data:
+// URI is as large as its buffer, 2 MB for the bunny each load), the decoded
+// files (Filament.assets) and its KTX2 decoder.
+async function loadResources(asset, url) {
+    const list = asset._getResourceUris(), uris = [];
+    for (let i = 0; i < list.size(); i++)
+        uris.push(list.get(i));
+    list.delete();
+    const files = uris.filter((uri) => !uri.startsWith('data:'));
+    const data = await Promise.all(files.map(async (uri) => {
+        const response = await fetch(new URL(uri, url)).catch((e) => ({ ok: false, statusText: e.message }));
+        if (!response.ok)
+            throw new Error(`the scene's resource ${uri} did not load (${response.status ? `HTTP ${response.status}`
+                                                                                      : response.statusText})`);
+        return new Uint8Array(await response.arrayBuffer());
+    }));
+    const resources = new Filament.gltfio$ResourceLoader(engine, true);  /* normalizeSkinningWeights, the glue's */
+    const stb = new Filament.gltfio$StbProvider(engine), ktx2 = new Filament.gltfio$Ktx2Provider(engine);
+    try {
+        resources.addStbProvider('image/jpeg', stb);
+        resources.addStbProvider('image/png', stb);
+        resources.addKtx2Provider('image/ktx2', ktx2);
+        files.forEach((uri, k) => {
+            const buffer = Filament.Buffer(data[k]);
+            resources.addResourceData(uri, buffer);
+            buffer.delete();
+        });
+        if (!resources.loadResources(asset))
+            throw new Error("gltfio cannot load the scene's resources");
+    } finally {
+        resources.delete();
+        stb.delete();
+        ktx2.delete();
+    }
+}
+
 // The asset's scene: its renderables, not its lights; gltfio's material
 // instances made white, fully rough dielectrics, double-sided. What it has
 // made is released if a step after it throws (a scene with no camera).
@@ -105,13 +147,15 @@ async function load(url) {
         return current;
     if (current)
         unload();
-    const bytes = new Uint8Array(await (await fetch(url)).arrayBuffer());
-    const asset = loader.createAsset(bytes);
+    const response = await fetch(url);
+    if (!response.ok)
+        throw new Error(`the scene file did not load (HTTP ${response.status})`);
+    const asset = loader.createAsset(new Uint8Array(await response.arrayBuffer()));
     if (!asset)
         throw new Error('gltfio cannot read the scene file');
     const made = { asset, scene: null, ibl: null };
     try {
-        await new Promise((resolve) => asset.loadResources(resolve, null, url, 1));
+        await loadResources(asset, url);
         const cameras = asset.getCameraEntities();
         if (!cameras.length)
             throw new Error('the scene has no camera');
