@@ -219,8 +219,16 @@ function shadowOptions(p, mapSize) {
              lispsm: p.lispsm, stable: p.stable };
 }
 
-// The outer cone's tangent over the inner's.
-const OUTER_CONE = 1.001;
+// Where a spot reaches: its cone, the smallest about its axis that holds
+// the scene inside shadowbench's fitted window (the request's cone_tan),
+// the outer 0.1 % wider in tangent, so that smoothstep's fall lies outside
+// every scored point; its falloff radius, the fitted far plane's farthest
+// point in that cone, 1 % beyond (the least that lights every scored point;
+// ShadowMap::updateSpot, as read, also ends the map there).
+function spotReach(L) {
+    const k = L.cone_tan;
+    return { inner: k, outer: 1.001 * k, radius: 1.01 * L.far * Math.sqrt(1 + k * k) };
+}
 
 // The scene's light as Filament's nearest light, casting shadows with
 // options: its entity, released if Filament refuses the light.
@@ -235,16 +243,11 @@ function makeLight(L, options) {
                 /* illuminance pi lux: a white Lambertian surface facing the light is 1 */
                 b.intensity(Math.PI);
             } else {
-                /* the smallest cone about the axis that holds the scene inside the fitted window (the
-                 * request's), the outer 0.1 % wider in tangent, so that smoothstep's fall lies outside it */
-                const k = L.cone_tan;
-                /* the light reaches the fitted far plane's farthest point in that cone, 1 % beyond (the least
-                 * that lights every scored point; ShadowMap::updateSpot, as read, also ends the map there) */
-                const radius = 1.01 * L.far * Math.sqrt(1 + k * k);
+                const reach = spotReach(L);
                 /* SPOT: lumens / pi candela; a white Lambertian surface facing it at the frustum's middle
                  * depth is 1 */
                 const middle = 0.5 * (L.near + L.far);
-                b.position(L.eye).falloff(radius).spotLightCone(Math.atan(k), Math.atan(k * OUTER_CONE))
+                b.position(L.eye).falloff(reach.radius).spotLightCone(Math.atan(reach.inner), Math.atan(reach.outer))
                     .intensity(Math.PI * Math.PI * middle * middle);
             }
             return b.direction(ahead).color([1, 1, 1]).castShadows(true).shadowOptions(options).build(engine, entity);
@@ -356,7 +359,8 @@ export async function render(req) {
                 ms = timeFrames(draw, wait, req.warmup, req.frames);
             rows[renders[k]] = new Float32Array(n * 4);
             readFramebuffer(gl, gpu.fb, () => gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT, rows[renders[k]]));
-            if (k === 0 && want.has('distance')) {
+            /* the distance: asked, or the shadow's coverage (its notice counts covered pixels) */
+            if (k === 0 && (want.has('distance') || want.has('shadow'))) {
                 rows.distance = new Float32Array(n);
                 reader(gpu.depth, w, h, cam, rows.distance);
             }
@@ -375,18 +379,21 @@ export async function render(req) {
         }
     }
     const out = new Float32Array(n * req.outputs.length);
+    let notice;
     req.outputs.forEach((what, k) => {
         if (what === 'lit' || what === 'unlit')
             takeChannel(rows[what], w, h, 4, 0, out, k * n);
         else if (what === 'distance')
             takeChannel(rows.distance, w, h, 1, 0, out, k * n);
-        else if (what === 'shadow')
+        else if (what === 'shadow') {
             takeChannel(shadowFactor(rows.lit, rows.unlit, n), w, h, 1, 0, out, k * n);
-        else
+            notice = unlitNotice(unlitCovered(rows.unlit, rows.distance, w, h, req.light, camera, current.tanY));
+        } else
             throw new Error(`no output ${what}`);
     });
     const texel_ratio = texelRatio(req.light, req.map_size);
-    return { version, renderer: rendererString(gl), ms, data: base64(out), ...(texel_ratio && { texel_ratio }) };
+    return { version, renderer: rendererString(gl), ms, data: base64(out), ...(texel_ratio && { texel_ratio }),
+             ...(notice && { notice }) };
 }
 
 // A spot's map's texel over shadowbench's fitted map's at the same map size
@@ -398,7 +405,7 @@ function texelRatio(L, mapSize) {
     if (L.kind === 'directional')
         return null;
     const [l, r, b, t] = L.window;
-    const side = 2 * L.cone_tan * OUTER_CONE * L.near * mapSize / (mapSize - 2);
+    const side = 2 * spotReach(L).outer * L.near * mapSize / (mapSize - 2);
     return [side / (r - l), side / (t - b)];
 }
 
@@ -410,6 +417,50 @@ function shadowFactor(lit, unlit, n) {
     for (let i = 0; i < n; i++)
         v[i] = unlit[4 * i] > 0 ? lit[4 * i] / unlit[4 * i] : 1;
     return v;
+}
+
+// The pixels that show a surface (a distance, not -1) which the unshadowed
+// render leaves dark, whose factor is then the adapter's 1, not Filament's:
+// behind, where the light's centre is behind the surface (N.L <= 0), and,
+// for a spot, outside, where the point lies past its reach (its cone holds
+// the scene inside shadowbench's fitted window only: map_border's ground
+// beyond it). The point is the pixel's along its ray (rows bottom first),
+// taken to the light's frame.
+function unlitCovered(unlit, distance, w, h, L, camera, tanY) {
+    const M = camera.getModelMatrix(), reach = L.kind === 'directional' ? null : spotReach(L);
+    const dot = (a, d) => a[0] * d[0] + a[1] * d[1] + a[2] * d[2];
+    let behind = 0, outside = 0;
+    for (let y = 0; y < h; y++)
+        for (let x = 0; x < w; x++) {
+            const i = y * w + x;
+            if (unlit[4 * i] > 0 || !(distance[i] >= 0))
+                continue;
+            if (!reach) {
+                behind++;
+                continue;
+            }
+            const u = (2 * (x + 0.5) / w - 1) * tanY * w / h, v = (2 * (y + 0.5) / h - 1) * tanY;
+            const z = distance[i] / Math.hypot(1, u, v);
+            const d = [0, 1, 2].map((r) => M[r] * u * z + M[4 + r] * v * z - M[8 + r] * z + M[12 + r] - L.eye[r]);
+            const along = -dot(L.z, d);
+            const inside = along > 0 && Math.hypot(dot(L.x, d), dot(L.y, d)) <= reach.outer * along &&
+                           Math.hypot(...d) <= reach.radius;
+            behind += inside;
+            outside += !inside;
+        }
+    return { behind, outside };
+}
+
+// The reply's notice (one line) for those pixels, or undefined.
+function unlitNotice({ behind, outside }) {
+    const where = [];
+    if (behind)
+        where.push(`its light is behind the surface: ${behind} covered pixels`);
+    if (outside)
+        where.push(`its spot does not reach (past the cone that holds shadowbench's fitted window): ${outside} ` +
+                   'covered pixels');
+    return where.length ? `Filament computes no shadow where ${where.join(', or where ')} given the factor 1`
+                        : undefined;
 }
 
 window.sbRender = render;
