@@ -355,7 +355,7 @@ export async function render(req) {
             receive(outputPass(renders[k]).receive);
             draw();  /* untimed: programs compiled, the shadow map allocated */
             wait();
-            if (k === 0)
+            if (k === 0)  /* the lit render: gltfio's PBR material, not a shadow-term one (docs/engines.md) */
                 ms = timeFrames(draw, wait, req.warmup, req.frames);
             rows[renders[k]] = new Float32Array(n * 4);
             readFramebuffer(gl, gpu.fb, () => gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT, rows[renders[k]]));
