@@ -9,7 +9,8 @@
 // light is multiplied by the one visibility (docs/engines.md, "Filament":
 // the argument, from the shaders Filament compiles), so lit / unlit is
 // that visibility wherever the unshadowed render is lit; where it is not
-// (N.L <= 0), Filament computes no visibility, and the factor is 1.
+// (N.L <= 0, or past a spot's reach), Filament computes no visibility, the
+// factor is 1, and the reply's notice counts those pixels.
 //
 // Filament's JS bindings reach one shadow type, PCF (View::setShadowType
 // and the soft and VSM options are not bound: techniques/filament.c), with
@@ -18,8 +19,10 @@
 //
 // The set-up choices a Filament user has to make, made as shadowbench's
 // own passes make them:
-// - the scene is loaded by gltfio; the file's KHR_lights_punctual light is
-//   not added to the scene (the scene's light is the request's);
+// - the scene is loaded by gltfio, its files fetched by the adapter (a file
+//   that does not load fails the cell at once); the file's
+//   KHR_lights_punctual light is not added to the scene (the scene's light
+//   is the request's);
 // - every material instance is gltfio's material as a white, fully rough
 //   dielectric (baseColorFactor 1, metallicFactor 0: glTF's default
 //   material is a metal, which has no diffuse term), no emissive, both
@@ -44,6 +47,9 @@
 //   the fitted far plane's farthest point in the cone, 1 % beyond;
 // - a sun becomes a DIRECTIONAL light (a SUN would bend the light direction
 //   towards the reflection) with Filament's own fit.
+//
+// The reply's texel_ratio: a spot's map against shadowbench's fitted one;
+// the sun's has none (LiSPSM warps its map).
 //
 // Float readback: the view renders into a RenderTarget whose attachments
 // are an RGBA32F colour and a DEPTH32F texture, which readback.js reads
