@@ -14,9 +14,9 @@
     ENGINES(X)
 /* Engine cells (docs/engines.md), after shadowbench's own: one file per
  * engine (techniques/<engine>.c), one descriptor per mode. */
-#define ENGINES(X)                                                                       \
-    X(three_basic) X(three_pcf) X(three_vsm)                                             \
-    X(babylon_hard) X(babylon_poisson) X(babylon_pcf) X(babylon_pcss)                    \
+#define ENGINES(X)                                                                                \
+    X(three_basic) X(three_pcf) X(three_vsm)                                                      \
+    X(babylon_hard) X(babylon_poisson) X(babylon_pcf) X(babylon_pcss)                             \
     X(playcanvas_pcf1) X(playcanvas_pcf3) X(playcanvas_pcf5) X(playcanvas_vsm) X(playcanvas_pcss) \
     X(filament_pcf)
 

@@ -12,6 +12,9 @@ installed=true  # every engine folder with a lockfile (the driver's too), as npm
 for lock in "$src"/engines/*/package-lock.json; do
   [ -e "${lock%/package-lock.json}/node_modules/.package-lock.json" ] || installed=false
 done
-$installed && [ -x /usr/bin/chromium ] || { echo "skipped: the engines are not installed (tools/setup installs them)"; exit 77; }
+if ! $installed || [ ! -x /usr/bin/chromium ]; then
+  echo "skipped: the engines are not installed (tools/setup installs them)"
+  exit 77
+fi
 exec "$sb" check -q --technique engines --baselines "$src/results/baselines" --tuned "$src/results/tuned" \
   --cache "$cache" --out "$out" --scene grazing_receiver --scene thin_features --scene contact_hardening

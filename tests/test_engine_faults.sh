@@ -4,10 +4,11 @@
 # fails to load, a page error, a cell over its time limit, an image of the
 # wrong size (the driver's own check of the page's reply, and the
 # harness's of the file), a driver that exits, answers another request or
-# replies with a line too long to be a reply,
-# an engine whose packages are not installed — or, with --keep-going, the cell marked failed in the matrix while the run
-# goes on, whether it failed when rendered or when timed. No browser outlives the command, whatever ends it:
-# a normal exit, a fault, a time limit, SIGTERM, SIGINT, SIGHUP or SIGKILL.
+# replies with a line too long to be a reply, an engine whose packages are
+# not installed — or, with --keep-going, the cell marked failed in the
+# matrix while the run goes on, whether it failed when rendered or when
+# timed. No browser outlives the command, whatever ends it: a normal exit,
+# a fault, a time limit, SIGTERM, SIGINT, SIGHUP or SIGKILL.
 #
 # The faults come from a copy of engines/ ($SB_ENGINES) whose three page
 # misbehaves as each case asks; the real driver and packages are linked.
@@ -117,7 +118,8 @@ driver() {  # driver BODY: JavaScript run for each request (req parsed; say prin
     echo "import readline from 'node:readline';"
     echo "const say = (r) => process.stdout.write(JSON.stringify(r) + String.fromCharCode(10));"
     echo "say({ id: 0, ok: true, version: 'stand-in' });"
-    echo "readline.createInterface({ input: process.stdin }).on('line', (line) => { const req = JSON.parse(line); $1 });"
+    echo "readline.createInterface({ input: process.stdin })"
+    echo "  .on('line', (line) => { const req = JSON.parse(line); $1 });"
   } > "$t/bad/driver/driver.mjs"
 }
 engines="$t/bad"
