@@ -110,7 +110,7 @@ function build(builder, make) {
 // asset.loadResources never calls back when a fetch fails (Filament.fetch
 // has no failure path: the cell waited for the engine timeout), and keeps
 // for the page's life a copy of every URI (getResourceUris' vector: a data:
-// URI is as large as its buffer, 2 MB for the bunny each load), the decoded
+// URI is as large as its buffer, 2 MB for the bunny each load), the fetched
 // files (Filament.assets) and its KTX2 decoder.
 async function loadResources(asset, url) {
     const list = asset._getResourceUris(), uris = [];
