@@ -251,10 +251,12 @@ static long ratio_is_the_factor(const char *scene_name)
  * truth's silhouettes, metrics_truth_silhouette, at most the harness's
  * tolerance, as the scored mask takes them): how many such pixels lie on
  * the truth's silhouettes (edge) and how many off them (inner); of the
- * pixels off the silhouettes where both hit, how many there are (both) and
- * the largest relative difference (worst). */
+ * edge ones, how many disagree by more than tol too (far_edge: another
+ * surface, whatever the tolerance); of the pixels off the silhouettes where
+ * both hit, how many there are (both) and the largest relative difference
+ * (worst). */
 struct disagreement {
-    long edge, inner, both;
+    long edge, far_edge, inner, both;
     double worst;
 };
 
@@ -269,6 +271,7 @@ static struct disagreement disagreements(const float *truth, const float *engine
             const float t = edge ? fminf(tol, METRICS_DEPTH_TOLERANCE) : tol;
             const bool agree = (g >= 0) == (e >= 0) && (g < 0 || fabsf(e - g) <= t * g);
             r.edge += !agree && edge;
+            r.far_edge += edge && !((g >= 0) == (e >= 0) && (g < 0 || fabsf(e - g) <= tol * g));
             r.inner += !agree && !edge;
             if (!edge && g >= 0 && e >= 0) {
                 r.both++;
@@ -308,9 +311,11 @@ static void coverage_matches_truth(const struct engine_check *c)
             const struct disagreement d = disagreements(ss.gt.distance, ss.distance, tol);
             CHECK(d.inner == 0, "%s, %s: %ld pixels off the silhouettes disagree with the truth's camera rays by "
                   "more than %g (worst %.3g)", technique, s.name, d.inner, (double)tol, d.worst);
-            /* at most 1 % of the hits (seen: 13 of 5878 on thin_features), or the silhouette rule hides a shift */
-            CHECK(d.edge * 100 <= hits, "%s, %s: %ld silhouette pixels disagree, over 1 %% of %ld", technique, s.name,
-                  d.edge, hits);
+            /* at most 1 % of the hits on another surface (seen: 13 of 5878 on thin_features), or the silhouette
+             * rule hides a shift (a wider tolerance's own error on the silhouettes, where the harness's stays,
+             * is not another surface: Filament's clipped planes, up to 250 of 4721 on cascade_shimmer) */
+            CHECK(d.far_edge * 100 <= hits, "%s, %s: %ld silhouette pixels see another surface, over 1 %% of %ld",
+                  technique, s.name, d.far_edge, hits);
             CHECK(m.mismatch_pixels == d.edge + d.inner, "%s: the metrics count %ld mismatches, the test %ld", s.name,
                   m.mismatch_pixels, d.edge + d.inner);
             /* the check can fail: the same surfaces 3 tolerances farther along every ray, another surface, are

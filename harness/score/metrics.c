@@ -6,19 +6,37 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Whether the truth's distances along one axis break at c (its neighbours
+ * a and b, either of which may be missing: NaN). Both there: the second
+ * difference of 1 / distance, which is all but 0 on a plane seen at any
+ * angle (1 / depth is affine in screen space there; the ray's length
+ * adds a curvature of the pixel's angular size squared) and on a smooth
+ * surface, and of the order of 1 across a jump. One there: the jump to it. */
+static bool breaks(float a, float c, float b)
+{
+    if (isnan(a) || isnan(b)) {
+        const float e = isnan(a) ? b : a;
+        return !isnan(e) && fabsf(e - c) > METRICS_SILHOUETTE_JUMP * c;
+    }
+    return fabsf(c / a + c / b - 2.0f) > METRICS_SILHOUETTE_JUMP;
+}
+
 bool metrics_truth_silhouette(const float *gt_distance, int width, int height, int x, int y)
 {
     const float c = gt_distance[(size_t)y * (size_t)width + (size_t)x];
-    for (int dy = -1; dy <= 1; dy++)
+    for (int dy = -1; dy <= 1; dy++)  /* a neighbour the ray misses where this one hits, or the other way */
         for (int dx = -1; dx <= 1; dx++) {
             const int u = x + dx, v = y + dy;
-            if (u < 0 || v < 0 || u >= width || v >= height)
-                continue;
-            const float e = gt_distance[(size_t)v * (size_t)width + (size_t)u];
-            if ((e < 0) != (c < 0) || (c >= 0 && fabsf(e - c) > METRICS_SILHOUETTE_JUMP * c))
+            if (u >= 0 && v >= 0 && u < width && v < height &&
+                (gt_distance[(size_t)v * (size_t)width + (size_t)u] < 0) != (c < 0))
                 return true;
         }
-    return false;
+    if (c < 0)
+        return false;
+    const size_t i = (size_t)y * (size_t)width + (size_t)x, w = (size_t)width;
+    const float left = x > 0 ? gt_distance[i - 1] : NAN, right = x + 1 < width ? gt_distance[i + 1] : NAN;
+    const float up = y > 0 ? gt_distance[i - w] : NAN, down = y + 1 < height ? gt_distance[i + w] : NAN;
+    return breaks(left, c, right) || breaks(up, c, down);
 }
 
 long metrics_score_mask(const float *gt_mask, const float *gt_distance, const float *gl_distance, int width,

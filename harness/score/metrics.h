@@ -106,8 +106,13 @@ long metrics_score_mask(const float *gt_mask, const float *gt_distance, const fl
                         int height, float depth_tolerance, float *scored);
 
 /* Whether the truth's pixel (x, y) lies on a silhouette: a neighbour's
- * camera ray hits nothing where this one hits (or the other way round), or
- * hits more than METRICS_SILHOUETTE_JUMP farther or nearer, relative. */
+ * camera ray hits nothing where this one hits (or the other way round),
+ * or its distances break there, across x or y: a jump, not a slope (the
+ * second difference of 1 / distance over the pixel and its two neighbours
+ * more than METRICS_SILHOUETTE_JUMP; at the image's edge, a jump of that
+ * much, relative, to the one neighbour). A plane seen at a grazing angle,
+ * whose distance grows by far more than that from pixel to pixel, does not
+ * break. */
 #define METRICS_SILHOUETTE_JUMP 0.02f
 bool metrics_truth_silhouette(const float *gt_distance, int width, int height, int x, int y);
 
