@@ -5,7 +5,7 @@
  * One mode: the shadow type Filament's JavaScript bindings can ask for.
  * They bind neither View::setShadowType nor View::setSoftShadowOptions nor
  * View::setVsmShadowOptions (the TypeScript declarations list them; the
- * wasm of 1.53.4, 1.53.1 and 1.44.0 registers none of them), so the type is
+ * wasm of no npm release, 1.4.5 to 1.53.4, registers them), so the type is
  * the default, PCF, and DPCF, PCSS and VSM (filament_dpcf, filament_pcss,
  * filament_vsm) are not cells. The light's LightManager::ShadowOptions are
  * bound but cannot be passed as 1.53.4 ships (one field's type, a float
@@ -133,7 +133,7 @@ static const struct technique_cell filament_pcf_cells[] = {
 };
 
 /* The scored mask's depth tolerance (technique.h). Filament's camera
- * distance is its depth buffer's (engines/filament/adapter.js), and
+ * distance is its depth buffer's (engines/filament/readback.js), and
  * SwiftShader draws a triangle clipped at the camera's near plane, much
  * larger than the near distance, with its depth off: the cascade scenes'
  * 120 x 240 ground is 0.35 % short at every pixel at 256 x 256 (the same
@@ -147,10 +147,10 @@ static const struct technique_cell filament_pcf_cells[] = {
  * ground and camera, at 7 of them: the same): at most 1.62e-2 at every
  * height of 60 pixels or more (6.1e-3 at the runs' 256 x 256, 9.3e-3 at
  * test_engines' 96 x 72), up to 3.3e-2 below (4.7e-2 at 16 x 16), where
- * some of their ground is counted as mismatches. 2e-2 takes them all in; at
- * 256 x 256 it scores 16 of curved_receivers' 21 silhouette pixels at
- * METRICS_DEPTH_TOLERANCE and a few on three other scenes, and leaves the
- * rest counted (docs/engines.md). */
+ * some of their ground is counted as mismatches. 2e-2 takes them all in;
+ * it applies off the truth's silhouettes only (metrics_score_mask), where
+ * the harness's METRICS_DEPTH_TOLERANCE stays, so a pixel where Filament may
+ * see another surface is never scored (docs/engines.md). */
 #define FILAMENT_DEPTH_TOLERANCE 2e-2f
 
 ENGINE_TECHNIQUE(filament_pcf, filament, "filament", .check = filament_pcf_check,
