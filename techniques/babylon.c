@@ -29,9 +29,10 @@
  *   light_size_uv_ratio  contactHardeningLightSizeUVRatio; 0 (the default):
  *                    derived from the scene's light so that the filter's
  *                    radius is the true penumbra's half-width where
- *                    z_blocker * z_receiver = near * far (exact for the sun)
- *                    (engines/babylon/adapter.js, derivedRatio). Babylon's
- *                    own default is 0.1.
+ *                    z_blocker * z_receiver = near * far (for the sun at
+ *                    every depth) (engines/babylon/adapter.js,
+ *                    derivedRatio): the radius only, Babylon's 10-texel
+ *                    widening and its fade on top. Its own default is 0.1.
  *   shadow_max_z_scale   light.shadowMaxZ = shadowMinZ + this * (the fitted
  *                    depth range): the depth metric's range, and the map's
  *                    far plane. A wider range shrinks the fade, but the

@@ -40,11 +40,12 @@
  * filter.
  *
  * The PCSS size is derived from the scene's light (light_size_scale = 1):
- * for the sun, penumbraSize = tan(half-angle), exact at penumbraFalloff 1
- * (a disk of that radius over a depth gap d is the sun's cone at d); for
- * an area light (the disk's radius a, a rect's mean half-side), penumbraSize
- * = 3 mapSize a / (2 near far), exact for a blocker at the fitted near plane
- * over a receiver at its far one: PlayCanvas's spot filter grows with the
+ * for the sun, penumbraSize = tan(half-angle): at penumbraFalloff 1 the
+ * filter's extent is the sun's cone (a disk of that radius over a depth gap
+ * d), its taps' profile PlayCanvas's own; for an area light (the disk's
+ * radius a, a rect's mean half-side), penumbraSize = 3 mapSize a / (2 near
+ * far), the light's extent for a blocker at the fitted near plane over a
+ * receiver at its far one: PlayCanvas's spot filter grows with the
  * depth gap alone, the true penumbra with gap / (d_blocker d_receiver)
  * (docs/engines.md has the derivation).
  *
