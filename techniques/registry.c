@@ -6,7 +6,6 @@
 #include "technique.h"
 #include "base/util.h"
 #include "scene/light_frustum.h"
-#include "score/metrics.h"
 
 #include <string.h>
 
@@ -60,11 +59,6 @@ const struct technique *technique_find(const char *name)
         if (strcmp((*t)->name, name) == 0)
             return *t;
     return NULL;
-}
-
-float technique_depth_tolerance(const struct technique *t)
-{
-    return t->depth_tolerance > 0 ? t->depth_tolerance : METRICS_DEPTH_TOLERANCE;
 }
 
 int technique_index(const struct technique *t)

@@ -248,14 +248,12 @@ struct technique {
     /* Optional: the relative disagreement between its camera distance and
      * the ray tracer's above which the scored mask calls a pixel a
      * silhouette mismatch, where its renderer measurably cannot meet the
-     * harness's (0: METRICS_DEPTH_TOLERANCE, score/metrics.h); it applies
+     * harness's (0: METRICS_DEPTH_TOLERANCE, metrics_depth_tolerance in
+     * score/metrics.h); it applies
      * off the truth's silhouettes only. State the measurement next to the
      * value. */
     float depth_tolerance;
 };
-
-/* t's depth tolerance for the scored mask: its own, or the harness's. */
-float technique_depth_tolerance(const struct technique *t);
 
 /* t's preset called name, or NULL. */
 const struct technique_preset *technique_preset_find(const struct technique *t, const char *name);

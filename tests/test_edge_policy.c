@@ -357,12 +357,18 @@ static void techniques_see_same_edge(const char *sb)
     /* Every technique (the registry's), and kernels that reach past the
      * map's edge from 2 texels inside it: pcf's 12-texel square grid and
      * savsm's 12-texel box (matched), vsm's 8-texel blur, pcss's and
-     * pcss_savsm's search (about 6 texels). */
+     * pcss_savsm's search (about 6 texels). babylon_pcss fades its shadow
+     * toward lit by the blocker-to-receiver gap in its depth metric
+     * (mix(shadow, 1, gap), docs/engines.md): the plate-to-ground gap is
+     * most of the fitted range, which lights the umbra wherever it falls,
+     * not at the edge only, so the range is widened 20 times (every gap
+     * under 0.05), as its check cells on parallel_planes do. */
     struct strbuf names = {0};
     technique_names(&names, ",");
     char *cmd = util_printf("%s run --scene %s --technique %s --settings default "
                             "--set pcf.pattern=grid --set pcf.samples=100 --set pcf.radius_texels=6 "
                             "--set savsm.box_width_texels=12 --set vsm.blur_radius_texels=8 "
+                            "--set babylon_pcss.shadow_max_z_scale=20 "
                             "--width %d --height %d --gt-samples 256 --shadow-map-size 256 "
                             "--frames 1 --warmup 0 --no-cache -q --out %s/out",
                             sb, scene, names.data, W, H, dir);

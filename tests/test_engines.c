@@ -191,7 +191,7 @@ static long ratio_is_the_factor(const char *scene_name)
         const int rc = render_outputs(*t, settings, &s, &ss, img, (1u << ENGINE_OUTPUT_COUNT) - 1);
         CHECK(rc == 0, "%s on %s: rendered", (*t)->name, scene_name);
         const float *lit = img[ENGINE_OUT_LIT], *unlit = img[ENGINE_OUT_UNLIT], *d = img[ENGINE_OUT_DISTANCE];
-        const float tol = technique_depth_tolerance(*t);
+        const float tol = metrics_depth_tolerance((*t)->depth_tolerance);
         long behind = 0, behind_bright = 0, front = 0, front_dark = 0, lighted = 0, outside = 0, full = 0,
              full_one = 0, shadowed = 0;
         double worst = 0;
@@ -290,7 +290,7 @@ static void coverage_matches_truth(const struct engine_check *c)
     const int count = catalog_shipped(&paths);
     CHECK(count > 10, "the shipped scenes");
     const struct technique *t = technique_find(technique);
-    const float tol = technique_depth_tolerance(t);
+    const float tol = metrics_depth_tolerance(t->depth_tolerance);
     void *settings = settings_of(t, NULL);
     float *moved = xmalloc(sizeof(float) * W * H);
     int needs_wider = 0;

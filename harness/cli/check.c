@@ -116,7 +116,7 @@ static int check_scene(struct regression *r, const struct scene *s, const struct
             break;
         }
         if (o->update) {
-            baseline_spread(c->v, ss.distance, technique_depth_tolerance(c->t), &c->now, extra, BASELINE_SEEDS - 1,
+            baseline_spread(c->v, ss.distance, metrics_depth_tolerance(c->t->depth_tolerance), &c->now, extra, BASELINE_SEEDS - 1,
                             c->spread);
             if (comparable)
                 compare(c, o);

@@ -37,7 +37,7 @@ cJSON *report_cell_json(const struct cell *c)
     }
     /* the scored mask's camera-distance tolerance off the truth's silhouettes (score/metrics.h) */
     char tolerance[32];  /* the float's shortest decimal, not its double's digits */
-    snprintf(tolerance, sizeof tolerance, "%g", (double)technique_depth_tolerance(c->technique));
+    snprintf(tolerance, sizeof tolerance, "%g", (double)metrics_depth_tolerance(c->technique->depth_tolerance));
     cJSON_AddRawToObject(o, "depth_tolerance", tolerance);
     if (c->cascades)
         cJSON_AddItemToObject(o, "cascades", cJSON_Duplicate(c->cascades, 1));

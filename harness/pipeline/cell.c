@@ -191,7 +191,7 @@ void scene_setup_score(struct scene_setup *ss, const struct technique *t, struct
     if (!ss->engine_last)  /* an engine's frame is in ss->v already */
         receiver_read(&ss->receiver, ss->v, ss->distance);
     m->mismatch_pixels = metrics_score_mask(ss->gt.mask, ss->gt.distance, ss->distance, ss->width, ss->height,
-                                            technique_depth_tolerance(t), ss->scored);
+                                            metrics_depth_tolerance(t->depth_tolerance), ss->scored);
     metrics_compute(ss->v, &ss->gt, ss->scored, ss->distance, m);
     depth_metrics_compute(ss->v, &ss->gt, ss->scored, ss->view_depth, ss->cascades.z, ss->cascades.band,
                           ss->cascades.count, &ss->depth);

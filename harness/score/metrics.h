@@ -15,9 +15,16 @@
  * same pixel centre on the same triangles, so on a shared surface they agree
  * to float rounding (~1e-6); across a silhouette they differ by far more.
  * A technique whose renderer measurably cannot meet it states its own
- * (technique.h's depth_tolerance, technique_depth_tolerance), which applies
- * off the truth's silhouettes only. */
+ * (technique.h's depth_tolerance), which applies off the truth's silhouettes
+ * only. */
 #define METRICS_DEPTH_TOLERANCE 1e-3f
+
+/* The scored mask's depth tolerance of a technique whose own is own (0:
+ * it has none): its own, or the harness's. */
+static inline float metrics_depth_tolerance(float own)
+{
+    return own > 0 ? own : METRICS_DEPTH_TOLERANCE;
+}
 
 /* Penumbra band: V_gt strictly inside (lo, hi), dilated by this many pixels. */
 #define METRICS_PENUMBRA_LO 0.02
@@ -96,7 +103,7 @@ double metrics_value(const struct metrics *m, int k);
 
 /* scored[i] = 1 where gt_mask is set and GL saw the same surface (camera
  * distances agree within depth_tolerance, relative: METRICS_DEPTH_TOLERANCE
- * or the technique's own, technique_depth_tolerance; a wider one applies
+ * or the technique's own, metrics_depth_tolerance; a wider one applies
  * only off the truth's silhouettes, metrics_truth_silhouette, where
  * METRICS_DEPTH_TOLERANCE stays); returns the number of mismatch pixels:
  * where exactly one of GL and the ray tracer hit geometry, or both did at

@@ -31,7 +31,7 @@ static int render_side(struct viewer *v, int k)
     if (v->gt_samples > 0) {
         v->m[k] = (struct metrics){0};
         v->m[k].mismatch_pixels = metrics_score_mask(v->gt.mask, v->gt.distance, v->distance[k], v->w, v->h,
-                                                     technique_depth_tolerance(t), v->scored[k]);
+                                                     metrics_depth_tolerance(t->depth_tolerance), v->scored[k]);
         metrics_compute(v->v[k], &v->gt, v->scored[k], v->distance[k], &v->m[k]);
     }
     return 0;
