@@ -3,7 +3,10 @@
 # in a copy of the shaders, makes `shadowbench check` on the committed
 # baselines exit 1 with a REGRESSED (or IDLE) line naming the technique; the
 # unchanged copy passes. The first five passed every test before the check
-# existed (docs/regression.md).
+# existed (docs/regression.md). Each is checked on one scene where check
+# over every scene catches it (most are caught on many: the receiver-plane
+# bias's on 16 scenes, pcss's narrow penumbra on 19), which keeps the
+# suite to its budget; the unchanged copy passes on those scenes.
 # Usage: test_mutations.sh <shadowbench> <source root> <ground-truth cache>
 set -u
 sb=$1 root=$2 cache=$3
@@ -11,9 +14,9 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 failed=0
 
-# mutate TECHNIQUE FILE SED-EXPRESSION WHAT
+# mutate TECHNIQUE SCENES FILE SED-EXPRESSION WHAT (SCENES: comma-separated)
 mutate() {
-    technique=$1 file=$2 expression=$3 what=$4
+    technique=$1 scenes=$2 file=$3 expression=$4 what=$5
     rm -rf "$tmp/shaders" && cp -r "$root/shaders" "$tmp/shaders"
     if [ -n "$file" ]; then
         sed -i -e "$expression" "$tmp/shaders/$file"
@@ -23,7 +26,7 @@ mutate() {
             return
         fi
     fi
-    out=$("$sb" check -q --technique "$technique" --shaders "$tmp/shaders" --baselines "$root/results/baselines" \
+    out=$("$sb" check -q --technique "$technique" $(printf -- '--scene %s ' $(echo "$scenes" | tr , ' ')) --shaders "$tmp/shaders" --baselines "$root/results/baselines" \
               --tuned "$root/results/tuned" \
                 --cache "$cache" --out "$tmp/out" 2>&1)
     rc=$?
@@ -41,20 +44,21 @@ mutate() {
     fi
 }
 
-mutate pcf "" "" "none"
+mutate pcf,savsm,pcss,pcss_savsm,hard,vsm parallel_planes,parallel_planes_disk,contact_hardening,overlapping_occluders \
+    "" "" "none"
 # The five of the issue.
-mutate savsm savsm.glsl 's/0\.5 \* SAVSM_BOX_WIDTH_TEXELS/0.5 * 5.0/' "savsm ignores box_width_texels"
-mutate pcf pcf.glsl 's/PCF_RADIUS_TEXELS \*/2.0 */' "pcf ignores radius_texels"
-mutate pcss pcss.glsl 's/const bool square = SM_RECT_LIGHT;/const bool square = true;/' "pcss: square taps for disk lights"
-mutate pcf shadow_taps.glsl 's/ + 0\.5 \* dot(abs(g), sm\.texel_size_uv);/;/' "receiver-plane bias without its half texel"
-mutate pcss_savsm pcss_geometry.glsl 's/h \*= 0\.88622693;/;/' "pcss_savsm loses the disk factor"
+mutate savsm parallel_planes savsm.glsl 's/0\.5 \* SAVSM_BOX_WIDTH_TEXELS/0.5 * 5.0/' "savsm ignores box_width_texels"
+mutate pcf parallel_planes pcf.glsl 's/PCF_RADIUS_TEXELS \*/2.0 */' "pcf ignores radius_texels"
+mutate pcss parallel_planes_disk pcss.glsl 's/const bool square = SM_RECT_LIGHT;/const bool square = true;/' "pcss: square taps for disk lights"
+mutate pcf contact_hardening shadow_taps.glsl 's/ + 0\.5 \* dot(abs(g), sm\.texel_size_uv);/;/' "receiver-plane bias without its half texel"
+mutate pcss_savsm parallel_planes_disk pcss_geometry.glsl 's/h \*= 0\.88622693;/;/' "pcss_savsm loses the disk factor"
 # Others.
-mutate hard hard.glsl 's/HARD_SLOPE_BIAS \* s\.texel_depth_slope/0.0/' "hard ignores slope_bias"
-mutate vsm chebyshev.glsl 's/var \/ (var + dt \* dt)/var \/ (var + dt)/' "Chebyshev bound with dt, not dt squared"
-mutate savsm savsm.glsl 's/reduce_light_bleeding(p, SAVSM_BLEED_REDUCTION)/p/' "savsm ignores bleed_reduction"
-mutate pcss_savsm pcss_savsm.glsl 's/< PCSS_SAVSM_MIN_BLOCKER_FRACTION/< 0.001/' "pcss_savsm ignores min_blocker_fraction"
-mutate pcss pcss_geometry.glsl 's/return 0\.5 \* light_scale/return 0.4 * light_scale/' "PCSS penumbra 20 % narrow"
-mutate vsm chebyshev.glsl 's/if (t <= mean)/if (t < mean - 0.001)/' "Chebyshev's lit test 0.001 late"
+mutate hard contact_hardening hard.glsl 's/HARD_SLOPE_BIAS \* s\.texel_depth_slope/0.0/' "hard ignores slope_bias"
+mutate vsm parallel_planes chebyshev.glsl 's/var \/ (var + dt \* dt)/var \/ (var + dt)/' "Chebyshev bound with dt, not dt squared"
+mutate savsm overlapping_occluders savsm.glsl 's/reduce_light_bleeding(p, SAVSM_BLEED_REDUCTION)/p/' "savsm ignores bleed_reduction"
+mutate pcss_savsm contact_hardening pcss_savsm.glsl 's/< PCSS_SAVSM_MIN_BLOCKER_FRACTION/< 0.001/' "pcss_savsm ignores min_blocker_fraction"
+mutate pcss parallel_planes pcss_geometry.glsl 's/return 0\.5 \* light_scale/return 0.4 * light_scale/' "PCSS penumbra 20 % narrow"
+mutate vsm parallel_planes chebyshev.glsl 's/if (t <= mean)/if (t < mean - 0.001)/' "Chebyshev's lit test 0.001 late"
 
 [ "$failed" = 0 ] && echo "all caught" || echo "$failed not caught"
 [ "$failed" = 0 ]
