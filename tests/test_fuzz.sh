@@ -2,7 +2,7 @@
 # Fuzzes the scene loader for a bounded time under ASan and UBSan
 # (tests/fuzz/fuzz_scene_loader.c), seeded with the shipped scenes: builds
 # the target with clang in its own folder, then runs it for SB_FUZZ_SECONDS
-# (default 30). A crash, a leak, a sanitizer report or a timeout fails the
+# (default 15). A crash, a leak, a sanitizer report or a timeout fails the
 # test and leaves the input under <build>/fuzz/; inputs it once found are
 # kept in tests/fuzz/regressions/ and replayed as seeds. Without clang (tools/setup
 # installs it) there is nothing to run: the test says so and exits 77, which
@@ -10,7 +10,7 @@
 # Usage: test_fuzz.sh <source root> <build dir>
 set -u
 root=$1 build=$2/fuzz
-seconds=${SB_FUZZ_SECONDS:-30}
+seconds=${SB_FUZZ_SECONDS:-15}
 if ! command -v clang >/dev/null || ! command -v clang++ >/dev/null; then
     echo "skipped: no clang (tools/setup installs it)"
     exit 77
