@@ -249,9 +249,8 @@ struct technique {
      * the ray tracer's above which the scored mask calls a pixel a
      * silhouette mismatch, where its renderer measurably cannot meet the
      * harness's (0: METRICS_DEPTH_TOLERANCE, metrics_depth_tolerance in
-     * score/metrics.h); it applies
-     * off the truth's silhouettes only. State the measurement next to the
-     * value. */
+     * score/metrics.h); it applies off the truth's silhouettes only. State
+     * the measurement next to the value. */
     float depth_tolerance;
 };
 
