@@ -260,6 +260,13 @@ struct disagreement {
     double worst;
 };
 
+/* Whether the truth's distance g and the engine's e see one surface: both
+ * miss, or both hit within tol, relative. */
+static bool same_surface(float g, float e, float tol)
+{
+    return (g >= 0) == (e >= 0) && (g < 0 || fabsf(e - g) <= tol * g);
+}
+
 static struct disagreement disagreements(const float *truth, const float *engine, float tol)
 {
     struct disagreement r = {0};
@@ -268,10 +275,9 @@ static struct disagreement disagreements(const float *truth, const float *engine
             const size_t i = (size_t)y * W + x;
             const float g = truth[i], e = engine[i];
             const bool edge = metrics_truth_silhouette(truth, W, H, x, y);
-            const float t = edge ? fminf(tol, METRICS_DEPTH_TOLERANCE) : tol;
-            const bool agree = (g >= 0) == (e >= 0) && (g < 0 || fabsf(e - g) <= t * g);
+            const bool agree = same_surface(g, e, edge ? fminf(tol, METRICS_DEPTH_TOLERANCE) : tol);
             r.edge += !agree && edge;
-            r.far_edge += edge && !((g >= 0) == (e >= 0) && (g < 0 || fabsf(e - g) <= tol * g));
+            r.far_edge += edge && !same_surface(g, e, tol);
             r.inner += !agree && !edge;
             if (!edge && g >= 0 && e >= 0) {
                 r.both++;

@@ -23,17 +23,17 @@ static bool breaks(float a, float c, float b)
 
 bool metrics_truth_silhouette(const float *gt_distance, int width, int height, int x, int y)
 {
-    const float c = gt_distance[(size_t)y * (size_t)width + (size_t)x];
+    const size_t i = (size_t)y * (size_t)width + (size_t)x, w = (size_t)width;
+    const float c = gt_distance[i];
     for (int dy = -1; dy <= 1; dy++)  /* a neighbour the ray misses where this one hits, or the other way */
         for (int dx = -1; dx <= 1; dx++) {
             const int u = x + dx, v = y + dy;
             if (u >= 0 && v >= 0 && u < width && v < height &&
-                (gt_distance[(size_t)v * (size_t)width + (size_t)u] < 0) != (c < 0))
+                (gt_distance[(size_t)v * w + (size_t)u] < 0) != (c < 0))
                 return true;
         }
     if (c < 0)
         return false;
-    const size_t i = (size_t)y * (size_t)width + (size_t)x, w = (size_t)width;
     const float left = x > 0 ? gt_distance[i - 1] : NAN, right = x + 1 < width ? gt_distance[i + 1] : NAN;
     const float up = y > 0 ? gt_distance[i - w] : NAN, down = y + 1 < height ? gt_distance[i + w] : NAN;
     return breaks(left, c, right) || breaks(up, c, down);
