@@ -244,3 +244,20 @@ float sm_lit_at(TapFrame f, vec2 q, bool hw_2x2)
         SM_UNROLL(n, SM_PCF_TAP) \
         result = sm_lit_ / float(n); \
     }
+
+// The map's texel at the receiver in world units (along the window's wider
+// side): a perspective map's grows with the receiver's depth.
+float sm_texel_world(ShadowInput s)
+{
+    return max(sm.near_window_world.x, sm.near_window_world.y) * sm.texel_size_uv.x
+           * (sm_sun() ? 1.0 : s.depth_world / sm.near_world);
+}
+
+// A normal-offset bias, as engines apply it: the receiver's lookup moved
+// by `offset` (world units); its map uv and hardware depth there.
+void sm_offset_lookup(ShadowInput s, vec3 offset, out vec2 uv, out float depth_hw)
+{
+    vec4 c = sm.light_view_proj * vec4(s.pos_world + offset, 1.0);
+    uv = c.xy / c.w * 0.5 + 0.5;
+    depth_hw = c.z / c.w;
+}

@@ -2,7 +2,9 @@
  * show them. Adding one: techniques/<name>.c (ending in its descriptor,
  * TECHNIQUE(<name>, ...)), shaders/<name>.glsl, and X(<name>) here; an
  * engine's mode: its ENGINE_TECHNIQUE in techniques/<engine>.c, its
- * handling in engines/<engine>/adapter.js, and X(<name>) in ENGINES. */
+ * handling in engines/<engine>/adapter.js, and X(<name>) in ENGINES; a
+ * preset: its TECHNIQUE in techniques/<engine>.c with .preset_of and
+ * .preset_source, its shader, and X(<name>) in PRESETS. */
 #include "technique.h"
 #include "base/util.h"
 #include "scene/light_frustum.h"
@@ -10,7 +12,13 @@
 #include <string.h>
 
 #define TECHNIQUES(X) X(hard) X(pcf) X(pcss) X(vsm) X(savsm) X(pcss_savsm) X(evsm) X(msm) X(msm_soft) X(vssm) \
-    ENGINES(X)
+    PRESETS(X) ENGINES(X)
+/* Presets (docs/presets.md): shadowbench's shaders of the filters engines
+ * ship, one file per engine (techniques/<engine>.c), run only when named. */
+#define PRESETS(X)                                                        \
+    X(bevy_gaussian) X(bevy_temporal) X(bevy_pcss)                        \
+    X(filament_pcf_glsl) X(filament_dpcf_glsl) X(filament_pcss_glsl)     \
+    X(godot_pcf) X(godot_pcss)
 /* Engine cells (docs/engines.md), after shadowbench's own: one file per
  * engine (techniques/<engine>.c), one descriptor per mode. */
 #define ENGINES(X)                                                                                \

@@ -234,6 +234,14 @@ struct technique {
      * version as the adapter pins it. NULL for shadowbench's own. */
     const char *engine;
     const char *engine_package;            /* the npm package, for list and the docs */
+    /* A preset's (docs/presets.md): shadowbench's own shader, re-implementing
+     * the filter an engine ships, as that engine sets it; its file's header
+     * says what was confirmed against the engine's source and what is
+     * approximated. preset_of: the engine's short name (a --technique
+     * group: hdrp, godot, bevy, filament, ue); preset_source: the public
+     * source it follows, repository, version and file. NULL for the rest. */
+    const char *preset_of;
+    const char *preset_source;
 
     /* Optional. The request for these settings; without it, .needs with
      * default options. */
@@ -276,6 +284,12 @@ const struct technique_preset *technique_preset_find(const struct technique *t, 
                                                 __VA_ARGS__}
 
 static inline bool technique_is_engine(const struct technique *t) { return t->engine != NULL; }
+static inline bool technique_is_preset(const struct technique *t) { return t->preset_of != NULL; }
+/* Run only when named (--technique): engine cells and presets. */
+static inline bool technique_named_only(const struct technique *t)
+{
+    return technique_is_engine(t) || technique_is_preset(t);
+}
 
 /* t's request for these settings (calls t->request, or uses t->needs). */
 void technique_request(const struct technique *t, const void *settings, const struct request_context *c,

@@ -70,8 +70,8 @@ int main(int argc, char **argv)
     struct strbuf known = {0};  /* every registered technique, in registry order */
     for (int i = 0; technique_list[i]; i++)
         strbuf_printf(&known, "%s%s", i ? ", " : "", technique_list[i]->name);
-    char *line = util_printf("--technique: unknown technique 'nope' (known: %s; and engines, or an engine's name "
-                             "for its modes)", known.data);
+    char *line = util_printf("--technique: unknown technique 'nope' (known: %s; and engines, presets, or an "
+                             "engine's name for its modes and presets)", known.data);
     expect(2, "run --technique nope", line);
     /* engine cells: one map, no counted cost, and only the commands that take them */
     expect(2, "run --technique three_pcf --cascades 2",

@@ -16,6 +16,10 @@ int list_main(const struct options *o)
         if (technique_is_engine(*t))  /* docs/engines.md */
             printf("    engine cell: rendered by npm %s in headless Chromium (engines/%s/; run only when named: "
                    "--technique %s, or engines)\n", (*t)->engine_package, (*t)->engine, (*t)->engine);
+        if (technique_is_preset(*t))  /* docs/presets.md */
+            printf("    preset: %s's shipped filter, following %s (techniques/ header: what was confirmed, what "
+                   "is approximated); run only when named: --technique %s, or presets\n", (*t)->preset_of,
+                   (*t)->preset_source, (*t)->preset_of);
         params_print(*t, stdout);
         for (const struct technique_preset *p = (*t)->presets; p && p->name; p++)
             printf("%s    %s@%-22s %s\n      = %s\n", p == (*t)->presets ? "    presets (cells of the default run):\n" : "",

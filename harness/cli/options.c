@@ -75,20 +75,25 @@ static int set_techniques(struct options *o, const char *list)
             break;
         }
         const struct technique *t = technique_find(name);
-        /* "engines": every engine cell; an engine's name: its modes (docs/engines.md) */
+        /* "engines": every engine cell; "presets": every preset; an engine's
+         * name: its modes and the presets of its filters (docs/engines.md,
+         * docs/presets.md) */
         bool group = false;
-        for (const struct technique *const *e = technique_list; *e && !t; e++)
-            if (technique_is_engine(*e) && (!strcmp(name, "engines") || !strcmp(name, (*e)->engine))) {
+        for (const struct technique *const *e = technique_list; *e && !t; e++) {
+            const char *of = technique_is_engine(*e) ? (*e)->engine : (*e)->preset_of;
+            const char *all = technique_is_engine(*e) ? "engines" : "presets";
+            if (of && (!strcmp(name, all) || !strcmp(name, of))) {
                 group = true;
                 select_technique(o, *e);
             }
+        }
         if (t) {
             select_technique(o, t);
         } else if (!group) {
             struct strbuf known = {0};
             technique_names(&known, ", ");
-            log_error("--technique: unknown technique '%s' (known: %s; and engines, or an engine's name for its "
-                      "modes)", name, known.data);
+            log_error("--technique: unknown technique '%s' (known: %s; and engines, presets, or an engine's "
+                      "name for its modes and presets)", name, known.data);
             strbuf_free(&known);
             rc = -1;
         }
@@ -371,7 +376,8 @@ const struct option_row option_rows[] = {
      "'shadowbench list')"},
     {"technique", 0, "T[,T...]", RENDERING, OPTION_NONE, 0, 0, 0, set_techniques,
      "techniques to run (repeatable; default: all of shadowbench's own, see 'shadowbench list'); engines: every "
-     "engine cell (a real engine in headless Chromium, docs/engines.md), or an engine's name (three) for its modes"},
+     "engine cell (a real engine in headless Chromium, docs/engines.md); presets: every preset (an engine's shipped "
+     "filter as shadowbench's shader, docs/presets.md); or an engine's name (three, godot) for its modes and presets"},
     {"engine-timeout", 0, "S", ON(RUN) | ON(TUNE) | ON(CHECK), OPTION_INT, FIELD(engine_timeout), 1, 3600, NULL,
      "the longest an engine cell may take, seconds, its browser's start included (default {D})"},
     {"keep-going", 0, NULL, ON(RUN), OPTION_FLAG, FIELD(keep_going), 0, 0, NULL,

@@ -121,10 +121,11 @@ static int check_options(struct options *o)
     /* Every technique selected when none is, every setting at its default
      * unless --set, and (without sweeps: run checks each configuration once
      * its swept values are in) the rules across parameters. */
-    /* engine cells only when named: they need a browser, and take their own time */
+    /* engine cells and presets only when named: engines need a browser, and
+     * both take their own time (docs/presets.md) */
     if (!o->technique_count)
         for (const struct technique *const *t = technique_list; *t; t++)
-            if (!technique_is_engine(*t))
+            if (!technique_named_only(*t))
                 o->techniques[o->technique_count++] = *t;
     for (int i = 0; i < o->technique_count; i++)
         if (technique_is_engine(o->techniques[i]) && o->cmd != CMD_RUN && o->cmd != CMD_TUNE &&
