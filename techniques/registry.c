@@ -18,7 +18,7 @@
 #define PRESETS(X)                                                        \
     X(bevy_gaussian) X(bevy_temporal) X(bevy_pcss)                        \
     X(filament_pcf_glsl) X(filament_dpcf_glsl) X(filament_pcss_glsl)     \
-    X(godot_pcf) X(godot_pcss)
+    X(godot_pcf) X(godot_pcss) X(hdrp_pcf)
 /* Engine cells (docs/engines.md), after shadowbench's own: one file per
  * engine (techniques/<engine>.c), one descriptor per mode. */
 #define ENGINES(X)                                                                                \
