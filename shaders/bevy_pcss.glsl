@@ -51,5 +51,5 @@ float shadow_visibility(ShadowInput s)
     // decides, and the filter runs all the same
     float z_blocker = blockers > 0.0 ? bevy_depth(z_sum / blockers) : 0.0, z = bevy_depth(ref);
     float blur = max((z_blocker - z) * light_size / z, 0.5);
-    return bevy_jimenez(uv, ref, blur, BEVY_PCSS_TEMPORAL != 0, s.frag_coord);
+    return bevy_jimenez(uv, ref, blur, false, s.frag_coord);
 }

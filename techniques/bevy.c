@@ -24,8 +24,9 @@
  *                  sampler; the blur max((z_b - z) L / z, 0.5) in Bevy's
  *                  reversed depths (0 for z_b when no blocker: the floor
  *                  holds, no early out); then the spiral at that blur,
- *                  turned by the noise of frame 1 unless the camera's
- *                  method is Temporal (`temporal`).
+ *                  turned by the noise of frame 1 (Bevy moves it with
+ *                  the frame only when the camera's method is Temporal,
+ *                  which is bevy_temporal's).
  * Each tap is counted as the one fetch Bevy makes (a bilinear comparison, or
  * the search's filtered read: here one gather, weighted as the sampler
  * would).
@@ -102,23 +103,19 @@ TECHNIQUE(bevy_temporal, .needs = SM_DEPTH, .regression = bevy_temporal_cells, .
 
 struct bevy_pcss_settings {
     float light_size_scale;
-    int temporal;
     float constant_bias, normal_bias;
 };
 
 static const struct technique_param bevy_pcss_params[] = {
     PARAM_ROW_LIGHT_SIZE_SCALE(struct bevy_pcss_settings),
-    {"temporal", "the camera's filter method is Temporal: the filter's noise moves with the frame",
-     offsetof(struct bevy_pcss_settings, temporal), PARAM_BOOL, 0, 0, 1, NULL, NULL},
     PARAM_ROW_CONSTANT_BIAS(struct bevy_pcss_settings),
     BEVY_NORMAL_BIAS_ROW(struct bevy_pcss_settings),
     {NULL},
 };
 
 static const struct technique_cell bevy_pcss_cells[] = {
-    {"contact_hardening", {"light_size_scale=0.5"}},
+    {"large_light", {"light_size_scale=3"}},
     {"grazing_receiver", {"constant_bias=0.005", "normal_bias=0"}},
-    {"parallel_planes", {"temporal=true"}},
     {NULL},
 };
 

@@ -59,6 +59,7 @@ static const struct technique_preset hdrp_levels[] = {
 
 static const struct technique_cell hdrp_pcf_cells[] = {
     {"grazing_receiver", {"constant_bias=0.005", "slope_bias=0"}},
+    {"parallel_planes", {"quality=low"}},
     {NULL},
 };
 
