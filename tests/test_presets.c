@@ -19,9 +19,9 @@
  *     shadow) is at most AGREE_FLIPPED.
  * Asserted on the spot scenes, where Filament's map has one texel size to
  * match, but one: on overlapping_occluders Filament's own map shadows a
- * band the scene does not (its cell's rmse there is 0.32 against the
- * preset's 0.18, visibility pictures in docs/presets.md): its map, not its
- * filter, which is what the preset re-implements. On the sun scenes
+ * band the scene does not (the engine's picture has it, the truth's and
+ * the preset's do not): its map, not its filter, which is what the preset
+ * re-implements. On the sun scenes
  * Filament's map is its own fit over the whole view, with no texel ratio
  * to match (the adapter reports none), so they are measured and printed,
  * not asserted.
