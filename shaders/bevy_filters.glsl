@@ -8,17 +8,18 @@
 
 vec2 bevy_flip(vec2 uv) { return vec2(uv.x, 1.0 - uv.y); }
 
-// Bevy's normal bias, in its sampling shader: the lookup moved along the
-// geometric normal by normal_bias x sqrt(2) texels of the map at the
-// receiver (fetch_spot_shadow: times 2 tan(outer) / size at the distance
-// along the axis; a cascade's: times its texel), whatever the angle; the
-// reference depth the moved point's. Returns Bevy's uv of it.
-vec2 bevy_lookup(ShadowInput s, float normal_bias, float constant_bias, out float ref)
+// Bevy's biases, in its sampling shader: the lookup moved towards the
+// light by depth_bias world units and along the geometric normal by
+// normal_bias x sqrt(2) texels of the map at the receiver
+// (fetch_spot_shadow: times 2 tan(outer) / size at the distance along the
+// axis; a cascade's: times its texel), whatever the angle; the reference
+// depth the moved point's. Returns Bevy's uv of it.
+vec2 bevy_lookup(ShadowInput s, float normal_bias, float depth_bias, out float ref)
 {
+    vec3 to_light = sm_sun() ? normalize(sm.light_pos_world.xyz) : normalize(sm.light_pos_world.xyz - s.pos_world);
     vec2 uv;
-    float depth_hw;
-    sm_offset_lookup(s, s.normal_world * normal_bias * 1.41421356 * sm_texel_world(s), uv, depth_hw);
-    ref = depth_hw + sm_bias_hw(s, constant_bias);
+    sm_offset_lookup(s, depth_bias * to_light + s.normal_world * normal_bias * 1.41421356 * sm_texel_world(s), uv,
+                     ref);
     return bevy_flip(uv);
 }
 

@@ -4,6 +4,6 @@
 float shadow_visibility(ShadowInput s)
 {
     float ref;
-    vec2 uv = bevy_lookup(s, BEVY_GAUSSIAN_NORMAL_BIAS, BEVY_GAUSSIAN_CONSTANT_BIAS, ref);
+    vec2 uv = bevy_lookup(s, BEVY_GAUSSIAN_NORMAL_BIAS, BEVY_GAUSSIAN_DEPTH_BIAS, ref);
     return bevy_castano(uv, ref);
 }

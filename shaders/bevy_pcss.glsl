@@ -33,7 +33,7 @@ float bevy_depth_bilinear(vec2 uv)
 float shadow_visibility(ShadowInput s)
 {
     float ref;
-    vec2 uv = bevy_lookup(s, BEVY_PCSS_NORMAL_BIAS, BEVY_PCSS_CONSTANT_BIAS, ref);
+    vec2 uv = bevy_lookup(s, BEVY_PCSS_NORMAL_BIAS, BEVY_PCSS_DEPTH_BIAS, ref);
     float light_size = bevy_light_size(), texel_size = bevy_texel_size();
     // search_for_blockers_in_shadow_map: the 8 fixed points, unturned, at
     // light_size / (texel_size * size) uv; a blocker is at least as near

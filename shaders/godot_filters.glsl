@@ -65,8 +65,25 @@ void godot_lookup(ShadowInput s, float normal_bias, out vec2 uv, out float depth
         offset = s.normal_world * (1.0 - max(0.0, nl)) * normal_bias * sm_texel_world(s);
         offset -= to_light * dot(offset, to_light);
     } else {
-        float dist = s.depth_world;
-        offset = s.normal_world * dist * normal_bias * 10.0 * sm.texel_size_uv.x * (1.0 - abs(nl));
+        float light_length = length(sm.light_pos_world.xyz - s.pos_world);
+        offset = s.normal_world * light_length * normal_bias * 10.0 * sm.texel_size_uv.x * (1.0 - abs(nl));
     }
     sm_offset_lookup(s, offset, uv, depth_hw);
+}
+
+// Godot's depth bias (shadow_bias; < 0: Godot's default for the light,
+// 0.03 for SpotLight3D, 0.1 for DirectionalLight3D), times the filter's
+// soft_shadow_scale, as the shader applies it to the reference depth
+// depth_hw: a spot adds bias / 100 / z_norm to its clip z before the
+// divide, which on a reversed-Z map from z_near = min(0.025, range) is a
+// constant distance, bias / 100 x range / z_near, along the light; the
+// sun moves the point towards the light by bias / 100 of its cascade's
+// depth range.
+float godot_ref(float depth_hw, float bias, float soft_shadow_scale)
+{
+    if (bias < 0.0)
+        bias = sm_sun() ? 0.1 : 0.03;
+    float b = bias / 100.0 * soft_shadow_scale, range = sm.far_world;
+    float linear = sm_sun() ? b : b * range / min(0.025, range) / (sm.far_world - sm.near_world);
+    return sm_hw_depth(max(sm_linear_depth(depth_hw) - linear, 0.0));
 }

@@ -26,7 +26,7 @@ float shadow_visibility(ShadowInput s)
 {
     float depth_hw;
     godot_lookup(s, GODOT_PCSS_NORMAL_BIAS, s.uv, depth_hw);
-    float ref = depth_hw + sm_bias_hw(s, GODOT_PCSS_CONSTANT_BIAS);
+    float ref = godot_ref(depth_hw, GODOT_PCSS_BIAS, GODOT_PCSS_BLUR);
     float size = GODOT_PCSS_LIGHT_SIZE_SCALE * godot_light_size();
     int taps = GODOT_PCSS_TAPS[GODOT_PCSS_QUALITY];
     mat2 rotation = godot_rotation(s.frag_coord, GODOT_PCSS_TAA != 0);

@@ -42,10 +42,9 @@
  *     search reaches the true search region at the far plane). Bevy's
  *     directional blur divides orthographic depths, as Bevy's does: here
  *     the fitted map's reversed depths, so its scale follows the fit.
- *   - bias: Bevy's normal bias as its shader applies it (default 1.8), and
- *     shadowbench's constant depth bias for Bevy's shadow_depth_bias, 0.02
- *     world units toward the light, whose size depends on the scene's
- *     scale (docs/presets.md).
+ *   - bias: Bevy's own, as its shader applies them at its defaults: the
+ *     lookup moved 0.02 world units towards the light and 1.8 sqrt(2)
+ *     texels along the normal (the scenes' units taken as Bevy's metres).
  *   - point lights' cube-map variants are not built (no scene has a point
  *     light).
  *
@@ -61,20 +60,24 @@
      "(Bevy's default 1.8)", offsetof(settings, normal_bias), PARAM_FLOAT, 1.8, 0.0, 10.0, NULL,           \
      TUNE(0.0, 0.9, 1.8, 3.6)}
 
+#define BEVY_DEPTH_BIAS_ROW(settings)                                                                   \
+    {"depth_bias", "shadow_depth_bias: the lookup moved towards the light, world units (Bevy's default "    \
+     "0.02)", offsetof(settings, depth_bias), PARAM_FLOAT, 0.02, 0.0, 1.0, NULL, TUNE(0.0, 0.01, 0.02, 0.05, 0.1)}
+
 #define BEVY_SOURCE "bevyengine/bevy 0.19.1: crates/bevy_pbr/src/render/shadow_sampling.wgsl"
 
 struct bevy_gaussian_settings {
-    float constant_bias, normal_bias;
+    float depth_bias, normal_bias;
 };
 
 static const struct technique_param bevy_gaussian_params[] = {
-    PARAM_ROW_CONSTANT_BIAS(struct bevy_gaussian_settings),
+    BEVY_DEPTH_BIAS_ROW(struct bevy_gaussian_settings),
     BEVY_NORMAL_BIAS_ROW(struct bevy_gaussian_settings),
     {NULL},
 };
 
 static const struct technique_cell bevy_gaussian_cells[] = {
-    {"grazing_receiver", {"constant_bias=0.005", "normal_bias=0"}},
+    {"grazing_receiver", {"depth_bias=0.1", "normal_bias=0"}},
     {NULL},
 };
 
@@ -83,17 +86,17 @@ TECHNIQUE(bevy_gaussian, .needs = SM_DEPTH, .regression = bevy_gaussian_cells, .
           .summary = "Bevy's default: Castano's 5 x 5 tent from 9 bilinear comparisons");
 
 struct bevy_temporal_settings {
-    float constant_bias, normal_bias;
+    float depth_bias, normal_bias;
 };
 
 static const struct technique_param bevy_temporal_params[] = {
-    PARAM_ROW_CONSTANT_BIAS(struct bevy_temporal_settings),
+    BEVY_DEPTH_BIAS_ROW(struct bevy_temporal_settings),
     BEVY_NORMAL_BIAS_ROW(struct bevy_temporal_settings),
     {NULL},
 };
 
 static const struct technique_cell bevy_temporal_cells[] = {
-    {"grazing_receiver", {"constant_bias=0.005", "normal_bias=0"}},
+    {"grazing_receiver", {"depth_bias=0.1", "normal_bias=0"}},
     {NULL},
 };
 
@@ -103,19 +106,19 @@ TECHNIQUE(bevy_temporal, .needs = SM_DEPTH, .regression = bevy_temporal_cells, .
 
 struct bevy_pcss_settings {
     float light_size_scale;
-    float constant_bias, normal_bias;
+    float depth_bias, normal_bias;
 };
 
 static const struct technique_param bevy_pcss_params[] = {
     PARAM_ROW_LIGHT_SIZE_SCALE(struct bevy_pcss_settings),
-    PARAM_ROW_CONSTANT_BIAS(struct bevy_pcss_settings),
+    BEVY_DEPTH_BIAS_ROW(struct bevy_pcss_settings),
     BEVY_NORMAL_BIAS_ROW(struct bevy_pcss_settings),
     {NULL},
 };
 
 static const struct technique_cell bevy_pcss_cells[] = {
     {"large_light", {"light_size_scale=3"}},
-    {"grazing_receiver", {"constant_bias=0.005", "normal_bias=0"}},
+    {"grazing_receiver", {"depth_bias=0.1", "normal_bias=0"}},
     {NULL},
 };
 

@@ -41,9 +41,9 @@
  *     diameter, a rect light's equal-area disk's; the sun's
  *     light_angular_distance its angular diameter. light_size_scale
  *     multiplies it.
- *   - bias: Godot's normal bias as its shader applies it (its defaults), and
- *     shadowbench's constant depth bias for Godot's per-light shadow_bias,
- *     which acts in Godot's own depth units (docs/presets.md).
+ *   - bias: Godot's own, its normal bias and its depth bias as its shader
+ *     applies them, at its defaults; a spot's range is the map's far plane
+ *     (the depth bias is a distance proportional to it).
  *   - blend_splits and later cascades are not modelled (one map).
  *
  * How they fail: pcf is a fixed blur whose few taps (4 at the default)
@@ -65,7 +65,10 @@ static const char *const godot_quality_names[] = {"hard", "very_low", "low", "me
     {"normal_bias", "shadow_normal_bias: the lookup moved along the normal (a spot: dist x this x 10 / "   \
      "map size; the sun: this many texels), times 1 - |N.L|; -1: Godot's default for the light (spot 1, "  \
      "sun 2)", offsetof(settings, normal_bias), PARAM_FLOAT, -1.0, -1.0, 10.0, NULL, TUNE(-1.0, 0.0, 0.5, 2.0, 4.0)}, \
-    PARAM_ROW_CONSTANT_BIAS(settings)
+    {"bias", "shadow_bias: the reference moved towards the light (a spot: bias / 100 x range / z_near; "       \
+     "the sun: bias / 100 of the map's depth range), times the filter's soft_shadow_scale; -1: Godot's "    \
+     "default for the light (spot 0.03, sun 0.1)", offsetof(settings, bias), PARAM_FLOAT, -1.0, -1.0, 10.0,  \
+     NULL, TUNE(-1.0, 0.0, 0.01, 0.3)}
 
 /* The levels as named cells of a run: the quality curve (docs/presets.md). */
 static const struct technique_preset godot_levels[] = {
@@ -81,7 +84,7 @@ struct godot_pcf_settings {
     int quality;
     float blur;
     int taa;
-    float normal_bias, constant_bias;
+    float normal_bias, bias;
 };
 
 static const struct technique_param godot_pcf_params[] = {
@@ -90,7 +93,7 @@ static const struct technique_param godot_pcf_params[] = {
 };
 
 static const struct technique_cell godot_pcf_cells[] = {
-    {"grazing_receiver", {"constant_bias=0.005", "normal_bias=0"}},
+    {"grazing_receiver", {"bias=0.3", "normal_bias=0"}},
     {"parallel_planes", {"blur=2", "taa=true", "quality=ultra"}},
     {NULL},
 };
@@ -103,7 +106,7 @@ struct godot_pcss_settings {
     int quality;
     float blur;
     int taa;
-    float normal_bias, constant_bias;
+    float normal_bias, bias;
     float light_size_scale;
 };
 
@@ -115,7 +118,7 @@ static const struct technique_param godot_pcss_params[] = {
 
 static const struct technique_cell godot_pcss_cells[] = {
     {"contact_hardening", {"light_size_scale=0.5", "blur=2"}},
-    {"grazing_receiver", {"constant_bias=0.005", "normal_bias=0"}},
+    {"grazing_receiver", {"bias=0.3", "normal_bias=0"}},
     {"parallel_planes", {"taa=true", "quality=ultra"}},
     {NULL},
 };
