@@ -1,5 +1,5 @@
 // hdrp_pcf: Unity HDRP's tent PCF (see techniques/hdrp.c).
-#include "shadow_taps.glsl"
+#include "hdrp_filters.glsl"
 
 // The area of the tent of half-width h (45-degree sides, height h) centred
 // at o, over [a, b], over its whole area h^2: the weight of the texel
@@ -20,14 +20,14 @@ float hdrp_texel_weight(float a, float b, float o, float h)
 // texel centre plus b / (a + b); the 2D taps their outer product.
 float shadow_visibility(ShadowInput s)
 {
-    float bias = HDRP_PCF_CONSTANT_BIAS + HDRP_PCF_SLOPE_BIAS * s.texel_depth_slope;
-    float ref = s.depth_hw + sm_bias_hw(s, bias);
+    vec2 uv;
+    float ref = hdrp_ref(s, HDRP_PCF_NORMAL_BIAS, HDRP_PCF_SLOPE_BIAS, uv);
     // the level's tent: Low 3x3 for a spot, 5x5 for the sun; Medium 5x5, 7x7
     const int half_width2 = (HDRP_PCF_QUALITY == 0 ? 3 : 5);  // 2h for a spot
     float h = 0.5 * float(half_width2 + (sm_sun() ? 2 : 0));
     int pairs = int(h + 0.5);
     vec2 size = vec2(sm.map_size_texels);
-    vec2 t = s.uv * size, c = floor(t + 0.5), o = t - c;
+    vec2 t = uv * size, c = floor(t + 0.5), o = t - c;
     vec4 wu = vec4(0.0), wv = vec4(0.0), pu = vec4(0.0), pv = vec4(0.0);
     for (int p = 0; p < pairs; p++) {
         float base = -h + 2.0 * float(p);  // the pair's first texel centre, from the corner c

@@ -18,7 +18,7 @@
 #define PRESETS(X)                                                        \
     X(bevy_gaussian) X(bevy_temporal) X(bevy_pcss)                        \
     X(filament_pcf_glsl) X(filament_dpcf_glsl) X(filament_pcss_glsl)     \
-    X(godot_pcf) X(godot_pcss) X(hdrp_pcf)
+    X(godot_pcf) X(godot_pcss) X(hdrp_pcf) X(hdrp_pcss) X(ue_smrt)
 /* Engine cells (docs/engines.md), after shadowbench's own: one file per
  * engine (techniques/<engine>.c), one descriptor per mode. */
 #define ENGINES(X)                                                                                \
@@ -37,6 +37,9 @@ const struct technique *const technique_list[] = {
 #undef X
     NULL,
 };
+
+_Static_assert(sizeof technique_list / sizeof technique_list[0] - 1 <= TECHNIQUE_COUNT_MAX,
+               "more techniques than arrays kept per technique hold: raise TECHNIQUE_COUNT_MAX");
 
 const char *const sat_format_names[] = {
 #define X(id, name) name,

@@ -318,6 +318,10 @@ bool technique_in(const struct technique *const *list, int n, const struct techn
  * viewer's lists). */
 #define TECHNIQUE_SELECTION_MAX 32
 
+/* The most techniques the registry holds: the size of every array kept
+ * per technique_list index (registry.c asserts it). */
+#define TECHNIQUE_COUNT_MAX 64
+
 struct strbuf;  /* base/util.h */
 
 /* Appends every technique's name, in registry order, separated by sep. */

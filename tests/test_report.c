@@ -8,6 +8,7 @@
 #include "scene/catalog.h"
 #include "run_cmd.h"
 #include "output/chart.h"
+#include "techniques/technique.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
@@ -84,6 +85,11 @@ static int distinct_legend(const char *svg, const char *name)
  * in marker too. */
 static void palette(void)
 {
+    int techniques = 0;
+    while (technique_list[techniques])
+        techniques++;
+    CHECK(techniques <= CHART_DISTINCT_STYLES, "%d techniques, %d distinct styles: two would look alike", techniques,
+          CHART_DISTINCT_STYLES);
     for (int a = 0; a < CHART_DISTINCT_STYLES; a++)
         for (int b = a + 1; b < CHART_DISTINCT_STYLES; b++) {
             const struct chart_style x = chart_style(a), y = chart_style(b);

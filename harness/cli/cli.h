@@ -48,9 +48,9 @@ struct options {
     int scene_count;
     const struct technique *techniques[CLI_MAX_TECHNIQUES];  /* at least one once parsed */
     int technique_count;
-    void *settings[CLI_MAX_TECHNIQUES];  /* per technique_list index, every one set */
+    void *settings[TECHNIQUE_COUNT_MAX];  /* per technique_list index, every one set */
     int set_count;                       /* --set options given */
-    unsigned long long held[CLI_MAX_TECHNIQUES];  /* per technique_list index: bit k, its params[k] --set */
+    unsigned long long held[TECHNIQUE_COUNT_MAX];  /* per technique_list index: bit k, its params[k] --set */
     const char *sweeps[CONFIG_MAX_SWEEPS];  /* --sweep T.P=v1,v2,... as given */
     int sweep_count;
     int width, height;                   /* image size in pixels */

@@ -233,7 +233,7 @@ void *cli_settings(const struct options *o, const struct technique *t)
 
 void cli_options_free(struct options *o)
 {
-    for (int i = 0; i < CLI_MAX_TECHNIQUES; i++)
+    for (int i = 0; i < TECHNIQUE_COUNT_MAX; i++)
         free(o->settings[i]);
     memset(o->settings, 0, sizeof o->settings);
 }

@@ -17,7 +17,7 @@ struct chart_style {
     const char *colour, *dash, *marker_name;
     int marker;  /* 0 circle, 1 square, 2 triangle, 3 diamond, 4 cross */
 };
-#define CHART_DISTINCT_STYLES 24
+#define CHART_DISTINCT_STYLES 40
 struct chart_style chart_style(int group);
 
 /* One point or bar: a technique configuration. */
