@@ -129,7 +129,8 @@ static const struct technique_param hdrp_pcss_params[] = {
 
 static const struct technique_cell hdrp_pcss_cells[] = {
     {"grazing_receiver", {"normal_bias=0", "slope_bias=0"}},
-    {"parallel_planes", {"blocker_samples=8,filter_samples=8", "softness_scale=2", "min_filter_size=1", "taa=true"}},
+    {"parallel_planes", {"blocker_samples=8,filter_samples=8", "softness_scale=2", "taa=true"}},
+    {"contact_hardening", {"min_filter_size=1"}},
     {NULL},
 };
 

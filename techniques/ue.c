@@ -81,7 +81,7 @@ static const struct technique_param ue_smrt_params[] = {
 
 static const struct technique_cell ue_smrt_cells[] = {
     {"parallel_planes", {"ray_count=16", "samples_per_ray=4", "max_ray_angle=0.3", "animate_noise=true"}},
-    {"overlapping_occluders", {"extrapolate_max_slope=0"}},
+    {"thin_features", {"extrapolate_max_slope=0"}},
     {"sun_parallel_planes", {"ray_length_scale=0.1"}},
     {"large_light", {"light_size_scale=0.5"}},
     {"grazing_receiver", {"normal_bias=0", "constant_bias=0.005"}},
