@@ -346,14 +346,31 @@ void chart_lines_svg(struct strbuf *out, const char *title, const char *subtitle
         y_axis(out, x0, y0, w, h, y_max, y_step, label);
 #define LX(v) (x0 + ((log_x ? log10(v) : (v)) - a) / (b - a) * w)
 #define LY(v) (y0 + h - fmin(drawable(v), y_max) / y_max * h)
-        /* x ticks: the values the lines have (the varied values) */
+        /* x ticks: the values the lines have (the varied values) when they
+         * share them; else, on a log axis, 1, 2 and 5 times the powers of
+         * ten in range */
         const struct chart_line *first = p->n ? &p->lines[0] : NULL;
-        for (int i = 0; first && i < first->n; i++)
+        bool shared = true;
+        for (int c = 1; c < p->n && shared; c++) {
+            shared = p->lines[c].n == first->n;
+            for (int i = 0; i < first->n && shared; i++)
+                shared = p->lines[c].x[i] == first->x[i];
+        }
+        double ticks[64];
+        int tick_count = 0;
+        for (int i = 0; first && shared && i < first->n && tick_count < 64; i++)
             if (isfinite(first->x[i]) && (!log_x || first->x[i] > 0))
-                strbuf_printf(out, "<line x1=\"%.1f\" x2=\"%.1f\" y1=\"%d\" y2=\"%d\" stroke=\"#333\"/>"
-                                   "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%g</text>\n",
-                              LX(first->x[i]), LX(first->x[i]), y0 + h, y0 + h + 5, LX(first->x[i]), y0 + h + 18,
-                              first->x[i]);
+                ticks[tick_count++] = first->x[i];
+        for (double e = floor(a); !shared && log_x && e <= b && tick_count < 60; e++)
+            for (int k = 0; k < 3; k++) {
+                const double v = (k == 0 ? 1 : k == 1 ? 2 : 5) * pow(10, e);
+                if (v >= x_lo && v <= x_hi)
+                    ticks[tick_count++] = v;
+            }
+        for (int i = 0; i < tick_count; i++)
+            strbuf_printf(out, "<line x1=\"%.1f\" x2=\"%.1f\" y1=\"%d\" y2=\"%d\" stroke=\"#333\"/>"
+                               "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%g</text>\n",
+                          LX(ticks[i]), LX(ticks[i]), y0 + h, y0 + h + 5, LX(ticks[i]), y0 + h + 18, ticks[i]);
         strbuf_printf(out, "<text x=\"%d\" y=\"%d\" text-anchor=\"middle\">", x0 + w / 2, y0 + h + 38);
         strbuf_xml(out, x_label);
         strbuf_printf(out, "%s</text>\n", log_x ? " (log scale)" : "");
@@ -402,7 +419,7 @@ void chart_lines_svg(struct strbuf *out, const char *title, const char *subtitle
         strbuf_printf(out, "<text x=\"%d\" y=\"%d\" text-anchor=\"end\" fill=\"#555\">ringed: ", width - 10,
                       height - 12);
         strbuf_xml(out, marked_text);
-        strbuf_printf(out, "; dashed: the reference value</text>\n");
+        strbuf_printf(out, "%s</text>\n", isfinite(reference_x) ? "; dashed: the reference value" : "");
     }
     strbuf_printf(out, "</svg>\n");
 }

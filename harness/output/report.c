@@ -35,6 +35,11 @@ cJSON *report_cell_json(const struct cell *c)
         if (isfinite(c->engine_texel_ratio[0]) && isfinite(c->engine_texel_ratio[1]))
             cJSON_AddItemToObject(e, "texel_ratio", cJSON_CreateDoubleArray(c->engine_texel_ratio, 2));
     }
+    if (technique_is_preset(c->technique)) {  /* the engine filter it re-implements (docs/presets.md) */
+        cJSON *p = cJSON_AddObjectToObject(o, "preset");
+        cJSON_AddStringToObject(p, "of", c->technique->preset_of);
+        cJSON_AddStringToObject(p, "source", c->technique->preset_source);
+    }
     /* the scored mask's camera-distance tolerance off the truth's silhouettes (score/metrics.h) */
     char tolerance[32];  /* the float's shortest decimal, not its double's digits */
     snprintf(tolerance, sizeof tolerance, "%g", (double)metrics_depth_tolerance(c->technique->depth_tolerance));
@@ -409,6 +414,93 @@ static int overall_chart(const struct report *r, const char *device, bool engine
     free(title), free(sub), free(engine_device), free(m);
     points_free(&p);
     return emit_chart(r, engines ? "engines_tradeoff" : "overall_tradeoff", &svg, html);
+}
+
+/* Whether label is one of t's levels: its defaults (its own name) or one
+ * of its named settings, <t>@<preset> (docs/presets.md: an engine's
+ * quality levels; pcss's seed-003 steps). */
+static bool level_of(const struct technique *t, const char *label)
+{
+    const size_t n = strlen(t->name);
+    if (strncmp(label, t->name, n) != 0)
+        return false;
+    return !label[n] || (label[n] == '@' && technique_preset_find(t, label + n + 1));
+}
+
+/* The quality curves: each technique with named settings, a line through
+ * its defaults and those settings over every scene, ordered by cost, mean
+ * error against counted fetches and against time (two charts); nothing
+ * when no technique has two levels scored on every scene. */
+static int quality_charts(const struct report *r, const char *device, struct strbuf *html)
+{
+    struct config_mean *m = xcalloc((size_t)r->cell_count + 1, sizeof *m);
+    const int n = config_means(r, false, m);
+    const int lines_max = TECHNIQUE_SELECTION_MAX;
+    struct chart_line *pen[2], *rmse[2];
+    double *arrays = xcalloc((size_t)n * 6 + 1, sizeof *arrays);
+    bool *defaults = xcalloc((size_t)n * 2 + 1, sizeof *defaults);  /* per axis, per level */
+    for (int a = 0; a < 2; a++)
+        pen[a] = xcalloc(lines_max, sizeof **pen), rmse[a] = xcalloc(lines_max, sizeof **rmse);
+    int count = 0, used = 0;
+    for (const struct technique *const *t = technique_list; *t && count < lines_max; t++) {
+        if (!(*t)->presets)
+            continue;
+        int idx[TECHNIQUE_CELLS_PER_SCENE * 4], k = 0;
+        for (int i = 0; i < n && k < (int)ARRAY_SIZE(idx); i++)
+            if (m[i].first->technique == *t && m[i].complete && level_of(*t, m[i].first->label))
+                idx[k++] = i;
+        if (k < 2)
+            continue;
+        for (int a = 0; a < 2; a++) {  /* a = 0: by fetches, 1: by time */
+            for (int i = 1; i < k; i++)  /* insertion sort by the cost */
+                for (int j = i; j > 0; j--) {
+                    const double x0 = a ? m[idx[j - 1]].ms : m[idx[j - 1]].fetches;
+                    const double x1 = a ? m[idx[j]].ms : m[idx[j]].fetches;
+                    if (x1 < x0) {
+                        int tmp = idx[j];
+                        idx[j] = idx[j - 1], idx[j - 1] = tmp;
+                    }
+                }
+            double *x = arrays + used, *yp = x + k, *yr = yp + k;
+            bool *mark = defaults + used / 3;
+            for (int i = 0; i < k; i++) {
+                x[i] = a ? m[idx[i]].ms : m[idx[i]].fetches;
+                yp[i] = m[idx[i]].pen, yr[i] = m[idx[i]].rmse;
+                mark[i] = strcmp(m[idx[i]].first->label, (*t)->name) == 0;
+            }
+            used += 3 * k;
+            const struct chart_item item = {(*t)->name, (*t)->name, technique_index(*t)};
+            pen[a][count] = (struct chart_line){item, k, x, yp, mark};
+            rmse[a][count] = (struct chart_line){item, k, x, yr, mark};
+        }
+        count++;
+    }
+    int rc = 0;
+    if (count) {
+        strbuf_printf(html, "<h2 id=\"quality\">Quality levels</h2>\n<p>Each line joins one technique's levels, "
+                            "its defaults and its named settings (an engine's quality levels, "
+                            "docs/presets.md; pcss's seed-003 steps), "
+                            "in order of cost, each point a level's mean over every scene; the ringed point is "
+                            "the defaults. Fetches are counted and hold on any GPU; times are this run's "
+                            "device's only.</p>\n");
+        for (int a = 0; a < 2; a++) {
+            const struct chart_panel panels[] = {{"mean penumbra_rmse", "visibility", pen[a], count},
+                                                 {"mean rmse", "visibility", rmse[a], count}};
+            char *title = util_printf("All %d scenes: each level's mean error against its %s", r->scene_count,
+                                      a ? "time per frame" : "counted fetches");
+            char *sub = a ? chart_subtitle(device, "") : xstrdup("counted on the device: a cost that holds on any GPU");
+            struct strbuf svg = {0};
+            chart_lines_svg(&svg, title, sub,
+                            a ? "mean ms per frame" : "shadow-map fetches per covered pixel (counted)",
+                            true, NAN, "the defaults", panels, 2);
+            rc |= emit_chart(r, a ? "quality_time" : "quality_fetches", &svg, html);
+            free(title), free(sub);
+        }
+    }
+    for (int a = 0; a < 2; a++)
+        free(pen[a]), free(rmse[a]);
+    free(arrays), free(defaults), free(m);
+    return rc;
 }
 
 /* The frontiers of the tuned techniques, over every scene (scene NULL) or
@@ -870,6 +962,7 @@ static int write_html(const struct report *r)
     budget_table(r, device, &h);
     int rc = overall_chart(r, device, false, &h) || overall_chart(r, device, true, &h);
     shortcut_table(r, &h);
+    rc = rc || quality_charts(r, device, &h);
     strbuf_printf(&h, "<h2 id=\"worst\">Worst failures</h2>\n<p>Heatmaps share one scale: blue too dark, red "
                       "too bright, grey not scored.</p>\n");
     heatmap_legend(&h, -1);

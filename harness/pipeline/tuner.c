@@ -231,6 +231,11 @@ static cJSON *technique_json(const struct tuner *tn, const int *start, const int
         cJSON_AddStringToObject(engine, "version", e->version);
         cJSON_AddStringToObject(engine, "renderer", e->renderer);
     }
+    if (technique_is_preset(tn->t)) {  /* the engine filter it re-implements (docs/presets.md) */
+        cJSON *preset = cJSON_AddObjectToObject(j, "preset");
+        cJSON_AddStringToObject(preset, "of", tn->t->preset_of);
+        cJSON_AddStringToObject(preset, "source", tn->t->preset_source);
+    }
     cJSON_AddStringToObject(j, "objective", metric_info[o->objective].key);
     cJSON_AddStringToObject(j, "cost", o->cost_fetches ? "fetches" : "ms");
     cJSON_AddStringToObject(j, "search", TUNE_SEARCH_TEXT);
