@@ -4,6 +4,8 @@
 // addressed with v running down (uv = ndc * (0.5, -0.5) + 0.5), GL's with v
 // up: every filter below works in Bevy's coordinates (bevy_flip, its own
 // inverse) so that its texel grid and its patterns' handedness are Bevy's.
+// (Bevy's window position runs down from the top, GL's up from the bottom:
+// its noise field is mirrored here, the same noise.)
 #include "shadow_taps.glsl"
 
 vec2 bevy_flip(vec2 uv) { return vec2(uv.x, 1.0 - uv.y); }
@@ -16,9 +18,8 @@ vec2 bevy_flip(vec2 uv) { return vec2(uv.x, 1.0 - uv.y); }
 // depth the moved point's. Returns Bevy's uv of it.
 vec2 bevy_lookup(ShadowInput s, float normal_bias, float depth_bias, out float ref)
 {
-    vec3 to_light = sm_sun() ? normalize(sm.light_pos_world.xyz) : normalize(sm.light_pos_world.xyz - s.pos_world);
     vec2 uv;
-    sm_offset_lookup(s, depth_bias * to_light + s.normal_world * normal_bias * 1.41421356 * sm_texel_world(s), uv,
+    sm_offset_lookup(s, depth_bias * sm_to_light(s.pos_world) + s.normal_world * normal_bias * 1.41421356 * sm_texel_world(s), uv,
                      ref);
     return bevy_flip(uv);
 }
@@ -30,19 +31,14 @@ float bevy_lit_2x2(vec2 uv_bevy, float ref)
     return sm_lit_2x2(bevy_flip(uv_bevy), ref);
 }
 
-// Interleaved gradient noise as render/utils.wesl has it: the pixel centre
-// moved by 5.588238 a frame, frame modulo 64.
-float bevy_ign(vec2 pixel, uint frame)
-{
-    vec2 xy = pixel + 5.588238 * float(frame % 64u);
-    return fract(52.9829189 * fract(0.06711056 * xy.x + 0.00583715 * xy.y));
-}
-
-// random_rotation_matrix: WGSL's mat2x2(cos, -sin, sin, cos) is column
-// major, a turn by -2 pi ign. Not temporal: frame 1, always.
+// random_rotation_matrix: interleaved gradient noise as render/utils.wesl
+// has it, the pixel centre moved by 5.588238 a frame (frame modulo 64;
+// not temporal: frame 1, always); WGSL's mat2x2(cos, -sin, sin, cos) is
+// column major, a turn by -2 pi ign.
 mat2 bevy_rotation(vec2 pixel, bool temporal)
 {
-    float a = 6.28318531 * bevy_ign(pixel, temporal ? uint(sm_noise_frame) : 1u);
+    uint frame = temporal ? uint(sm_noise_frame) : 1u;
+    float a = 6.28318531 * sm_ign(pixel + 5.588238 * float(frame % 64u));
     return mat2(cos(a), -sin(a), sin(a), cos(a));
 }
 
@@ -63,9 +59,7 @@ const vec2 BEVY_D3D_POINTS[8] = vec2[8](vec2(0.125, -0.375), vec2(-0.125, 0.375)
 // size: here the sun map's wider side over its texels).
 float bevy_texel_size()
 {
-    if (sm_sun())
-        return max(sm.near_window_world.x, sm.near_window_world.y) * sm.texel_size_uv.x;
-    return 0.0134277345;
+    return sm_sun() ? sm_texel_world_at(sm.near_world) : 0.0134277345;  // the sun's: at any depth
 }
 
 // Castano 2013's 5 x 5 tent from 9 bilinear comparisons

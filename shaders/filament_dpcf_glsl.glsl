@@ -16,7 +16,7 @@ float shadow_visibility(ShadowInput s)
                      * filament_penumbra_texels(s, FILAMENT_DPCF_GLSL_LIGHT_SIZE_SCALE * filament_bulb_radius());
     float occluded, z_sum;
     filament_blocker_search(s, ref, penumbra * sm.texel_size_uv, filament_rotation(s.frag_coord,
-                            FILAMENT_DPCF_GLSL_TAA != 0), 12, occluded, z_sum);
+                            FILAMENT_DPCF_GLSL_ANIMATE_NOISE != 0), 12, occluded, z_sum);
     if (z_sum == 0.0)
         SM_EARLY_OUT(1.0)
     float ratio = clamp(FILAMENT_DPCF_GLSL_PENUMBRA_RATIO_SCALE * filament_penumbra_ratio(ref, z_sum / occluded),

@@ -7,7 +7,7 @@ float shadow_visibility(ShadowInput s)
     // normal by normalBias texels at the receiver, times sin of the angle
     // to the spot's axis as Filament passes it (pointing away from the
     // light: 1 on every surface facing the light), or to the sun
-    float c = clamp(dot(s.normal_world, sm_sun() ? normalize(sm.light_pos_world.xyz) : sm.light_dir_world.xyz),
+    float c = clamp(dot(s.normal_world, sm_sun() ? sm_to_light(s.pos_world) : sm.light_dir_world.xyz),
                     0.0, 1.0);
     float scale = sm_sun() ? 0.5 : 1.0;  // Filament halves the sun's
     vec2 uv;

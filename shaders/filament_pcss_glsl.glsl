@@ -6,7 +6,7 @@ float shadow_visibility(ShadowInput s)
     float ref = s.depth_hw + sm_bias_hw(s, FILAMENT_PCSS_GLSL_CONSTANT_BIAS);
     float penumbra = FILAMENT_PCSS_GLSL_PENUMBRA_SCALE
                      * filament_penumbra_texels(s, FILAMENT_PCSS_GLSL_LIGHT_SIZE_SCALE * filament_bulb_radius());
-    mat2 rotation = filament_rotation(s.frag_coord, FILAMENT_PCSS_GLSL_TAA != 0);
+    mat2 rotation = filament_rotation(s.frag_coord, FILAMENT_PCSS_GLSL_ANIMATE_NOISE != 0);
     float occluded, z_sum;
     filament_blocker_search(s, ref, penumbra * sm.texel_size_uv, rotation, 16, occluded, z_sum);
     if (z_sum == 0.0)

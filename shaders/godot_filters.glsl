@@ -18,11 +18,12 @@ vec2 godot_vogel(int i, int n)
 }
 
 // quick_hash (interleaved gradient noise) of the window position moved by
-// taa_frame_count * 5.588238 (0 without TAA); mat2(vec2(c, -s), vec2(s, c)).
-mat2 godot_rotation(vec2 frag_coord, bool taa)
+// taa_frame_count * 5.588238 (0 without TAA: `animate`; Godot wraps the
+// count at its jitter's phase count, the frame here does not wrap);
+// mat2(vec2(c, -s), vec2(s, c)).
+mat2 godot_rotation(vec2 frag_coord, bool animate)
 {
-    vec2 p = frag_coord + vec2((taa ? sm_noise_frame : 0.0) * 5.588238);
-    float a = 6.28318531 * fract(52.9829189 * fract(0.06711056 * p.x + 0.00583715 * p.y));
+    float a = 6.28318531 * sm_ign(frag_coord + vec2((animate ? sm_noise_frame : 0.0) * 5.588238));
     return mat2(vec2(cos(a), -sin(a)), vec2(sin(a), cos(a)));
 }
 
@@ -39,30 +40,23 @@ float godot_pcf(vec2 uv, float ref, vec2 radius_uv, int taps, mat2 rotation)
     return sum / float(taps);
 }
 
-// A linear read of the raw depth (SAMPLER_LINEAR_CLAMP): one gather, weighted.
-float godot_depth_bilinear(vec2 uv)
-{
-    SM_FETCHED(1);
-    vec4 t = textureGather(sm_depth, uv, 0);  // (0,1) (1,1) (1,0) (0,0)
-    vec2 w = fract(uv * vec2(sm.map_size_texels) - 0.5);
-    return mix(mix(t.w, t.z, w.x), mix(t.x, t.y, w.x), w.y);
-}
 
 // Godot's normal bias, in the filter's own shader: the lookup moved along
-// the geometric normal by (1 - |N.L|) times, for a spot, dist x
-// normal_bias x 10 / map size (light_storage.cpp's uniform), for the sun,
-// normal_bias texels of its map, with the part along the light removed.
-// normal_bias < 0: Godot's default for the light, 1 (SpotLight3D) or 2
-// (DirectionalLight3D).
+// the geometric normal by, for a spot, dist x normal_bias x 10 / map size
+// (light_storage.cpp's uniform) times 1 - |N.L|; for the sun, normal_bias
+// texels of its map times 1 - max(0, dot(light_dir, -N)) (light_dir
+// towards the light: the whole offset on every face the sun lights), the
+// part along the light removed. normal_bias < 0: Godot's default for the
+// light, 1 (SpotLight3D) or 2 (DirectionalLight3D).
 void godot_lookup(ShadowInput s, float normal_bias, out vec2 uv, out float depth_hw)
 {
-    vec3 to_light = sm_sun() ? normalize(sm.light_pos_world.xyz) : normalize(sm.light_pos_world.xyz - s.pos_world);
+    vec3 to_light = sm_to_light(s.pos_world);
     float nl = dot(s.normal_world, to_light);
     if (normal_bias < 0.0)
         normal_bias = sm_sun() ? 2.0 : 1.0;
     vec3 offset;
     if (sm_sun()) {
-        offset = s.normal_world * (1.0 - max(0.0, nl)) * normal_bias * sm_texel_world(s);
+        offset = s.normal_world * (1.0 - max(0.0, -nl)) * normal_bias * sm_texel_world(s);
         offset -= to_light * dot(offset, to_light);
     } else {
         float light_length = length(sm.light_pos_world.xyz - s.pos_world);
@@ -76,9 +70,10 @@ void godot_lookup(ShadowInput s, float normal_bias, out vec2 uv, out float depth
 // soft_shadow_scale, as the shader applies it to the reference depth
 // depth_hw: a spot adds bias / 100 / z_norm to its clip z before the
 // divide, which on a reversed-Z map from z_near = min(0.025, range) is a
-// constant distance, bias / 100 x range / z_near, along the light; the
-// sun moves the point towards the light by bias / 100 of its cascade's
-// depth range.
+// distance, bias / 100 x range / z_near, along the light (on the spot's
+// axis; off it smaller by the cosine to the axis, not modelled); the sun
+// moves the point towards the light by bias / 100 of its cascade's depth
+// range.
 float godot_ref(float depth_hw, float bias, float soft_shadow_scale)
 {
     if (bias < 0.0)

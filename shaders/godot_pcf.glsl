@@ -10,5 +10,5 @@ float shadow_visibility(ShadowInput s)
     float ref = godot_ref(depth_hw, GODOT_PCF_BIAS, scale);
     vec2 radius_uv = scale * sm.texel_size_uv;
     return godot_pcf(s.uv, ref, radius_uv, GODOT_PCF_TAPS[GODOT_PCF_QUALITY],
-                     godot_rotation(s.frag_coord, GODOT_PCF_TAA != 0));
+                     godot_rotation(s.frag_coord, GODOT_PCF_ANIMATE_NOISE != 0));
 }

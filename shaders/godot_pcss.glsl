@@ -5,10 +5,7 @@
 // a rect light's equal-area disk's; the sun's angular diameter, 2 alpha.
 float godot_light_size()
 {
-    vec2 extent = sm.light_size_uv * sm.near_window_world;  // the sun's: 2 tan(alpha) per unit of depth
-    if (sm_sun())
-        return 2.0 * atan(0.5 * extent.x);
-    return SM_RECT_LIGHT ? 2.0 * sqrt(extent.x * extent.y / 3.14159265) : extent.x;
+    return sm_sun() ? 2.0 * atan(sm_light_radius()) : 2.0 * sm_light_radius();
 }
 
 // Godot's depth of a hardware depth here: a spot's map is reversed-Z
@@ -29,7 +26,7 @@ float shadow_visibility(ShadowInput s)
     float ref = godot_ref(depth_hw, GODOT_PCSS_BIAS, GODOT_PCSS_BLUR);
     float size = GODOT_PCSS_LIGHT_SIZE_SCALE * godot_light_size();
     int taps = GODOT_PCSS_TAPS[GODOT_PCSS_QUALITY];
-    mat2 rotation = godot_rotation(s.frag_coord, GODOT_PCSS_TAA != 0);
+    mat2 rotation = godot_rotation(s.frag_coord, GODOT_PCSS_ANIMATE_NOISE != 0);
     float z_receiver;  // the receiver's depth as the penumbra's formula takes it
     vec2 uv_size;      // the search's radius
     if (sm_sun()) {
@@ -50,7 +47,7 @@ float shadow_visibility(ShadowInput s)
     // blocker search: bilinear raw depths nearer the light than the receiver, averaged
     float blocker_sum = 0.0, blockers = 0.0;
     for (int i = 0; i < taps; i++) {
-        float d = godot_depth_bilinear(s.uv + (rotation * godot_vogel(i, taps)) * uv_size);
+        float d = sm_depth_bilinear(s.uv + (rotation * godot_vogel(i, taps)) * uv_size);
         if (d > ref) {
             blocker_sum += godot_depth(d);
             blockers += 1.0;
@@ -59,6 +56,9 @@ float shadow_visibility(ShadowInput s)
     if (blockers == 0.0)
         SM_EARLY_OUT(1.0)
     float blocker = blocker_sum / blockers;
-    uv_size *= (blocker - z_receiver) / (1.0 - blocker);
+    // (the sun's denominator is the blocker's distance from the map's near
+    // plane: a blocker on it gives a ratio as large as the fit's margin
+    // allows; kept above 1e-4)
+    uv_size *= (blocker - z_receiver) / max(1.0 - blocker, 1e-4);
     return godot_pcf(s.uv, ref, uv_size, taps, rotation);
 }

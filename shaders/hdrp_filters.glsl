@@ -11,19 +11,18 @@
 // here as slope_bias texels of the receiver's depth slope.
 float hdrp_ref(ShadowInput s, float normal_bias, float slope_bias, out vec2 uv)
 {
-    vec3 to_light = sm_sun() ? normalize(sm.light_pos_world.xyz) : normalize(sm.light_pos_world.xyz - s.pos_world);
-    vec3 n = dot(s.normal_world, to_light) < 0.0 ? -s.normal_world : s.normal_world;
+    vec3 n = dot(s.normal_world, sm_to_light(s.pos_world)) < 0.0 ? -s.normal_world : s.normal_world;
     float depth_hw;
     sm_offset_lookup(s, n * normal_bias * 1.41421356 * sm_texel_world(s), uv, depth_hw);
     return depth_hw + sm_bias_hw(s, slope_bias * s.texel_depth_slope) + 1.0 / 65536.0;
 }
 
-// InterleavedGradientNoise (Random.hlsl) of the pixel and TAA's frame
-// index (0 without TAA), as an angle: HDRP turns its taps by it.
-mat2 hdrp_rotation(vec2 pixel, bool taa)
+// InterleavedGradientNoise (Random.hlsl) of the pixel moved by TAA's
+// frame index (0 to 7; 0 without TAA: `animate`) times (2.083, 4.867), as
+// an angle: HDRP turns its taps by it.
+mat2 hdrp_rotation(vec2 pixel, bool animate)
 {
-    vec2 p = pixel + (taa ? sm_noise_frame : 0.0) * vec2(2.083, 4.867);
-    float a = 6.28318531 * fract(52.9829189 * fract(dot(p, vec2(0.06711056, 0.00583715))));
+    float a = 6.28318531 * sm_ign(pixel + (animate ? mod(sm_noise_frame, 8.0) : 0.0) * vec2(2.083, 4.867));
     // offset' = (x cos + y sin, -x sin + y cos)
     return mat2(cos(a), -sin(a), sin(a), cos(a));
 }

@@ -23,9 +23,9 @@ float shadow_visibility(ShadowInput s)
     vec2 uv;
     float ref = hdrp_ref(s, HDRP_PCF_NORMAL_BIAS, HDRP_PCF_SLOPE_BIAS, uv);
     // the level's tent: Low 3x3 for a spot, 5x5 for the sun; Medium 5x5, 7x7
-    const int half_width2 = (HDRP_PCF_QUALITY == 0 ? 3 : 5);  // 2h for a spot
-    float h = 0.5 * float(half_width2 + (sm_sun() ? 2 : 0));
-    int pairs = int(h + 0.5);
+    const int width = (HDRP_PCF_QUALITY == 0 ? 3 : 5) + (SM_LIGHT_SHAPE == SM_LIGHT_SUN ? 2 : 0);  // N = 2h
+    const float h = 0.5 * float(width);
+    const int pairs = (width + 1) / 2;
     vec2 size = vec2(sm.map_size_texels);
     vec2 t = uv * size, c = floor(t + 0.5), o = t - c;
     vec4 wu = vec4(0.0), wv = vec4(0.0), pu = vec4(0.0), pv = vec4(0.0);

@@ -6,10 +6,7 @@
 // (radians); times softnessScale.
 float hdrp_light_size()
 {
-    vec2 extent = sm.light_size_uv * sm.near_window_world;  // the sun's: 2 tan(alpha) per unit of depth
-    float size = sm_sun() ? 2.0 * atan(0.5 * extent.x)
-                          : (SM_RECT_LIGHT ? sqrt(extent.x * extent.y / 3.14159265) : 0.5 * extent.x);
-    return HDRP_PCSS_SOFTNESS_SCALE * size;
+    return HDRP_PCSS_SOFTNESS_SCALE * (sm_sun() ? 2.0 * atan(sm_light_radius()) : sm_light_radius());
 }
 
 // SampleShadow_PCSS, a spot: radii in the tile's uv here (HDRP's are the
@@ -109,6 +106,6 @@ float shadow_visibility(ShadowInput s)
 {
     vec2 uv;
     float z = hdrp_ref(s, HDRP_PCSS_NORMAL_BIAS, HDRP_PCSS_SLOPE_BIAS, uv);
-    mat2 rotation = hdrp_rotation(s.frag_coord, HDRP_PCSS_TAA != 0);
+    mat2 rotation = hdrp_rotation(s.frag_coord, HDRP_PCSS_ANIMATE_NOISE != 0);
     return sm_sun() ? hdrp_pcss_directional(s, uv, z, rotation) : hdrp_pcss_punctual(s, uv, z, rotation);
 }

@@ -27,7 +27,7 @@ void main()
     sm_fetches = 0.0;
 #endif
     vec3 p = v_pos_world;
-    ShadowInput s = sm_make_input(p, sm_facing_normal(p, v_normal_world, u_camera_pos));
+    ShadowInput s = sm_make_input(p, sm_facing_normal(p, v_normal_world, u_camera_pos), u_camera_pos);
     // at this resolution the derivatives span a block
     vec2 block_half_uv = 0.5 * (abs(s.uv_dx) + abs(s.uv_dy));
     out_class = vec2(cascade_weight_at(p) > 0.0 && sm_inside(s) ? shadow_classify(s, block_half_uv) : 0.5,

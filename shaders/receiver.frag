@@ -31,7 +31,7 @@ void main()
     sm_shortcut = false;
 #endif
     vec3 p = v_pos_world;
-    ShadowInput s = sm_make_input(p, sm_facing_normal(p, v_normal_world, u_camera_pos));
+    ShadowInput s = sm_make_input(p, sm_facing_normal(p, v_normal_world, u_camera_pos), u_camera_pos);
     float z = dot(p - u_camera_pos, u_camera_fwd);
     float w = u_cascade_count > 1 ? cascade_weight(u_cascade, z) : 1.0;
     // Outside the frustum counts as lit (those pixels are not scored).

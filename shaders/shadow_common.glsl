@@ -58,6 +58,7 @@ struct ShadowInput {
     float cos_light;         // cosine between normal and direction to the light centre
     float texel_depth_slope; // depth change (linear units) across one texel at this slope
     vec2 frag_coord;         // window position, for per-pixel rotations
+    float camera_distance;   // from the camera (world units)
 };
 
 // Receiver-plane depth bias (Isidoro 2006, "Shadow mapping: GPU-based tips
@@ -85,9 +86,41 @@ vec3 sm_facing_normal(vec3 p, vec3 vertex_normal, vec3 camera_pos)
     return dot(n, camera_pos - p) < 0.0 ? -n : n;
 }
 
+// The direction from p to the light: its centre, or the sun's direction.
+vec3 sm_to_light(vec3 p)
+{
+    return normalize(sm.light_pos_world.xyz - p * sm.light_pos_world.w);
+}
+
+// The map's texel in world units (along the window's wider side) at
+// planar depth depth_world: a perspective map's grows with the depth.
+float sm_texel_world_at(float depth_world)
+{
+    return max(sm.near_window_world.x, sm.near_window_world.y) * sm.texel_size_uv.x
+           * (sm_sun() ? 1.0 : depth_world / sm.near_world);
+}
+
+// A world point's map uv and hardware depth.
+vec3 sm_project(vec3 p)
+{
+    vec4 c = sm.light_view_proj * vec4(p, 1.0);
+    return vec3(c.xy / c.w * 0.5 + 0.5, c.z / c.w);
+}
+
+// The light's size as the engines' presets take it (docs/presets.md): an
+// area light's radius, a rect light's the radius of the disk of its area;
+// the sun's tan of its half angle.
+float sm_light_radius()
+{
+    vec2 extent = sm.light_size_uv * sm.near_window_world;  // the sun's: 2 tan(alpha) per unit of depth
+    if (sm_sun())
+        return 0.5 * extent.x;
+    return SM_LIGHT_SHAPE == SM_LIGHT_RECT ? sqrt(extent.x * extent.y / 3.14159265) : 0.5 * extent.x;
+}
+
 // tan(theta) is capped at 10 (theta ~ 84 deg) so grazing receivers keep a
 // finite slope bias.
-ShadowInput sm_make_input(vec3 p, vec3 n)
+ShadowInput sm_make_input(vec3 p, vec3 n, vec3 camera_pos)
 {
     ShadowInput s;
     vec4 c = sm.light_view_proj * vec4(p, 1.0);
@@ -102,13 +135,13 @@ ShadowInput sm_make_input(vec3 p, vec3 n)
     s.depth_hw = c.z / c.w;
     s.depth_hw_gradient = sm_depth_gradient(s.uv, s.depth_hw);
     // to the light: homogeneous, the area light's centre or the sun's direction
-    s.cos_light = dot(n, normalize(sm.light_pos_world.xyz - p * sm.light_pos_world.w));
-    float texel_world = max(sm.near_window_world.x, sm.near_window_world.y) * sm.texel_size_uv.x
-                        * (sm_sun() ? 1.0 : c.w / sm.near_world);
+    s.cos_light = dot(n, sm_to_light(p));
+    float texel_world = sm_texel_world_at(c.w);
     float cos_t = clamp(s.cos_light, 0.0995, 1.0);
     float tan_t = sqrt(1.0 - cos_t * cos_t) / cos_t;
     s.texel_depth_slope = texel_world * tan_t / (sm.far_world - sm.near_world);
     s.frag_coord = gl_FragCoord.xy;
+    s.camera_distance = length(p - camera_pos);
     return s;
 }
 

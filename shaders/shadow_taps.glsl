@@ -21,23 +21,29 @@ float sm_lit_2x2(vec2 uv, float ref)
 }
 
 // The frame index the noise is animated by (the receiver sets it: 0, but
-// in `stability`'s frames and `check`'s frame 1), read only by a technique whose
-// `animate_noise` is on; a program that does not read it is the same from
-// frame to frame.
+// in `stability`'s frames and `check`'s frame 1), read by a technique whose
+// `animate_noise` is on, or whose noise moves with the frame as its engine
+// ships it (bevy_temporal); a program that does not read it is the same
+// from frame to frame.
 uniform float sm_noise_frame;
 
-// Per-pixel random numbers in [0, 1) for frame `frame`: interleaved
-// gradient noise (Jimenez 2014, "Next generation post processing in Call
-// of Duty"), decorrelated for the second coordinate by a shifted window
-// position, and animated as that talk does, by moving the window position
+// Interleaved gradient noise (Jimenez 2014, "Next generation post
+// processing in Call of Duty") of a window position, in [0, 1): every
+// engine's per-pixel noise, each moving p by its own frame offset.
+float sm_ign(vec2 p)
+{
+    return fract(52.9829189 * fract(dot(p, vec2(0.06711056, 0.00583715))));
+}
+
+// Per-pixel random numbers in [0, 1) for frame `frame`: sm_ign,
+// decorrelated for the second coordinate by a shifted window position,
+// and animated as Jimenez's talk does, by moving the window position
 // 5.588238 pixels a frame (frame 0: the still pattern every other command
 // scores).
 vec2 sm_pixel_noise(vec2 frag_coord, float frame)
 {
-    const vec3 k = vec3(0.06711056, 0.00583715, 52.9829189);
     frag_coord += 5.588238 * frame;
-    return vec2(fract(k.z * fract(dot(frag_coord, k.xy))),
-                fract(k.z * fract(dot(frag_coord + vec2(47.0, 17.0), k.xy))));
+    return vec2(sm_ign(frag_coord), sm_ign(frag_coord + vec2(47.0, 17.0)));
 }
 
 // pcg2d (Jarzynski and Olano 2020, "Hash functions for GPU rendering") of
@@ -245,19 +251,27 @@ float sm_lit_at(TapFrame f, vec2 q, bool hw_2x2)
         result = sm_lit_ / float(n); \
     }
 
-// The map's texel at the receiver in world units (along the window's wider
-// side): a perspective map's grows with the receiver's depth.
+// The map's texel at the receiver in world units.
 float sm_texel_world(ShadowInput s)
 {
-    return max(sm.near_window_world.x, sm.near_window_world.y) * sm.texel_size_uv.x
-           * (sm_sun() ? 1.0 : s.depth_world / sm.near_world);
+    return sm_texel_world_at(s.depth_world);
 }
 
 // A normal-offset bias, as engines apply it: the receiver's lookup moved
 // by `offset` (world units); its map uv and hardware depth there.
 void sm_offset_lookup(ShadowInput s, vec3 offset, out vec2 uv, out float depth_hw)
 {
-    vec4 c = sm.light_view_proj * vec4(s.pos_world + offset, 1.0);
-    uv = c.xy / c.w * 0.5 + 0.5;
-    depth_hw = c.z / c.w;
+    vec3 q = sm_project(s.pos_world + offset);
+    uv = q.xy;
+    depth_hw = q.z;
+}
+
+// The hardware depth at uv filtered bilinearly, as a linear sampler reads
+// a depth map without comparison: one gather (one fetch), weighted.
+float sm_depth_bilinear(vec2 uv)
+{
+    SM_FETCHED(1);
+    vec4 t = textureGather(sm_depth, uv, 0);  // texels (0,1) (1,1) (1,0) (0,0)
+    vec2 w = fract(uv * vec2(sm.map_size_texels) - 0.5);
+    return mix(mix(t.w, t.z, w.x), mix(t.x, t.y, w.x), w.y);
 }

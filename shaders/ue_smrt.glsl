@@ -46,39 +46,35 @@ bool ue_ray_hits(vec3 start, vec3 end, int m, float offset, float max_slope)
     return false;
 }
 
-vec3 ue_project(vec3 p)
-{
-    vec4 c = sm.light_view_proj * vec4(p, 1.0);
-    return vec3(c.xy / c.w * 0.5 + 0.5, c.z / c.w);
-}
-
 float shadow_visibility(ShadowInput s)
 {
     const int rays = UE_SMRT_RAY_COUNT, m = UE_SMRT_SAMPLES_PER_RAY;
     // the start: the receiver moved off its surface by the normal bias
     // (texels at the receiver) and towards the light by the depth bias
-    vec3 to_light = sm_sun() ? normalize(sm.light_pos_world.xyz) : normalize(sm.light_pos_world.xyz - s.pos_world);
+    vec3 to_light = sm_to_light(s.pos_world);
     vec3 p = s.pos_world + s.normal_world * UE_SMRT_NORMAL_BIAS * sm_texel_world(s)
              + to_light * UE_SMRT_CONSTANT_BIAS * (sm.far_world - sm.near_world);
     // a tangent frame round the direction to the light
     vec3 axis = to_light;
     vec3 tangent = normalize(abs(axis.z) < 0.999 ? cross(axis, vec3(0.0, 0.0, 1.0)) : cross(axis, vec3(1.0, 0.0, 0.0)));
     vec3 bitangent = cross(axis, tangent);
-    vec2 extent = sm.light_size_uv * sm.near_window_world;  // the sun's: 2 tan(alpha) per unit of depth
-    float radius = UE_SMRT_LIGHT_SIZE_SCALE * (SM_RECT_LIGHT ? sqrt(extent.x * extent.y / 3.14159265) : 0.5 * extent.x);
+    float radius = UE_SMRT_LIGHT_SIZE_SCALE * sm_light_radius();  // the sun's: tan(half angle)
     float dist = length(sm.light_pos_world.xyz - s.pos_world);
     float max_slope;
+    // the sun's: UE's 5 is in its centimetres, 0.05 of the scenes' metres,
+    // as hardware depth a unit of t
     if (sm_sun())
-        max_slope = (UE_SMRT_EXTRAPOLATE_MAX_SLOPE < 0.0 ? 5.0 : UE_SMRT_EXTRAPOLATE_MAX_SLOPE)
+        max_slope = (UE_SMRT_EXTRAPOLATE_MAX_SLOPE < 0.0 ? 0.05 : UE_SMRT_EXTRAPOLATE_MAX_SLOPE)
                     / (sm.far_world - sm.near_world);
-    float offset = sm_blue_noise_at(s.frag_coord, sm_noise_frame * float(UE_SMRT_ANIMATE_NOISE)).x;
+    float frame = UE_SMRT_ANIMATE_NOISE != 0 ? sm_noise_frame : 0.0;
+    float offset = sm_blue_noise_at(s.frag_coord, frame).x;
     float missed = 0.0;
     for (int k = 0; k < rays; k++) {
         // the ray's point on the light: blue noise moved by the R2 step of the ray
-        vec2 e = sm_blue_noise_at(s.frag_coord + floor(fract(float(k + 1) * vec2(0.7548776662, 0.5698402910))
-                                  * float(SM_BLUE_NOISE_SIDE)), sm_noise_frame * float(UE_SMRT_ANIMATE_NOISE));
+        vec2 e = sm_blue_noise_at(s.frag_coord + floor(fract(float(k) * vec2(0.7548776662, 0.5698402910))
+                                  * float(SM_BLUE_NOISE_SIDE)), frame);
         vec2 d = sm_square_to_disk(2.0 * e - 1.0);
-        vec3 start = ue_project(p), end;
+        vec3 start = sm_project(p), end;
         if (sm_sun()) {
             // a direction in the sun's cone (a disk of radius sin(half
             // angle) across it), the ray as long as ray_length_scale times
@@ -86,8 +82,8 @@ float shadow_visibility(ShadowInput s)
             float sin_a = sin(atan(radius));
             vec3 dir = normalize(axis + sin_a * (d.x * tangent + d.y * bitangent));
             float length_max = (s.depth_world - sm.near_world) / max(dot(dir, axis), 1e-3);
-            float len = min(UE_SMRT_RAY_LENGTH_SCALE * length(p - u_camera_pos), length_max);
-            end = ue_project(p + dir * len);
+            float len = min(UE_SMRT_RAY_LENGTH_SCALE * s.camera_distance, length_max);
+            end = sm_project(p + dir * len);
         } else {
             // a point of the light's disk as seen from the receiver, the
             // ray stopping at most 75 % of the way, sooner the farther its
@@ -96,7 +92,7 @@ float shadow_visibility(ShadowInput s)
             vec3 dir = normalize(target - p);
             float cos_t = dot(dir, axis), sin_t = sqrt(max(1.0 - cos_t * cos_t, 0.0));
             float len = dist * 0.75 * clamp(1.5 / (cos_t + sin_t / tan(UE_SMRT_MAX_RAY_ANGLE)), 0.0, 1.0);
-            end = ue_project(p + dir * len);
+            end = sm_project(p + dir * len);
         }
         if (!sm_sun())
             max_slope = (UE_SMRT_EXTRAPOLATE_MAX_SLOPE < 0.0 ? 0.05 : UE_SMRT_EXTRAPOLATE_MAX_SLOPE)

@@ -22,9 +22,10 @@
  *                       facing the light get the whole offset (a quirk of
  *                       Filament's, kept); the sun's half of it.
  *   filament_dpcf_glsl  ShadowType::DPCF: 12 taps of the Poisson disk (the
- *                       first 12 of its 64, in its order), turned by
+ *                       first 12 of its 64, in its order: all in the
+ *                       upper half of the disk), turned by
  *                       interleaved gradient noise of the pixel (moved by
- *                       TAA's random number a frame: `taa`), nearest
+ *                       TAA's random number a frame: `animate_noise`), nearest
  *                       fetches against the receiver's plane (receiver-
  *                       plane depth bias); radius shadowBulbRadius in texels
  *                       at the receiver times penumbraScale; no blocker: lit;
@@ -52,9 +53,10 @@
  *   - PCSS's 2 x 2 is one gather here (desktop Filament's path; its WebGL
  *     build fetches the 4 texels one by one), counted as one fetch.
  *   - TAA's per-frame random number is the frame's R2 step here.
- *   - EVSM (ShadowType::VSM) is not built: it is shadowbench's evsm with
- *     Filament's settings (c = 5.54 on fp16 or 42 on fp32, bleed reduction
- *     0.15), which a run sets as --set evsm.… (docs/presets.md).
+ *   - EVSM (ShadowType::VSM) is not built as a preset: shadowbench's evsm
+ *     takes Filament's exponent (5.54, its fp16 choice, or 42) and bleed
+ *     reduction (0.15) on its own fp32 product, whose minimum variance is
+ *     in other units than Filament's (docs/presets.md).
  *
  * How they fail: pcf is a fixed 2-texel blur; dpcf's 12 lopsided taps and
  * its hardening make contact edges crisp but noisy and far ones
@@ -71,8 +73,7 @@
     {"penumbra_ratio_scale", "SoftShadowOptions::penumbraRatioScale: the penumbra ratio's multiplier (Filament: "  \
      "at least 1)", offsetof(settings, penumbra_ratio_scale), PARAM_FLOAT, 1.0, 1.0, 100.0, NULL,      \
      TUNE(1.0, 2.0, 4.0)},                                                                             \
-    {"taa", "TAA on: the noise moves with the frame (Filament adds TAA's random number a frame)",     \
-     offsetof(settings, taa), PARAM_BOOL, 0, 0, 1, NULL, NULL},                                        \
+    PARAM_ROW_ANIMATE_NOISE(settings),                                                                \
     PARAM_ROW_CONSTANT_BIAS(settings)
 
 struct filament_pcf_glsl_settings {
@@ -98,7 +99,7 @@ TECHNIQUE(filament_pcf_glsl, .needs = SM_DEPTH, .regression = filament_pcf_glsl_
 
 struct filament_dpcf_glsl_settings {
     float light_size_scale, penumbra_scale, penumbra_ratio_scale;
-    int taa;
+    int animate_noise;
     float constant_bias;
 };
 
@@ -110,7 +111,7 @@ static const struct technique_param filament_dpcf_glsl_params[] = {
 static const struct technique_cell filament_dpcf_glsl_cells[] = {
     {"contact_hardening", {"light_size_scale=0.5", "penumbra_scale=2", "penumbra_ratio_scale=4"}},
     {"grazing_receiver", {"constant_bias=0.005"}},
-    {"parallel_planes", {"taa=true"}},
+    {"parallel_planes", {"animate_noise=true"}},
     {NULL},
 };
 
@@ -120,7 +121,7 @@ TECHNIQUE(filament_dpcf_glsl, .needs = SM_DEPTH, .regression = filament_dpcf_gls
 
 struct filament_pcss_glsl_settings {
     float light_size_scale, penumbra_scale, penumbra_ratio_scale;
-    int taa;
+    int animate_noise;
     float constant_bias;
 };
 
@@ -132,7 +133,7 @@ static const struct technique_param filament_pcss_glsl_params[] = {
 static const struct technique_cell filament_pcss_glsl_cells[] = {
     {"contact_hardening", {"light_size_scale=0.5", "penumbra_scale=2", "penumbra_ratio_scale=4"}},
     {"grazing_receiver", {"constant_bias=0.005"}},
-    {"parallel_planes", {"taa=true"}},
+    {"parallel_planes", {"animate_noise=true"}},
     {NULL},
 };
 

@@ -14,7 +14,8 @@
  *     / 3 / 4 (PCSS's radii take no multiplier);
  *   - the taps: a Vogel disk, point i of n at radius sqrt(i + 0.5) / sqrt(n)
  *     and angle 2.4 i, turned per pixel by interleaved gradient noise of
- *     the window position (moved by 5.588238 a frame under TAA: `taa`);
+ *     the window position (moved by 5.588238 a frame under TAA:
+ *     `animate_noise`);
  *     every tap a bilinear hardware comparison, weighted equally;
  *   godot_pcf   a light with no size: radius shadow_blur x the level's
  *               multiplier, in texels (a spot's and the first cascade's).
@@ -60,14 +61,14 @@ static const char *const godot_quality_names[] = {"hard", "very_low", "low", "me
      offsetof(settings, quality), PARAM_ENUM, 2, 0, 0, godot_quality_names, TUNE_CHOICES},             \
     {"blur", "shadow_blur: the light's blur multiplier", offsetof(settings, blur), PARAM_FLOAT, 1.0, 0.0, 10.0, \
      NULL, TUNE(0.5, 1.0, 2.0)},                                                                        \
-    {"taa", "TAA on: the noise moves with the frame (taa_frame_count)", offsetof(settings, taa), PARAM_BOOL, \
-     0, 0, 1, NULL, NULL},                                                                              \
+    PARAM_ROW_ANIMATE_NOISE(settings),                                                                  \
     {"normal_bias", "shadow_normal_bias: the lookup moved along the normal (a spot: dist x this x 10 / "   \
-     "map size; the sun: this many texels), times 1 - |N.L|; -1: Godot's default for the light (spot 1, "  \
-     "sun 2)", offsetof(settings, normal_bias), PARAM_FLOAT, -1.0, -1.0, 10.0, NULL, TUNE(-1.0, 0.0, 0.5, 2.0, 4.0)}, \
+     "map size, times 1 - |N.L|; the sun: this many texels on every face it lights); below 0: Godot's "    \
+     "default for the light (spot 1, sun 2)", offsetof(settings, normal_bias), PARAM_FLOAT, -1.0, -1.0, 10.0, \
+     NULL, TUNE(-1.0, 0.0, 0.5, 3.0, 6.0)},                                                              \
     {"bias", "shadow_bias: the reference moved towards the light (a spot: bias / 100 x range / z_near; "       \
      "the sun: bias / 100 of the map's depth range), times the filter's soft_shadow_scale; -1: Godot's "    \
-     "default for the light (spot 0.03, sun 0.1)", offsetof(settings, bias), PARAM_FLOAT, -1.0, -1.0, 10.0,  \
+     "default for the light (below 0: spot 0.03, sun 0.1)", offsetof(settings, bias), PARAM_FLOAT, -1.0, -1.0, 10.0, \
      NULL, TUNE(-1.0, 0.0, 0.01, 0.3)}
 
 /* The levels as named cells of a run: the quality curve (docs/presets.md). */
@@ -83,7 +84,7 @@ static const struct technique_preset godot_levels[] = {
 struct godot_pcf_settings {
     int quality;
     float blur;
-    int taa;
+    int animate_noise;
     float normal_bias, bias;
 };
 
@@ -94,7 +95,7 @@ static const struct technique_param godot_pcf_params[] = {
 
 static const struct technique_cell godot_pcf_cells[] = {
     {"grazing_receiver", {"bias=0.3", "normal_bias=0"}},
-    {"parallel_planes", {"blur=2", "taa=true", "quality=ultra"}},
+    {"parallel_planes", {"blur=2", "animate_noise=true", "quality=ultra"}},
     {NULL},
 };
 
@@ -105,7 +106,7 @@ TECHNIQUE(godot_pcf, .needs = SM_DEPTH, .regression = godot_pcf_cells, .presets 
 struct godot_pcss_settings {
     int quality;
     float blur;
-    int taa;
+    int animate_noise;
     float normal_bias, bias;
     float light_size_scale;
 };
@@ -119,7 +120,7 @@ static const struct technique_param godot_pcss_params[] = {
 static const struct technique_cell godot_pcss_cells[] = {
     {"contact_hardening", {"light_size_scale=0.5", "blur=2"}},
     {"grazing_receiver", {"bias=0.3", "normal_bias=0"}},
-    {"parallel_planes", {"taa=true", "quality=ultra"}},
+    {"parallel_planes", {"animate_noise=true", "quality=ultra"}},
     {NULL},
 };
 

@@ -27,8 +27,9 @@
  *   hdrp_pcss High: PCSS, 24 blocker and 16 filter taps by default
  *             (1 to 64), on a 64-direction Fibonacci spiral (2 pi frac(i
  *             (3 - sqrt 5) / 2)) turned by interleaved gradient noise of
- *             the pixel and TAA's frame (`taa`). A spot: its softness a
- *             quartic of shapeRadius x softnessScale fitted at 512 texels
+ *             the pixel and TAA's frame index, 0 to 7
+ *             (`animate_noise`). A spot: its softness a quartic of
+ *             shapeRadius x softnessScale fitted at 512 texels
  *             (GetNonDirectionalSoftness), the search that radius (at most
  *             0.04 x tile / 512) in the 4096 reference atlas, point-sampled
  *             raw depths nearer than the receiver averaged; the softness
@@ -59,6 +60,14 @@
  *     LinearEyeDepth of the light's map); the sun's K = |m00 / m22| is the
  *     fitted map's 2 / width over 1 / depth range (HDRP reads it as tile
  *     uv; whether that halves it is not settled in its code either).
+ *   - a spot's penumbra |(z_r - z_b) / z_b| divides hardware depths, which
+ *     depend on the map's far plane: HDRP's is the light's range, here
+ *     the fitted far plane, so wide penumbrae come out up to f / (f - z_b)
+ *     wider than HDRP's at a long range would be;
+ *   - HDRP renders a soft spot's map with a slope bias of 0.5 x up to 18
+ *     (GetBaseBias); slope_bias keeps PCF's 2.5 unless tuned;
+ *   - HDRP's guard band (a spot lookup within a texel of its tile's edge
+ *     is lit) is not modelled: the shared edge policy applies;
  *   - the map's v axis is GL's: patterns are mirrored against HDRP's.
  *
  * How it fails: a fixed tent, 1.5 to 3.5 texels either side of every edge:
@@ -107,7 +116,7 @@ TECHNIQUE(hdrp_pcf, .needs = SM_DEPTH, .regression = hdrp_pcf_cells, .presets = 
 struct hdrp_pcss_settings {
     int blocker_samples, filter_samples;
     float softness_scale, min_filter_size;
-    int taa;
+    int animate_noise;
     float normal_bias, slope_bias;
 };
 
@@ -121,15 +130,14 @@ static const struct technique_param hdrp_pcss_params[] = {
      TUNE(0.5, 1.0, 2.0, 4.0)},
     {"min_filter_size", "Min Filter Size (a spot's, 0 to 1: times 0.001 of the 4096 atlas, the filter's "
      "least radius)", offsetof(struct hdrp_pcss_settings, min_filter_size), PARAM_FLOAT, 0.1, 0.0, 1.0, NULL, NULL},
-    {"taa", "TAA on: the noise moves with the frame", offsetof(struct hdrp_pcss_settings, taa), PARAM_BOOL, 0, 0, 1,
-     NULL, NULL},
+    PARAM_ROW_ANIMATE_NOISE(struct hdrp_pcss_settings),
     HDRP_BIAS_ROWS(struct hdrp_pcss_settings),
     {NULL},
 };
 
 static const struct technique_cell hdrp_pcss_cells[] = {
     {"grazing_receiver", {"normal_bias=0", "slope_bias=0"}},
-    {"parallel_planes", {"blocker_samples=8,filter_samples=8", "softness_scale=2", "taa=true"}},
+    {"parallel_planes", {"blocker_samples=8,filter_samples=8", "softness_scale=2", "animate_noise=true"}},
     {"contact_hardening", {"min_filter_size=1"}},
     {NULL},
 };

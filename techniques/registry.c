@@ -14,7 +14,8 @@
 #define TECHNIQUES(X) X(hard) X(pcf) X(pcss) X(vsm) X(savsm) X(pcss_savsm) X(evsm) X(msm) X(msm_soft) X(vssm) \
     PRESETS(X) ENGINES(X)
 /* Presets (docs/presets.md): shadowbench's shaders of the filters engines
- * ship, one file per engine (techniques/<engine>.c), run only when named. */
+ * ship, one file per engine (techniques/<engine>.c; Filament's
+ * filament_presets.c, beside its engine cell's), run only when named. */
 #define PRESETS(X)                                                        \
     X(bevy_gaussian) X(bevy_temporal) X(bevy_pcss)                        \
     X(filament_pcf_glsl) X(filament_dpcf_glsl) X(filament_pcss_glsl)     \

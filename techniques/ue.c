@@ -1,48 +1,56 @@
 /* Unreal Engine 5's shadow-map ray tracing (SMRT), the filter of its
  * virtual shadow maps, re-implemented (docs/presets.md): a preset,
- * shadowbench's own shader following Epic's documentation, "Virtual
- * Shadow Maps in Unreal Engine" (dev.epicgames.com, UE 5.6; section
- * "Shadow Map Ray Tracing"), its console variables' defaults and
- * UDirectionalLightComponent::LightSourceAngle's. UE's source is not
- * public (Epic's licence), so nothing else is followed.
+ * shadowbench's own shader. UE's source is licensed to Epic's account
+ * holders, not public; what follows comes from two kinds of source, kept
+ * apart here.
  *
- * Confirmed by that documentation (shaders/ue_smrt.glsl):
+ * Epic's documentation, "Virtual Shadow Maps in Unreal Engine"
+ * (dev.epicgames.com, UE 5.6, section "Shadow Map Ray Tracing"), and its
+ * API reference (UDirectionalLightComponent::LightSourceAngle) state:
  *   - rays from the receiver towards points on the light (a directional
  *     light's cone of Source Angle, 0.5357 degrees by default; a local
  *     light's Source Radius), each sampled against the shadow map at a
  *     number of points along it; the shadow the share of rays blocked;
- *   - r.Shadow.Virtual.SMRT.RayCountDirectional / RayCountLocal 7 and
- *     SamplesPerRayDirectional / SamplesPerRayLocal 8 (the defaults; the
- *     page says 4 to 8 samples work well, and Epic scalability 8 rays);
+ *   - the controls r.Shadow.Virtual.SMRT.RayCount* and SamplesPerRay*
+ *     (the page's figures: 7 rays, 8 samples; it says 4 to 8 samples work
+ *     well and that Epic scalability uses 8 rays);
  *   - behind the first occluder the map's depth is extrapolated from the
- *     depths seen before it (ExtrapolateMaxSlopeDirectional 5,
- *     ExtrapolateMaxSlopeLocal 0.05), which fills most leaks and shrinks
- *     penumbrae on surfaces parallel to the light;
+ *     depths seen before it (ExtrapolateMaxSlope*), which fills most leaks
+ *     and shrinks penumbrae on surfaces parallel to the light;
  *   - penumbrae are limited so rays stay near their origin:
- *     MaxRayAngleFromLight 0.03 radians (local), RayLengthScaleDirectional
- *     1.5 times the distance from the camera (directional).
+ *     MaxRayAngleFromLight (local lights) and RayLengthScaleDirectional
+ *     (rays as long as a multiple of the distance from the camera).
+ *
+ * Not in that documentation, read (paraphrased, not copied) from UE 5.7's
+ * shaders as unofficial public copies of its source show them, and from
+ * a public console-variable reference for the defaults: the values 0.03
+ * radians, 1.5, 5 (centimetres) and 0.05; the samples' spacing (t = ((m -
+ * 1 - i + noise) / m)^2, marched from the far end, and one at the start);
+ * the hit test (the surface in front of the ray by less than a step); the
+ * extrapolation (the last trusted surface extended along its depth slope,
+ * clamped); the local ray's end (75 % of the way, shortened as its angle
+ * from the light's centre grows). Those parts are not confirmed by Epic's
+ * public documentation: they are the engine's as far as such a copy
+ * shows, and this preset is that reading (docs/presets.md).
  *
  * Approximated, and why:
- *   - the documentation gives no formulas: the samples' spacing (denser
- *     towards the receiver, t = ((m - 1 - i + noise) / m)^2, marched from
- *     the far end, and one at the start), the hit test (the surface in
- *     front of the ray by less than a step), the extrapolation (the last
- *     trusted surface extended along its clamped depth slope) and the
- *     local ray's end (75 % of the way, shortened by the angle limit) are
- *     shadowbench's reading of that description, not Epic's code;
  *   - a virtual shadow map's page tables and clipmap levels are replaced
  *     by one map of the run's size (its texel density where the scenes
  *     need it is what a 16k virtual map would give only near the camera);
  *     off the map a sample is dropped, as an unmapped page's is;
- *   - the noise: shadowbench's blue-noise tile, a new offset per ray by the
- *     R2 sequence (UE 5.7 reads a spatiotemporal blue-noise stack the same
- *     way; earlier versions used interleaved gradient noise and Sobol
- *     points): the light's points and the samples' offset;
- *   - the light: a local light's Source Radius is the disk light's radius
- *     or the rect light's equal-area disk's; the sun's its angular size;
+ *   - the defaults are the console variables' (7 rays, 8 samples);
+ *     UE 5.7's Epic scalability level sets 8 rays and 4 samples
+ *     (`--set ue_smrt.ray_count=8,samples_per_ray=4`);
+ *   - the noise: shadowbench's blue-noise tile, a new offset per ray by
+ *     the R2 sequence, one step offset per pixel (UE 5.7 reads a
+ *     spatiotemporal blue-noise stack so; earlier versions used
+ *     interleaved gradient noise and Sobol points);
+ *   - the light: a local light's Source Radius is sm_light_radius (the
+ *     disk light's radius, the rect light's equal-area disk's); the sun's
+ *     its angular size; UE's units are centimetres, the scenes' metres;
  *   - bias: a normal offset of normal_bias texels and shadowbench's
- *     constant bias towards the light, for UE's screen-space ray and
- *     normal bias; no adaptive ray count (a wave vote);
+ *     constant bias towards the light, for UE's screen-space ray, texel
+ *     dither and normal bias; no adaptive ray count (a wave vote);
  *   - UE's classic shadow-map PCF is not built: its kernel is not stated in
  *     Epic's public documentation, so it is not shipped under UE's name.
  *
@@ -65,7 +73,7 @@ static const struct technique_param ue_smrt_params[] = {
     {"samples_per_ray", "r.Shadow.Virtual.SMRT.SamplesPerRay*: map samples per ray (and one at its start)",
      offsetof(struct ue_smrt_settings, samples_per_ray), PARAM_INT, 8, 1, 32, NULL, TUNE(2, 4, 8, 16)},
     {"extrapolate_max_slope", "ExtrapolateMaxSlope*: the extrapolated depth's largest slope (-1: UE's default for "
-     "the light, 5 world units a ray for the sun, 0.05 of the ray's depth change for a local light)",
+     "the light: the sun's 5 cm, 0.05 scene units, a unit of t; a local light's 0.05 of the ray's depth change)",
      offsetof(struct ue_smrt_settings, extrapolate_max_slope), PARAM_FLOAT, -1.0, -1.0, 100.0, NULL, NULL},
     {"max_ray_angle", "MaxRayAngleFromLight: a local light's rays' largest angle from the light, radians",
      offsetof(struct ue_smrt_settings, max_ray_angle), PARAM_FLOAT, 0.03, 0.001, 1.0, NULL, TUNE(0.03, 0.1, 0.3)},
@@ -89,5 +97,6 @@ static const struct technique_cell ue_smrt_cells[] = {
 };
 
 TECHNIQUE(ue_smrt, .needs = SM_DEPTH, .regression = ue_smrt_cells, .preset_of = "ue",
-          .preset_source = "Epic's documentation, Virtual Shadow Maps in Unreal Engine (5.6): Shadow Map Ray Tracing",
+          .preset_source = "Epic's documentation, Virtual Shadow Maps in Unreal Engine (5.6); UE 5.7's shaders as "
+                           "unofficial public copies show them",
           .summary = "Unreal Engine 5's shadow-map ray tracing: 7 rays to the light, 8 map samples each");

@@ -90,7 +90,8 @@ static int set_techniques(struct options *o, const char *list)
             const char *all = technique_is_engine(*e) ? "engines" : "presets";
             if (of && (!strcmp(name, all) || !strcmp(name, of))) {
                 group = true;
-                rc = rc || select_technique(o, *e);
+                if (!rc)
+                    rc = select_technique(o, *e);
             }
         }
         if (t) {
