@@ -8,9 +8,10 @@
 
 /* A series' style, by technique index: Okabe & Ito's colour-blind-safe
  * palette (8 colours), with a dash for each round of it (solid, dashed,
- * dotted, dash-dot, sparse dots) and a marker that changes with the index, so the first
- * CHART_DISTINCT_STYLES techniques differ in colour or dash, and
- * techniques a palette apart (pcf and vssm) also in their marker. */
+ * dotted, dash-dot, sparse dots) and a marker that changes with the
+ * index, so the first CHART_DISTINCT_STYLES techniques differ in colour or
+ * dash, and techniques a palette apart (pcf and vssm) also in their
+ * marker. */
 static const char *const palette[] = {"#0072B2", "#E69F00", "#009E73", "#CC79A7",
                                       "#56B4E9", "#D55E00", "#000000", "#F0E442"};
 static const char *const dashes[] = {"none", "7 3", "2 2", "8 2 2 2", "1 4"};
