@@ -314,13 +314,13 @@ int technique_index(const struct technique *t);
 /* Whether t is among list[0..n-1] (a selection of techniques). */
 bool technique_in(const struct technique *const *list, int n, const struct technique *t);
 
-/* The most techniques one selection holds (--technique; the study's, the
- * viewer's lists). */
-#define TECHNIQUE_SELECTION_MAX 32
-
 /* The most techniques the registry holds: the size of every array kept
  * per technique_list index (registry.c asserts it). */
 #define TECHNIQUE_COUNT_MAX 64
+
+/* The most techniques one selection holds (--technique; the study's, the
+ * viewer's lists): all of them. */
+#define TECHNIQUE_SELECTION_MAX TECHNIQUE_COUNT_MAX
 
 struct strbuf;  /* base/util.h */
 

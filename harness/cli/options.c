@@ -54,20 +54,15 @@ static int set_scene(struct options *o, const char *arg)
     return 0;
 }
 
-/* Adds t to the selection, once. Returns 0, or -1 (logged) when the
- * selection is full. */
-static int select_technique(struct options *o, const struct technique *t)
+/* Adds t to the selection, once: it holds every registered technique at
+ * most (CLI_MAX_TECHNIQUES is TECHNIQUE_COUNT_MAX, which registry.c
+ * asserts the registry fits). */
+static void select_technique(struct options *o, const struct technique *t)
 {
     for (int i = 0; i < o->technique_count; i++)
         if (o->techniques[i] == t)
-            return 0;
-    if (o->technique_count == CLI_MAX_TECHNIQUES) {
-        log_error("--technique: more than %d techniques at once (%s is one too many); run them in two commands",
-                  CLI_MAX_TECHNIQUES, t->name);
-        return -1;
-    }
+            return;
     o->techniques[o->technique_count++] = t;
-    return 0;
 }
 
 static int set_techniques(struct options *o, const char *list)
@@ -90,12 +85,11 @@ static int set_techniques(struct options *o, const char *list)
             const char *all = technique_is_engine(*e) ? "engines" : "presets";
             if (of && (!strcmp(name, all) || !strcmp(name, of))) {
                 group = true;
-                if (!rc)
-                    rc = select_technique(o, *e);
+                select_technique(o, *e);
             }
         }
         if (t) {
-            rc = select_technique(o, t);
+            select_technique(o, t);
         } else if (!group) {
             struct strbuf known = {0};
             technique_names(&known, ", ");
