@@ -33,11 +33,3 @@ vec2 hdrp_spiral_direction(int i)
     float a = 6.28318531 * fract(float(i) * 0.38196601);
     return vec2(cos(a), sin(a));
 }
-
-// Inside the tile's clamp box (half a texel in from its edges): HDRP drops
-// the taps outside.
-bool hdrp_in_tile(vec2 uv)
-{
-    vec2 lo = 0.5 * sm.texel_size_uv;
-    return all(greaterThanEqual(uv, lo)) && all(lessThanEqual(uv, 1.0 - lo));
-}

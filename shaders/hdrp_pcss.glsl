@@ -24,8 +24,6 @@ float hdrp_pcss_punctual(ShadowInput s, vec2 uv, float z, mat2 rotation)
     float z_sum = 0.0, blockers = 0.0;
     for (int i = 0; i < blocker_n; i++) {
         vec2 tap = uv + rotation * (hdrp_spiral_direction(i) * search * sqrt((float(i) + 0.5) / float(blocker_n)));
-        if (!hdrp_in_tile(tap))
-            continue;
         SM_FETCHED(1);
         float d = textureLod(sm_depth, tap, 0.0).r;
         if (d > z) {
@@ -44,15 +42,10 @@ float hdrp_pcss_punctual(ShadowInput s, vec2 uv, float z, mat2 rotation)
         // PenumbraSizePunctual, of device depths
         w = max(softness * abs((z - z_b) / z_b) * to_tile, min_filter);
     }
-    float lit = 0.0, valid = 0.0;
-    for (int i = 0; i < filter_n; i++) {
-        vec2 tap = uv + rotation * (hdrp_spiral_direction(i) * w * sqrt((float(i) + 0.5) / float(filter_n)));
-        if (!hdrp_in_tile(tap))
-            continue;
-        lit += sm_lit_2x2(tap, z);
-        valid += 1.0;
-    }
-    return valid > 0.0 ? lit / valid : 1.0;
+    float lit = 0.0;
+    for (int i = 0; i < filter_n; i++)
+        lit += sm_lit_2x2(uv + rotation * (hdrp_spiral_direction(i) * w * sqrt((float(i) + 0.5) / float(filter_n))), z);
+    return lit / float(filter_n);
 }
 
 // SampleShadow_PCSS_Directional: radii in the tile's uv; K converts device
@@ -74,8 +67,6 @@ float hdrp_pcss_directional(ShadowInput s, vec2 uv, float z, mat2 rotation)
     for (int i = 0; i < blocker_n; i++) {
         float r = float(i) / float(blocker_n);  // the clumped spiral, exponent 2.0 x 0.5
         vec2 tap = uv + rotation * (hdrp_spiral_direction(i) * r * search);
-        if (!hdrp_in_tile(tap))
-            continue;
         float radial = search * r;
         float coord_z = z + radial * (radial < min_filter ? min_radial2depth : blocker_radial2depth);
         SM_FETCHED(1);
@@ -90,16 +81,13 @@ float hdrp_pcss_directional(ShadowInput s, vec2 uv, float z, mat2 rotation)
     float blocker_distance = min(abs(z_sum / blockers - z) * 0.9, max_sample_z);
     float filter_size = blocker_distance * depth2radial, sampling = max(filter_size, min_filter);
     max_offset = min(max_offset, 0.25 * blocker_distance);
-    float lit = 0.0, total = 0.0;
+    float lit = 0.0;
     for (int i = 0; i < filter_n; i++) {
         float r = sqrt((float(i) + 0.5) / float(filter_n));
         vec2 tap = uv + rotation * (hdrp_spiral_direction(i) * r * sampling);
-        if (!hdrp_in_tile(tap))
-            continue;
         lit += sm_lit_2x2(tap, z + min(filter_size * r * min_radial2depth, max_offset));
-        total += 1.0;
     }
-    return total > 0.0 ? lit / total : 1.0;
+    return lit / float(filter_n);
 }
 
 float shadow_visibility(ShadowInput s)

@@ -16,9 +16,7 @@ bool ue_ray_hits(vec3 start, vec3 end, int m, float offset, float max_slope)
     for (int i = 0; i <= m; i++) {
         float u = i < m ? (float(m - 1 - i) + offset) / float(m) : 0.0;
         float t = u * u;
-        vec3 q = mix(start, end, t);
-        if (any(lessThan(q.xy, vec2(0.0))) || any(greaterThan(q.xy, vec2(1.0))))
-            continue;  // off the map: no page, no sample
+        vec3 q = mix(start, end, t);  // off the map: its edge texels (the edge policy)
         SM_FETCHED(1);
         float stored = textureLod(sm_depth, q.xy, 0.0).r, ref = q.z;
         if (first) {

@@ -36,8 +36,7 @@
  *             times a quartic of the blocker's distance (at most 7.5), the
  *             penumbra it times |(z_r - z_b) / z_b| of device depths, at
  *             least Min Filter Size x 0.001 (also the radius with no
- *             blocker: the filter always runs), taps outside the tile
- *             dropped. The sun: the search the cone's radius at the near
+ *             blocker: the filter always runs). The sun: the search the cone's radius at the near
  *             plane (or at dirLightPCSSMaxPenumbraSize 0.56 / (2 tan(half
  *             angle)) if nearer), at least 1.5 texels, its taps clumped
  *             (i / N), each compared against the receiver moved up the
@@ -66,13 +65,17 @@
  *     wider than HDRP's at a long range would be;
  *   - HDRP renders a soft spot's map with a slope bias of 0.5 x up to 18
  *     (GetBaseBias); slope_bias keeps PCF's 2.5 unless tuned;
- *   - HDRP's guard band (a spot lookup within a texel of its tile's edge
- *     is lit) is not modelled: the shared edge policy applies;
+ *   - HDRP drops the taps that leave its tile, and lights a spot lookup
+ *     within a texel of the tile's edge (its guard band); here the map
+ *     continues as its edge texels for every technique (the edge policy,
+ *     techniques/shadowmap.h), so neither is modelled;
  *   - the map's v axis is GL's: patterns are mirrored against HDRP's.
  *
- * How it fails: a fixed tent, 1.5 to 3.5 texels either side of every edge:
- * no contact hardening, and on the sun a blur that grows with the map's
- * texel. */
+ * How they fail: pcf is a fixed tent, 1.5 to 3.5 texels either side of
+ * every edge, no contact hardening; pcss's spot softness is a fit to
+ * HDRP's reference scenes (a quartic of the light's size and of the
+ * blocker's distance), not the similar triangles, and its few taps are
+ * noisy on wide penumbrae. */
 #include "param_rows.h"
 
 static const char *const hdrp_quality_names[] = {"low", "medium", NULL};

@@ -37,7 +37,8 @@
  *   - a virtual shadow map's page tables and clipmap levels are replaced
  *     by one map of the run's size (its texel density where the scenes
  *     need it is what a 16k virtual map would give only near the camera);
- *     off the map a sample is dropped, as an unmapped page's is;
+ *     off the map a sample reads its edge texels, as every technique's
+ *     does (the edge policy), where UE drops an unmapped page's;
  *   - the defaults are the console variables' (7 rays, 8 samples);
  *     UE 5.7's Epic scalability level sets 8 rays and 4 samples
  *     (`--set ue_smrt.ray_count=8,samples_per_ray=4`);
