@@ -16,9 +16,9 @@
 #define H 80
 
 static const char *sb;
-static int technique_count;  /* a default run has one cell per registered technique (engines
-                                apart: they are run only when named), */
-static int preset_count;     /* and one per preset */
+static int technique_count;  /* a default run has one cell per registered technique (engine
+                                cells and engines' presets apart: they run only when named), */
+static int preset_count;     /* and one per named setting of those (pcss@seed003, ...) */
 static char dir[] = "/tmp/sb_test_e2e_XXXXXX";
 
 static bool exists(const char *folder, const char *file)
@@ -236,7 +236,9 @@ int main(int argc, char **argv)
     if (!(sb = test_begin(argc, argv, dir)))
         return 1;
     for (int i = 0; technique_list[i]; i++) {
-        technique_count += !technique_is_engine(technique_list[i]);
+        if (technique_named_only(technique_list[i]))
+            continue;
+        technique_count++;
         for (const struct technique_preset *p = technique_list[i]->presets; p && p->name; p++)
             preset_count++;
     }
