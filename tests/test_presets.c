@@ -90,11 +90,12 @@ static void agree(const char *path, const struct technique *engine, const struct
     double ratio[2] = {1, 1};
     void *es = settings_of(engine, "lispsm=false"), *gs = settings_of(glsl, NULL);
     int rc = render(&ss, engine, es, ve, se, ratio);
-    const double coarse = isfinite(ratio[0]) && isfinite(ratio[1]) ? fmax(ratio[0], ratio[1]) : 1;
-    char *matched = util_printf("lispsm=false,map_size=%d", (int)fmin(2048, lround(MAP * coarse)));
+    const bool known = isfinite(ratio[0]) && isfinite(ratio[1]);  /* the sun's: none to match */
+    char *matched = util_printf("lispsm=false,map_size=%d",
+                                (int)fmin(2048, lround(MAP * (known ? fmax(ratio[0], ratio[1]) : 1))));
     free(es);
     es = settings_of(engine, matched);
-    rc = rc || render(&ss, engine, es, ve, se, NULL) || render(&ss, glsl, gs, vg, sg, NULL);
+    rc = rc || (known && render(&ss, engine, es, ve, se, NULL)) || render(&ss, glsl, gs, vg, sg, NULL);
     double sum = 0;
     long both = 0, flipped = 0;
     for (size_t i = 0; i < n && !rc; i++) {
@@ -106,7 +107,7 @@ static void agree(const char *path, const struct technique *engine, const struct
     }
     CHECK(!rc && both > (long)n / 10, "%s: %ld pixels scored by both", s.name, both);
     const double mean = both ? sum / both : NAN, share = both ? (double)flipped / both : NAN;
-    const bool asserted = isfinite(ratio[0]) && strcmp(s.name, "overlapping_occluders") != 0;
+    const bool asserted = known && strcmp(s.name, "overlapping_occluders") != 0;
     CHECK(!asserted || mean <= AGREE_MEAN, "%s: mean |V_glsl - V_engine| %.4f > %.2f", s.name, mean, AGREE_MEAN);
     CHECK(!asserted || share <= AGREE_FLIPPED, "%s: %.4f of pixels lit in one, shadowed in the other > %.3f",
           s.name, share, AGREE_FLIPPED);
