@@ -18,9 +18,9 @@ vec2 bevy_flip(vec2 uv) { return vec2(uv.x, 1.0 - uv.y); }
 // depth the moved point's. Returns Bevy's uv of it.
 vec2 bevy_lookup(ShadowInput s, float normal_bias, float depth_bias, out float ref)
 {
+    vec3 offset = depth_bias * sm_to_light(s.pos_world) + s.normal_world * normal_bias * 1.41421356 * sm_texel_world(s);
     vec2 uv;
-    sm_offset_lookup(s, depth_bias * sm_to_light(s.pos_world) + s.normal_world * normal_bias * 1.41421356 * sm_texel_world(s), uv,
-                     ref);
+    sm_offset_lookup(s, offset, uv, ref);
     return bevy_flip(uv);
 }
 

@@ -65,8 +65,7 @@ void filament_blocker_search(ShadowInput s, float ref, vec2 radius_uv, mat2 rota
     occluded = 0.0, z_sum = 0.0;
     for (int i = 0; i < taps; i++) {
         vec2 duv = rotation * (FILAMENT_POISSON[i] * radius_uv);
-        SM_FETCHED(1);
-        float z_occ = textureLod(sm_depth, s.uv + duv, 0.0).r;
+        float z_occ = sm_depth_nearest(s.uv + duv);
         float hit = step(dot(s.depth_hw_gradient, duv), z_occ - ref);
         occluded += hit;
         z_sum += z_occ * hit;

@@ -24,8 +24,7 @@ float hdrp_pcss_punctual(ShadowInput s, vec2 uv, float z, mat2 rotation)
     float z_sum = 0.0, blockers = 0.0;
     for (int i = 0; i < blocker_n; i++) {
         vec2 tap = uv + rotation * (hdrp_spiral_direction(i) * search * sqrt((float(i) + 0.5) / float(blocker_n)));
-        SM_FETCHED(1);
-        float d = textureLod(sm_depth, tap, 0.0).r;
+        float d = sm_depth_nearest(tap);
         if (d > z) {
             z_sum += d;
             blockers += 1.0;
@@ -60,17 +59,17 @@ float hdrp_pcss_directional(ShadowInput s, vec2 uv, float z, mat2 rotation)
     float max_sample_z = 0.56 / (2.0 * t) / depth_range;  // dirLightPCSSMaxPenumbraSize, as device depth
     float max_offset = 0.5 / depth_range;                  // dirLightPCSSMaxSamplingDistance
     float min_filter = 1.5 * sm.texel_size_uv.x;           // dirLightPCSSMinFilterSizeTexels
-    float min_radial2depth = 1.0 / (tan(0.5 * max(radians(12.0), diam)) * k);
-    float blocker_radial2depth = min_radial2depth;  // both max(12 deg, 10 deg, diam) and max(12 deg, diam)
+    // minFilterRadial2Depth and blockerRadial2Depth: HDRP takes the first's
+    // angle as max(12, 10 degrees, diam), the second's as max(12 degrees,
+    // diam): one value, so the search's choice between them is moot
+    float radial2depth = 1.0 / (tan(0.5 * max(radians(12.0), diam)) * k);
     float search = max(min(1.0 - z, max_sample_z) * depth2radial, min_filter);
     float z_sum = 0.0, blockers = 0.0;
     for (int i = 0; i < blocker_n; i++) {
         float r = float(i) / float(blocker_n);  // the clumped spiral, exponent 2.0 x 0.5
         vec2 tap = uv + rotation * (hdrp_spiral_direction(i) * r * search);
-        float radial = search * r;
-        float coord_z = z + radial * (radial < min_filter ? min_radial2depth : blocker_radial2depth);
-        SM_FETCHED(1);
-        float d = textureLod(sm_depth, tap, 0.0).r;
+        float coord_z = z + search * r * radial2depth;  // the receiver moved up the cone
+        float d = sm_depth_nearest(tap);
         if (d > coord_z) {
             z_sum += d;
             blockers += 1.0;
@@ -85,7 +84,7 @@ float hdrp_pcss_directional(ShadowInput s, vec2 uv, float z, mat2 rotation)
     for (int i = 0; i < filter_n; i++) {
         float r = sqrt((float(i) + 0.5) / float(filter_n));
         vec2 tap = uv + rotation * (hdrp_spiral_direction(i) * r * sampling);
-        lit += sm_lit_2x2(tap, z + min(filter_size * r * min_radial2depth, max_offset));
+        lit += sm_lit_2x2(tap, z + min(filter_size * r * radial2depth, max_offset));
     }
     return lit / float(filter_n);
 }

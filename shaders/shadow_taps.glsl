@@ -266,6 +266,13 @@ void sm_offset_lookup(ShadowInput s, vec3 offset, out vec2 uv, out float depth_h
     depth_hw = q.z;
 }
 
+// The hardware depth of the nearest texel at uv: one fetch.
+float sm_depth_nearest(vec2 uv)
+{
+    SM_FETCHED(1);
+    return textureLod(sm_depth, uv, 0.0).r;
+}
+
 // The hardware depth at uv filtered bilinearly, as a linear sampler reads
 // a depth map without comparison: one gather (one fetch), weighted.
 float sm_depth_bilinear(vec2 uv)

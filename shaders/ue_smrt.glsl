@@ -17,8 +17,7 @@ bool ue_ray_hits(vec3 start, vec3 end, int m, float offset, float max_slope)
         float u = i < m ? (float(m - 1 - i) + offset) / float(m) : 0.0;
         float t = u * u;
         vec3 q = mix(start, end, t);  // off the map: its edge texels (the edge policy)
-        SM_FETCHED(1);
-        float stored = textureLod(sm_depth, q.xy, 0.0).r, ref = q.z;
+        float stored = sm_depth_nearest(q.xy), ref = q.z;
         if (first) {
             first = false;
             history = stored, history_t = t, prev_ref = ref;

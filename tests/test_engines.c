@@ -49,7 +49,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #define W 96
 #define H 72
@@ -422,13 +421,9 @@ static void basic_is_hard(const struct engine_check *c)
 
 int main(void)
 {
-    bool installed = access("/usr/bin/chromium", X_OK) == 0;
-    for (const struct technique *const *t = technique_list; *t; t++)  /* every engine's packages */
-        if (technique_is_engine(*t)) {
-            char *lock = util_printf("%s/engines/%s/node_modules/.package-lock.json", SB_SOURCE_DIR, (*t)->engine);
-            installed = installed && util_file_exists(lock);
-            free(lock);
-        }
+    bool installed = true;
+    for (const struct technique *const *t = technique_list; *t; t++)  /* every engine's */
+        installed = installed && (!technique_is_engine(*t) || engine_installed((*t)->engine));
     if (!installed) {
         printf("skipped: the engines are not installed (tools/setup installs them)\n");
         return 77;

@@ -39,7 +39,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <unistd.h>
 
 #define W 96
 #define H 72
@@ -124,10 +123,7 @@ int main(void)
     CHECK(engine && glsl, "filament_pcf and filament_pcf_glsl registered");
     if (!engine || !glsl)
         return check_finish();
-    char *lock = util_printf("%s/engines/filament/node_modules/.package-lock.json", SB_SOURCE_DIR);
-    const bool installed = access("/usr/bin/chromium", X_OK) == 0 && util_file_exists(lock);
-    free(lock);
-    if (!installed) {
+    if (!engine_installed(engine->engine)) {
         printf("skipped: the engines are not installed (tools/setup installs them)\n");
         return 77;
     }

@@ -244,10 +244,21 @@ static void remove_stale(const char *tmp)
         closedir(d);
 }
 
-static int start(const struct engine_request *r)
+/* The browser: $SB_CHROMIUM, else Debian's. */
+static const char *chromium_path(void)
 {
     const char *env = getenv("SB_CHROMIUM");
-    const char *chromium = env && *env ? env : DEFAULT_CHROMIUM;
+    return env && *env ? env : DEFAULT_CHROMIUM;
+}
+
+bool engine_installed(const char *engine)
+{
+    return access(chromium_path(), X_OK) == 0 && installed("driver") && installed(engine);
+}
+
+static int start(const struct engine_request *r)
+{
+    const char *chromium = chromium_path();
     if (access(chromium, X_OK) != 0) {
         char *line = util_printf("engine %s, cell %s on %s: no Chromium at %s (tools/setup installs Debian's "
                                  "chromium; SB_CHROMIUM names another)", r->t->engine, r->label, r->scene->name,

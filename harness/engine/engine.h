@@ -68,6 +68,10 @@ struct engine_result {
  * reason. */
 int engine_render(const struct engine_request *r, struct engine_result *out);
 
+/* Whether engine (a technique's .engine) can render here: Chromium, the
+ * driver's and the engine's npm packages installed (tools/setup). */
+bool engine_installed(const char *engine);
+
 /* Whether an engine request has failed since the process started (a
  * command's exit status is then 2), and the last failure's line. */
 bool engine_faulted(void);
