@@ -66,7 +66,7 @@ int main(int argc, char **argv)
     const char *small = "--scene floating_box_sphere --width 16 --height 16 --gt-samples 1 --no-cache";
 
     expect(2, "", NULL);
-    expect(2, "frobnicate", "unknown command 'frobnicate' (commands: run, gt, bench, check, tune, stability, view, list, help; see --help)");
+    expect(2, "frobnicate", "unknown command 'frobnicate' (commands: run, gt, bench, check, tune, stability, merge, view, list, help; see --help)");
     struct strbuf known = {0};  /* every registered technique, in registry order */
     for (int i = 0; technique_list[i]; i++)
         strbuf_printf(&known, "%s%s", i ? ", " : "", technique_list[i]->name);

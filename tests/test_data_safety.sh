@@ -150,18 +150,19 @@ for cmd in "run --scene parallel_planes --technique hard" \
 done
 
 # A cache writer that died before its rename leaves "<entry>.tmp.<pid>": the
-# next command that uses the cache removes it (a live writer's stays).
+# next command that uses the cache removes it. A live writer's stays: it
+# holds its entry's lock (flock), wherever it runs (docs/scale-out.md).
 mkdir -p "$tmp/sweep"
 : > "$tmp/sweep/parallel_planes-0.exr.tmp.4194305"
 : > "$tmp/sweep/parallel_planes-1.exr.tmp.$$"
-"$sb" gt --scene parallel_planes --width 32 --height 32 --gt-samples 4 --cache "$tmp/sweep" -q --out "$tmp/sweep-gt" \
+flock "$tmp/sweep/parallel_planes-1.exr.lock" "$sb" gt --scene parallel_planes --width 32 --height 32 --gt-samples 4 --cache "$tmp/sweep" -q --out "$tmp/sweep-gt" \
     >/dev/null || fail "gt into the cache"
 [ ! -e "$tmp/sweep/parallel_planes-0.exr.tmp.4194305" ] && [ -e "$tmp/sweep/parallel_planes-1.exr.tmp.$$" ] &&
     ok "a dead writer's cache temporary removed, a live one's kept" || fail "cache temporaries: $(ls "$tmp/sweep")"
 
 # A cache entry that cannot be written (its name taken by a folder) costs
 # time, not the result: a warning, the run exits 0.
-entry=$(ls "$tmp/sweep" | grep -v '\.tmp\.' | head -1)
+entry=$(ls "$tmp/sweep" | grep -v '\.tmp\.\|\.lock$' | head -1)
 rm "$tmp/sweep/$entry" && mkdir "$tmp/sweep/$entry"
 out=$("$sb" gt --scene parallel_planes --width 32 --height 32 --gt-samples 4 --cache "$tmp/sweep" --out "$tmp/sweep-gt" \
           2>&1 >/dev/null)

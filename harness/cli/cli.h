@@ -11,6 +11,7 @@
 #include "gl/gl_context.h"
 #include "output/out_dir.h"
 #include "pipeline/configs.h"
+#include "pipeline/shard.h"
 #include "render/receiver.h"
 #include "render/stage_timer.h"
 #include "scene/scene.h"
@@ -25,7 +26,8 @@ enum { EXIT_OK = 0, EXIT_CHECK_FAILED = 1, EXIT_USAGE = 2 };
 /* X(ID, name): every command, in the order --help lists them. */
 #define COMMANDS(X)                                                                                 \
     X(RUN, "run") X(GT, "gt") X(BENCH, "bench") X(CHECK, "check") X(TUNE, "tune")                    \
-    X(STABILITY, "stability") X(VIEW, "view") X(LIST, "list") X(HELP, "help")
+    X(STABILITY, "stability") X(MERGE, "merge") X(VIEW, "view") X(LIST, "list")     \
+    X(HELP, "help")
 
 enum command {
 #define X(id, name) CMD_##id,
@@ -85,6 +87,11 @@ struct options {
     const char *screenshot;              /* view: the PNG the last frame is written to */
     const char *script;                  /* view: key events replayed */
     bool markdown;                       /* help: docs/cli.md */
+    struct shard shard;                  /* --shard K/N (count 0: the whole command) */
+    bool *placement;                     /* per argument after the command's name: --shard's or --out's
+                                            (where a shard runs and writes, not what it computes) */
+    char **operands;                     /* merge: OUT SHARD... */
+    int operand_count;
     int argc;                            /* the command line, for the provenance record */
     char **argv;
 };
@@ -95,6 +102,7 @@ struct command_def {
     const char *summary;                  /* one line for shadowbench --help */
     int (*main)(const struct options *o);
     const char *synopsis;                 /* after "usage: shadowbench " */
+    bool operands;                        /* takes arguments that are not options (merge's folders) */
     const char *about;                    /* before the options */
     const char *after;                    /* after them (may be NULL) */
     void (*more)(struct strbuf *out);     /* help generated from other tables (may be NULL) */
@@ -159,6 +167,51 @@ void cli_done(const struct options *o, int status, bool written, const char *wha
  * command times stages), the sizes and frames, and the seconds it took. */
 cJSON *cli_run_record(const struct options *o, bool timed, double seconds);
 
+/* Shards (docs/scale-out.md). A sharded command's last write, once its
+ * outputs are complete: <out>/shard.json, which says what it computed
+ * (the command, its arguments but --shard and --out, the code, the
+ * ground truth's version, the scenes and their bytes) and which shard it
+ * is, with `more`'s keys (taken; may be NULL). Unsharded: nothing. Returns
+ * 0 or -1 (logged). cli_shard_begin removes the last one first: a folder
+ * being written is no finished shard. */
+void cli_shard_begin(const struct options *o);
+int cli_shard_end(const struct options *o, const struct scene *scenes, int scene_count, cJSON *more);
+
+/* The owner (1..shards) of each of run's cells, scene by scene in
+ * configuration order (owner[scene * configs + config]): contiguous runs
+ * of about equal expected cost, an engine cell RUN_ENGINE_CELL_COST of
+ * shadowbench's own (its browser; measured: docs/scale-out.md). */
+#define RUN_ENGINE_CELL_COST 20.0
+void run_owners(const struct config_set *configs, int scene_count, int shards, int *owner);
+
+/* The owner of each technique of a tuning (o->techniques' order): balanced
+ * by each one's search size (tuner_size: the values of its tuned
+ * parameters). */
+void tune_owners(const struct options *o, int shards, int *owner);
+
+/* What merge (merge.c) hands a command's merge: shards 1..count of one
+ * command line, checked to agree. */
+struct merge_input {
+    const char *const *dirs;     /* [1..count]: shard k's folder */
+    cJSON *const *records;       /* [1..count]: its shard.json */
+    int count;
+    const struct options *merge; /* merge's own command line */
+};
+/* Each command's merge: writes into o->out_dir what the command o (the
+ * shards' command line, unsharded) writes, from the shards' outputs, and
+ * returns the exit status the command would have. */
+int run_merge(const struct options *o, const struct merge_input *in);
+int tune_merge(const struct options *o, const struct merge_input *in);
+
+/* Copies the files under folder from (depth levels of folders down) into
+ * to, each written atomically, folders made as owned by shadowbench.
+ * Returns 0 or -1 (logged). */
+int cli_copy_files(const char *from, const char *to, int depth);
+
+/* The merged record of the shards (their shard.json each, under
+ * "shards"), added to a command's record r. */
+void cli_merge_record(cJSON *r, const struct merge_input *in);
+
 /* stability's defaults, when it is given no --scene (the scenes), or no
  * --motion and no --vary (the motions and variations; "scene": each
  * scene's own motions, extras.shadowbench.motions). */
@@ -179,5 +232,6 @@ int stability_main(const struct options *o);
 int view_main(const struct options *o);
 int list_main(const struct options *o);
 int help_main(const struct options *o);
+int merge_main(const struct options *o);
 
 #endif

@@ -182,18 +182,23 @@ enum cli_parse_result cli_parse(int argc, char **argv, enum command cmd, struct 
     while (option_rows[rows].name)
         rows++;
     struct option *long_options = xcalloc((size_t)rows + 1, sizeof *long_options);
-    char shorts[16] = ":";
+    char shorts[16] = "+:";
     int n = 0;
     for (const struct option_row *r = option_rows; r->name; r++, n++) {
         long_options[n] = (struct option){r->name, r->arg ? required_argument : no_argument, NULL, 256 + n};
         if (r->short_name)
             snprintf(shorts + strlen(shorts), sizeof shorts - strlen(shorts), "%c", r->short_name);
     }
-    int c, index = 0;
+    int c, index = 0, at = 1;
     enum cli_parse_result result = CLI_PARSE_OK;
+    free(o->placement);
+    o->placement = xcalloc((size_t)argc + 1, sizeof *o->placement);
     optind = 1;
     opterr = 0;
-    while (result == CLI_PARSE_OK && (c = getopt_long(argc, argv, shorts, long_options, &index)) != -1) {
+    /* "+": options stop at the first operand (merge's folders), so what each
+     * consumed, argv[at..optind-1], is where it was given */
+    for (; result == CLI_PARSE_OK && (c = getopt_long(argc, argv, shorts, long_options, &index)) != -1;
+         at = optind) {
         const struct option_row *r = option_rows;
         if (c >= 256)
             r += c - 256;
@@ -214,12 +219,18 @@ enum cli_parse_result cli_parse(int argc, char **argv, enum command cmd, struct 
             result = CLI_PARSE_HELP;
         } else if (apply(r, o, optarg) != 0) {
             result = CLI_PARSE_ERROR;
+        } else if (!strcmp(r->name, "shard") || !strcmp(r->name, "out")) {
+            for (int k = at; k < optind; k++)
+                o->placement[k] = true;
         }
     }
     free(long_options);
     if (result != CLI_PARSE_OK)
         return result;
-    if (optind < argc) {
+    if (commands[cmd].operands) {
+        o->operands = argv + optind;
+        o->operand_count = argc - optind;
+    } else if (optind < argc) {
         log_error("%s: unexpected argument (see --help)", argv[optind]);
         return CLI_PARSE_ERROR;
     }
@@ -233,6 +244,8 @@ void *cli_settings(const struct options *o, const struct technique *t)
 
 void cli_options_free(struct options *o)
 {
+    free(o->placement);
+    o->placement = NULL;
     for (int i = 0; i < TECHNIQUE_COUNT_MAX; i++)
         free(o->settings[i]);
     memset(o->settings, 0, sizeof o->settings);

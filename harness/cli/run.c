@@ -69,12 +69,12 @@ static void timing_progress(void *user, int round, int rounds)
     log_progress("  timing %s: round %d/%d", (const char *)user, round, rounds);
 }
 
-/* One scene's cells: rendered, scored and pictured, then timed together
- * and their metrics written. */
-static int run_scene(struct run *r, const struct scene *scene, struct scene_setup *ss)
+/* One scene's cells, configurations which[0..n-1] (this shard's):
+ * rendered, scored and pictured, then timed together and their metrics
+ * written. */
+static int run_scene(struct run *r, const struct scene *scene, struct scene_setup *ss, const int *which, int n)
 {
     const struct options *o = r->o;
-    const int n = r->configs.count;
     log_info("scene %s: %zu triangles", scene->name, scene->triangle_count);
     char *dir = util_printf("%s/%s", o->out_dir, scene->name);
     const struct scene_setup_desc desc = {o->width, o->height, o->shadow_map_size, o->gt_samples, 0, o->cache_dir, 0,
@@ -90,7 +90,7 @@ static int run_scene(struct run *r, const struct scene *scene, struct scene_setu
     /* Each cell rendered and scored first, which warms it (shader JIT,
      * caches), then every cell timed, interleaved. */
     for (int i = 0; i < n && !rc; i++, r->cell_count++) {
-        const struct run_config *c = &r->configs.configs[i];
+        const struct run_config *c = &r->configs.configs[which[i]];
         const void *settings = config_settings(c, scene);
         tc[i] = scene_setup_timer_cell(ss, c->technique, settings);
         cell_describe(&cells[i], scene->name, c->technique, settings, c->label);
@@ -241,6 +241,8 @@ int run_main(const struct options *o)
     struct run r = {.o = o};
     struct frontiers frontiers = {0};
     struct report_scene rs[CLI_MAX_SCENES] = {0};
+    int *owner = NULL, rs_count = 0;
+    cJSON *truths = cJSON_CreateArray();  /* each scene's ground truth, for the shard's record */
     const struct config_desc cd = {o->techniques, o->technique_count, o->settings, o->sweeps, o->sweep_count,
                                    o->set_count, o->settings_mode, o->tuned_dir};
     if (o->tuned_dir && util_path_within(o->out_dir, o->tuned_dir)) {  /* a report among the tuned files */
@@ -250,7 +252,21 @@ int run_main(const struct options *o)
     if (configs_build(&r.configs, &cd) != 0 || cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0 ||
         out_dir_claim(o->out_dir) != 0)
         goto out;
+    cli_shard_begin(o);
+    /* this shard's cells (every cell unsharded); a scene with none is not opened */
+    const int n = r.configs.count;
+    owner = xcalloc((size_t)(scene_count * n) + 1, sizeof *owner);
+    run_owners(&r.configs, scene_count, o->shard.count ? o->shard.count : 1, owner);
+#define OWNED(s, i) shard_owns(&o->shard, owner[(s) * n + (i)])
+    for (int s = 0; s < scene_count; s++)
+        for (int i = 0; i < n; i++)
+            r.cells_total += OWNED(s, i);
     for (int s = 0; s < scene_count; s++) {  /* their folders, before any work: none may be a link out of --out */
+        bool any = false;
+        for (int i = 0; i < n; i++)
+            any = any || OWNED(s, i);
+        if (!any)
+            continue;
         char *dir = util_printf("%s/%s", o->out_dir, scenes[s].name);
         const int rc = util_mkdirs_own(dir, 1);
         free(dir);
@@ -265,14 +281,15 @@ int run_main(const struct options *o)
         goto out;
     status = EXIT_CHECK_FAILED;
     for (int s = 0; s < scene_count; s++)  /* every program first: a compile error fails at once */
-        for (int i = 0; i < r.configs.count; i++) {
+        for (int i = 0; i < n; i++) {
             const struct run_config *c = &r.configs.configs[i];
+            if (!OWNED(s, i))
+                continue;
             for (int counting = 0; counting <= 1 && !technique_is_engine(c->technique); counting++)  /* scored by the one, timed by the other */
                 if (!programs_get(&r.programs, c->technique, config_settings(c, &scenes[s]), scenes[s].light.shape,
                                   counting).receiver)
                     goto out_gl;
         }
-    r.cells_total = scene_count * r.configs.count;
     say_estimate(o, r.cells_total);
     for (int i = 0; i < r.configs.count; i++)
         if ((int)strlen(r.configs.configs[i].label) > r.label_width)
@@ -280,6 +297,9 @@ int run_main(const struct options *o)
     if (r.configs.untuned.data)
         log_info("no tuned settings in %s for %s: their default cells only (shadowbench tune --write-tuned "
                  "writes them)", o->tuned_dir, r.configs.untuned.data);
+    if (o->shard.count)
+        log_info("run: shard %d of %d: %d of the %d cells", o->shard.index, o->shard.count, r.cells_total,
+                 scene_count * n);
     log_info("run: %d scene(s) x %d technique configuration(s), %dx%d, %d GT samples, %d^2 shadow map, median of %d "
              "frames after %d warm-up, cells interleaved, on %s (%s, %s), timed by %s", scene_count, r.configs.count,
              o->width, o->height, o->gt_samples, o->shadow_map_size, o->frames, o->warmup, gl_context_renderer(),
@@ -287,14 +307,29 @@ int run_main(const struct options *o)
     r.cells = xcalloc((size_t)r.cells_total + 1, sizeof *r.cells);
     frontiers_build(&frontiers, r.configs.configs, r.configs.count, scenes, scene_count, o->tuned_dir);
     int failed = 0;
+    int *which = xcalloc((size_t)n + 1, sizeof *which);
     for (int s = 0; s < scene_count && !failed; s++) {
+        int owned = 0;
+        for (int i = 0; i < n; i++)
+            if (OWNED(s, i))
+                which[owned++] = i;
+        if (!owned)
+            continue;
         struct scene_setup ss = {0};
-        failed = run_scene(&r, &scenes[s], &ss);
-        rs[s] = (struct report_scene){scenes[s].name, scenes[s].description, scenes[s].shows, ss.gt.seconds,
-                                      ss.gt.msamples_per_second, ss.gt.cached, frontiers.scene[s],
-                                      frontiers.scene_count[s]};
+        failed = run_scene(&r, &scenes[s], &ss, which, owned);
+        rs[rs_count++] = (struct report_scene){scenes[s].name, scenes[s].description, scenes[s].shows,
+                                               ss.gt.seconds, ss.gt.msamples_per_second, ss.gt.cached,
+                                               frontiers.scene[s], frontiers.scene_count[s]};
+        cJSON *t = cJSON_CreateObject();
+        cJSON_AddStringToObject(t, "scene", scenes[s].name);
+        cJSON_AddNumberToObject(t, "seconds", ss.gt.seconds);
+        cJSON_AddNumberToObject(t, "msamples_per_second", ss.gt.msamples_per_second);
+        cJSON_AddBoolToObject(t, "cached", ss.gt.cached);
+        cJSON_AddItemToArray(truths, t);
         scene_setup_free(&ss);
     }
+    free(which);
+#undef OWNED
     if (!failed) {
         /* The report, then run.json "complete": a signal waits until they
          * are written (killed in between, the folder would say complete
@@ -303,12 +338,17 @@ int run_main(const struct options *o)
         cJSON *run = cli_run_record(o, true, (util_now_ms() - start) * 1e-3);
         cJSON_AddTrueToObject(run, "complete");
         struct report rep = {.out_dir = o->out_dir, .width = o->width, .height = o->height, .run = run, .scenes = rs,
-                             .scene_count = scene_count, .cells = r.cells, .cell_count = r.cell_count,
+                             .scene_count = rs_count, .cells = r.cells, .cell_count = r.cell_count,
                              .frontier = frontiers.all, .frontier_count = frontiers.all_count,
                              .frontier_source = frontiers.source, .frontier_objective = frontiers.objective,
                              .frontier_fetches = frontiers.cost_fetches};
         failed = report_write(&rep);
         cJSON_Delete(run);
+        cJSON *more = cJSON_CreateObject();
+        cJSON_AddNumberToObject(more, "seconds", (util_now_ms() - start) * 1e-3);
+        cJSON_AddItemToObject(more, "ground_truth", truths);
+        truths = NULL;
+        failed = failed || cli_shard_end(o, scenes, scene_count, more) != 0;
     }
     if (!failed)
         status = judge(&r);
@@ -323,6 +363,126 @@ out_gl:
     programs_free(&r.programs);
     gl_context_destroy();
 out:
+    cJSON_Delete(truths);
+    free(owner);
+    configs_free(&r.configs);
+    for (int s = 0; s < scene_count; s++)
+        scene_free(&scenes[s]);
+    return status;
+}
+
+void run_owners(const struct config_set *configs, int scene_count, int shards, int *owner)
+{
+    const int n = configs->count;
+    double *cost = xmalloc(sizeof *cost * (size_t)(scene_count * n + 1));
+    for (int s = 0; s < scene_count; s++)
+        for (int i = 0; i < n; i++)
+            cost[s * n + i] = technique_is_engine(configs->configs[i].technique) ? RUN_ENGINE_CELL_COST : 1.0;
+    shard_split_contiguous(cost, scene_count * n, shards, owner);
+    free(cost);
+}
+
+/* Cell (scene s, configuration c) from the shard that owns it: its
+ * metrics.json read into *cell (the parsed record into *doc, which the
+ * cell's device name points into) and its files copied into out. */
+static int merge_cell(const struct options *o, const char *dir, const struct scene *s, const struct run_config *c,
+                      struct cell *cell, cJSON **doc)
+{
+    char *from = util_printf("%s/%s/%s", dir, s->name, c->label), *to = util_printf("%s/%s/%s", o->out_dir, s->name,
+                                                                                   c->label);
+    char *path = util_printf("%s/metrics.json", from), *text = NULL;
+    size_t size;
+    cell_describe(cell, s->name, c->technique, config_settings(c, s), c->label);
+    int rc = util_read_file(path, &text, &size);
+    *doc = rc ? NULL : cJSON_Parse(text);
+    if (rc || !*doc || report_cell_read(*doc, cell) != 0 ||
+        strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(*doc, "cell")) ?: "", c->label) != 0) {
+        log_error("merge: %s: %s (the shard that owns cell %s/%s)", path,
+                  rc ? util_read_error(rc) : "not the metrics.json of this cell", s->name, c->label);
+        rc = -1;
+    }
+    rc = rc ? -1 : cli_copy_files(from, to, 0);
+    free(from), free(to), free(path), free(text);
+    return rc;
+}
+
+int run_merge(const struct options *o, const struct merge_input *in)
+{
+    const double start = util_now_ms();
+    static struct scene scenes[CLI_MAX_SCENES];
+    int scene_count = 0, status = EXIT_USAGE, cell_count = 0;
+    struct run r = {.o = o};
+    struct frontiers frontiers = {0};
+    struct report_scene rs[CLI_MAX_SCENES] = {0};
+    const struct config_desc cd = {o->techniques, o->technique_count, o->settings, o->sweeps, o->sweep_count,
+                                   o->set_count, o->settings_mode, o->tuned_dir};
+    int *owner = NULL;
+    cJSON **docs = NULL;
+    if (configs_build(&r.configs, &cd) != 0 || cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0 ||
+        out_dir_claim(o->out_dir) != 0 || begin_run(o) != 0)
+        goto out;
+    const int n = r.configs.count;
+    owner = xcalloc((size_t)(scene_count * n) + 1, sizeof *owner);
+    run_owners(&r.configs, scene_count, in->count, owner);
+    r.cells = xcalloc((size_t)(scene_count * n) + 1, sizeof *r.cells);
+    docs = xcalloc((size_t)(scene_count * n) + 1, sizeof *docs);
+    status = EXIT_CHECK_FAILED;
+    for (int s = 0; s < scene_count; s++) {
+        for (int i = 0; i < n; i++, cell_count++)
+            if (merge_cell(o, in->dirs[owner[s * n + i]], &scenes[s], &r.configs.configs[i], &r.cells[cell_count],
+                           &docs[cell_count]) != 0) {
+                cell_count++;
+                goto out;
+            }
+        /* the scene's own files from the shard of its last cell, as a run writes them after it */
+        char *from = util_printf("%s/%s", in->dirs[owner[s * n + n - 1]], scenes[s].name),
+             *to = util_printf("%s/%s", o->out_dir, scenes[s].name);
+        const int rc = n ? cli_copy_files(from, to, 0) : 0;
+        free(from), free(to);
+        if (rc)
+            goto out;
+    }
+    r.cell_count = cell_count;
+    /* each scene's ground truth as the shard that traced it saw it (one traced, the others read it cached) */
+    double seconds = 0;
+    frontiers_build(&frontiers, r.configs.configs, n, scenes, scene_count, o->tuned_dir);
+    for (int s = 0; s < scene_count; s++) {
+        const cJSON *truth = NULL;
+        for (int k = 1; k <= in->count; k++) {
+            const cJSON *t;
+            cJSON_ArrayForEach(t, cJSON_GetObjectItem(in->records[k], "ground_truth"))
+                if (!strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(t, "scene")) ?: "", scenes[s].name) &&
+                    (!truth || cJSON_IsTrue(cJSON_GetObjectItem(truth, "cached"))))
+                    truth = t;
+        }
+        rs[s] = (struct report_scene){scenes[s].name, scenes[s].description, scenes[s].shows,
+                                      cJSON_GetNumberValue(cJSON_GetObjectItem(truth, "seconds")),
+                                      cJSON_GetNumberValue(cJSON_GetObjectItem(truth, "msamples_per_second")),
+                                      cJSON_IsTrue(cJSON_GetObjectItem(truth, "cached")), frontiers.scene[s],
+                                      frontiers.scene_count[s]};
+    }
+    for (int k = 1; k <= in->count; k++)  /* side by side: the longest */
+        seconds = fmax(seconds, cJSON_GetNumberValue(cJSON_GetObjectItem(in->records[k], "seconds")));
+    util_signals_defer();
+    cJSON *run = cli_run_record(o, true, seconds);
+    cJSON_AddTrueToObject(run, "complete");
+    cli_merge_record(run, in);
+    struct report rep = {.out_dir = o->out_dir, .width = o->width, .height = o->height, .run = run, .scenes = rs,
+                         .scene_count = scene_count, .cells = r.cells, .cell_count = r.cell_count,
+                         .frontier = frontiers.all, .frontier_count = frontiers.all_count,
+                         .frontier_source = frontiers.source, .frontier_objective = frontiers.objective,
+                         .frontier_fetches = frontiers.cost_fetches};
+    const bool written = report_write(&rep) == 0;
+    cJSON_Delete(run);
+    status = written ? judge(&r) : EXIT_CHECK_FAILED;
+    cli_done(o, status, written, "merge", OUTPUT_REPORT, "matrix", OUTPUT_MATRIX_CSV, start);
+    frontiers_free(&frontiers, scene_count);
+out:
+    for (int i = 0; i < cell_count; i++) {
+        cell_free(&r.cells[i]);
+        cJSON_Delete(docs[i]);
+    }
+    free(r.cells), free(docs), free(owner);
     configs_free(&r.configs);
     for (int s = 0; s < scene_count; s++)
         scene_free(&scenes[s]);

@@ -12,6 +12,7 @@
 #include "pipeline/tuner.h"
 
 #include <dirent.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,15 +48,19 @@ static int write_file(const char *dir, const char *name, const cJSON *j)
     return rc;
 }
 
-/* <out>/tune.json: which techniques, and whether every one is done. */
-static int tune_state(const struct options *o, bool complete, double seconds)
+/* <out>/tune.json: which techniques (techniques[0..count-1]), and whether
+ * every one is done; with `more`'s keys (taken; may be NULL). */
+static int tune_state(const struct options *o, const struct technique *const *techniques, int count, bool complete,
+                      double seconds, cJSON *more)
 {
     cJSON *j = cJSON_CreateObject();
     cJSON_AddBoolToObject(j, "complete", complete);
     cJSON_AddNumberToObject(j, "seconds", seconds);
     cJSON *t = cJSON_AddArrayToObject(j, "techniques");
-    for (int i = 0; i < o->technique_count; i++)
-        cJSON_AddItemToArray(t, cJSON_CreateString(o->techniques[i]->name));
+    for (int i = 0; i < count; i++)
+        cJSON_AddItemToArray(t, cJSON_CreateString(techniques[i]->name));
+    util_json_merge(j, more);
+    cJSON_Delete(more);
     char *path = out_dir_path(o->out_dir, OUTPUT_TUNE_JSON);
     int rc = report_write_json(path, j);
     free(path);
@@ -63,17 +68,27 @@ static int tune_state(const struct options *o, bool complete, double seconds)
     return rc;
 }
 
-/* Tunes every technique in turn, its record written into out and into
- * tuned (NULL: none); returns the exit status. */
-static int tune_all(const struct options *o, const char *tuned, const struct scene *scenes, struct scene_setup *setups,
-                    int scene_count, struct program_cache *programs)
+void tune_owners(const struct options *o, int shards, int *owner)
+{
+    double cost[CLI_MAX_TECHNIQUES];
+    for (int i = 0; i < o->technique_count; i++)
+        cost[i] = tune_space_size(o->techniques[i], o->held[technique_index(o->techniques[i])]) *
+                  (technique_is_engine(o->techniques[i]) ? RUN_ENGINE_CELL_COST : 1.0);
+    shard_split_balanced(cost, o->technique_count, shards, owner);
+}
+
+/* Tunes techniques[0..count-1] in turn, each record written into out and
+ * into tuned (NULL: none); returns the exit status. */
+static int tune_all(const struct options *o, const struct technique *const *techniques, int count, const char *tuned,
+                    const struct scene *scenes, struct scene_setup *setups, int scene_count,
+                    struct program_cache *programs)
 {
     const struct tune_options to = {o->width, o->height, o->gt_samples, o->shadow_map_size, o->frames, o->warmup,
                                     o->timing, o->objective, o->cost_fetches};
     struct tune_progress progress = {.start_ms = util_now_ms(), .per_size = TUNE_PER_SIZE_GUESS};
     static struct tuner tuners[CLI_MAX_TECHNIQUES];
-    for (int i = 0; i < o->technique_count; i++) {
-        const struct technique *t = o->techniques[i];
+    for (int i = 0; i < count; i++) {
+        const struct technique *t = techniques[i];
         if (tuner_init(&tuners[i], t, cli_settings(o, t), o->held[technique_index(t)], &to, scenes, setups,
                        scene_count, &progress) != 0) {
             for (int k = 0; k <= i; k++)
@@ -83,15 +98,15 @@ static int tune_all(const struct options *o, const char *tuned, const struct sce
         progress.size_left += tuner_size(&tuners[i]);
     }
     int status = EXIT_OK;
-    for (int i = 0; i < o->technique_count; i++) {
+    for (int i = 0; i < count; i++) {
         cJSON *record = NULL;
         const enum tuner_result rc = status == EXIT_OK ? tuner_run(&tuners[i], &record) : TUNER_FAILED;
         if (record) {
             cJSON *provenance = provenance_json(o->argc, o->argv, true, o->timing);
             util_json_merge(record, provenance);
             cJSON_Delete(provenance);
-            if (write_file(o->out_dir, o->techniques[i]->name, record) != 0 ||
-                (tuned && write_file(tuned, o->techniques[i]->name, record) != 0))
+            if (write_file(o->out_dir, techniques[i]->name, record) != 0 ||
+                (tuned && write_file(tuned, techniques[i]->name, record) != 0))
                 status = EXIT_CHECK_FAILED;
             cJSON_Delete(record);
         }
@@ -127,18 +142,31 @@ int tune_main(const struct options *o)
         log_error("--out %s and --tuned %s: one inside the other; name two folders apart", o->out_dir, o->tuned_dir);
         goto out;
     }
-    if ((o->write_tuned && (tuned_dir_ours(o->tuned_dir) != 0 || results_set_open(&tuned, o->tuned_dir, 1) != 0)) ||
+    /* a shard writes none: the merge writes them all as one set */
+    const bool write_tuned = o->write_tuned && !o->shard.count;
+    if ((write_tuned && (tuned_dir_ours(o->tuned_dir) != 0 || results_set_open(&tuned, o->tuned_dir, 1) != 0)) ||
         out_dir_claim(o->out_dir) != 0)
         goto out;
-    if (tune_state(o, false, 0) != 0) {  /* a write that fails: a runtime error */
+    cli_shard_begin(o);
+    /* this shard's techniques (every one unsharded) */
+    const struct technique *mine[CLI_MAX_TECHNIQUES];
+    int owner[CLI_MAX_TECHNIQUES], count = 0;
+    tune_owners(o, o->shard.count ? o->shard.count : 1, owner);
+    for (int i = 0; i < o->technique_count; i++)
+        if (shard_owns(&o->shard, owner[i]))
+            mine[count++] = o->techniques[i];
+    if (tune_state(o, mine, count, false, 0, NULL) != 0) {  /* a write that fails: a runtime error */
         status = EXIT_CHECK_FAILED;
         goto out;
     }
     if (cli_gl_open(o, o->gl) != 0)
         goto out;
     status = EXIT_CHECK_FAILED;
+    if (o->shard.count)
+        log_info("tune: shard %d of %d: %d of the %d techniques%s", o->shard.index, o->shard.count, count,
+                 o->technique_count, o->write_tuned ? " (the merge writes --tuned)" : "");
     log_info("tune: %d technique(s) on %d scenes, %dx%d, %d GT samples, %d^2 shadow map, objective mean %s, "
-             "median of %d frames per cell, on %s", o->technique_count, scene_count, o->width, o->height,
+             "median of %d frames per cell, on %s", count, scene_count, o->width, o->height,
              o->gt_samples, o->shadow_map_size, metric_info[o->objective].key, o->frames, gl_context_renderer());
     for (; opened < scene_count; opened++)
         if (scene_setup_open(&setups[opened], &scenes[opened],
@@ -147,16 +175,19 @@ int tune_main(const struct options *o)
             opened++;  /* scene_setup_open leaves it to be freed */
             goto out_gl;
         }
-    status = tune_all(o, tuned.next, scenes, setups, scene_count, &programs);
+    status = tune_all(o, mine, count, tuned.next, scenes, setups, scene_count, &programs);
     if (status == EXIT_OK) {
         util_signals_defer();  /* the tuned set, then tune.json "complete": as one step (run.c) */
         const double seconds = (util_now_ms() - start) * 1e-3;
-        if ((o->write_tuned && results_set_commit(&tuned) != 0) || tune_state(o, true, seconds) != 0)
+        cJSON *more = cJSON_CreateObject();
+        cJSON_AddNumberToObject(more, "seconds", seconds);
+        if ((write_tuned && results_set_commit(&tuned) != 0) || tune_state(o, mine, count, true, seconds, NULL) != 0 ||
+            cli_shard_end(o, scenes, scene_count, more) != 0)
             status = EXIT_CHECK_FAILED;
         util_signals_finished(status);
         if (status == EXIT_OK) {
-            printf("tuned: %s/<technique>.json%s%s\n", o->out_dir, o->write_tuned ? " and " : "",
-                   o->write_tuned ? o->tuned_dir : "");
+            printf("tuned: %s/<technique>.json%s%s\n", o->out_dir, write_tuned ? " and " : "",
+                   write_tuned ? o->tuned_dir : "");
             log_info("tune finished in %.0f s", seconds);
         }
     }
@@ -167,6 +198,65 @@ out_gl:
     gl_context_destroy();
 out:
     results_set_free(&tuned, status != EXIT_USAGE);  /* after a usage error: nothing to say of it */
+    for (int s = 0; s < scene_count; s++)
+        scene_free(&scenes[s]);
+    return status;
+}
+
+int tune_merge(const struct options *o, const struct merge_input *in)
+{
+    const double start = util_now_ms();
+    static struct scene scenes[CLI_MAX_SCENES];
+    struct results_set tuned = {0};
+    int scene_count = 0, status = EXIT_USAGE, owner[CLI_MAX_TECHNIQUES];
+    if ((o->write_tuned && cli_require_committed(o, "merge of tune --write-tuned") != 0) ||
+        cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0)
+        goto out;
+    if (o->write_tuned &&
+        (util_path_within(o->out_dir, o->tuned_dir) || util_path_within(o->tuned_dir, o->out_dir))) {
+        log_error("OUT %s and --tuned %s: one inside the other; name two folders apart", o->out_dir, o->tuned_dir);
+        goto out;
+    }
+    if ((o->write_tuned && (tuned_dir_ours(o->tuned_dir) != 0 || results_set_open(&tuned, o->tuned_dir, 1) != 0)) ||
+        out_dir_claim(o->out_dir) != 0 ||
+        tune_state(o, o->techniques, o->technique_count, false, 0, NULL) != 0)
+        goto out;
+    status = EXIT_CHECK_FAILED;
+    tune_owners(o, in->count, owner);
+    double seconds = 0;
+    for (int i = 0; i < o->technique_count; i++) {  /* each record as its shard wrote it */
+        const char *name = o->techniques[i]->name;
+        char *path = util_printf("%s/%s.json", in->dirs[owner[i]], name), *text = NULL;
+        size_t size;
+        const int err = util_read_file(path, &text, &size);
+        cJSON *record = err ? NULL : cJSON_Parse(text);
+        const bool ours = record && !strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(record, "technique")) ?: "",
+                                            name);
+        if (!ours)
+            log_error("merge: %s: %s (the shard that owns %s's tuning)", path,
+                      err ? util_read_error(err) : "not the tuned record of this technique", name);
+        const int rc = !ours || write_file(o->out_dir, name, record) != 0 ||
+                       (tuned.next && write_file(tuned.next, name, record) != 0);
+        cJSON_Delete(record);
+        free(path), free(text);
+        if (rc)
+            goto out;
+    }
+    for (int k = 1; k <= in->count; k++)  /* side by side: the longest */
+        seconds = fmax(seconds, cJSON_GetNumberValue(cJSON_GetObjectItem(in->records[k], "seconds")));
+    util_signals_defer();
+    cJSON *more = cJSON_CreateObject();
+    cli_merge_record(more, in);
+    if ((o->write_tuned && results_set_commit(&tuned) != 0) ||
+        tune_state(o, o->techniques, o->technique_count, true, seconds, more) != 0)
+        goto out;
+    status = EXIT_OK;
+    util_signals_finished(status);
+    printf("tuned: %s/<technique>.json%s%s\n", o->out_dir, o->write_tuned ? " and " : "",
+           o->write_tuned ? o->tuned_dir : "");
+    log_info("merge finished in %.1f s", (util_now_ms() - start) * 1e-3);
+out:
+    results_set_free(&tuned, status != EXIT_USAGE);
     for (int s = 0; s < scene_count; s++)
         scene_free(&scenes[s]);
     return status;

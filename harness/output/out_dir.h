@@ -11,7 +11,7 @@
     X(RUN_JSON, "run.json") X(MATRIX_CSV, "matrix.csv") X(MATRIX_JSON, "matrix.json") X(DEPTH_CSV, "depth.csv") \
     X(REPORT, "report.html") X(CHARTS, "charts") X(CHECK_PAGE, "check.html")          \
     X(STABILITY_JSON, "stability.json") X(STABILITY_CSV, "stability.csv")             \
-    X(STABILITY_PAGE, "stability.html") X(TUNE_JSON, "tune.json")
+    X(STABILITY_PAGE, "stability.html") X(TUNE_JSON, "tune.json") X(SHARD_JSON, "shard.json")
 
 enum output_file {
 #define X(id, name) OUTPUT_##id,

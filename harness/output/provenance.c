@@ -92,6 +92,46 @@ static char *git_describe(enum source_state state)
     return util_printf("%s%s", buf, strcmp(buf, "unknown") != 0 && state == SOURCE_CHANGED ? "-dirty" : "");
 }
 
+/* The hash of what cmd prints; 0 when it fails. */
+static uint64_t hash_output(const char *cmd)
+{
+    FILE *p = popen(cmd, "r");
+    uint64_t h = UTIL_HASH_INIT;
+    char buf[65536];
+    for (size_t n; p && (n = fread(buf, 1, sizeof buf, p)) > 0;)
+        h = util_hash(h, buf, n);
+    return p && pclose(p) == 0 ? h : 0;
+}
+
+char *provenance_code_id(void)
+{
+    char head[64] = "", what[512];
+    const enum source_state state = provenance_source_state(what, sizeof what);
+    char *cmd = util_printf("git -C '%s' rev-parse HEAD 2>/dev/null", SB_SOURCE_DIR);
+    FILE *p = state == SOURCE_CLEAN || state == SOURCE_CHANGED ? popen(cmd, "r") : NULL;
+    free(cmd);
+    if (p) {
+        if (!fgets(head, sizeof head, p))
+            head[0] = '\0';
+        pclose(p);
+    }
+    head[strcspn(head, "\n")] = '\0';
+    if (!head[0]) {  /* no commit to name it: the program itself */
+        char *exe = NULL;
+        size_t size = 0;
+        const uint64_t h = util_read_file("/proc/self/exe", &exe, &size) == 0 ? util_hash(UTIL_HASH_INIT, exe, size) : 0;
+        free(exe);
+        return util_printf("shadowbench %s, executable %016llx", SB_VERSION, (unsigned long long)h);
+    }
+    if (state == SOURCE_CLEAN)
+        return util_printf("git %s", head);
+    cmd = util_printf("cd '%s' && git diff HEAD --binary -- %s && git ls-files -o --exclude-standard -z -- %s | "
+                      "xargs -0r cat --", SB_SOURCE_DIR, source_paths, source_paths);
+    const uint64_t changes = hash_output(cmd);
+    free(cmd);
+    return util_printf("git %s +changes %016llx", head, (unsigned long long)changes);
+}
+
 static char *cpu_model(void)
 {
     char line[512];

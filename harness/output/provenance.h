@@ -27,6 +27,13 @@ enum source_state { SOURCE_CLEAN, SOURCE_CHANGED, SOURCE_NOT_GIT, SOURCE_UNKNOWN
  * git failed (SOURCE_UNKNOWN). */
 enum source_state provenance_source_state(char *what, size_t size);
 
+/* What names the code that renders or scores, for telling shards of one
+ * code from another (docs/scale-out.md): the commit ("git <hash>"), with
+ * a hash of its uncommitted changes and new files where there are any
+ * ("+changes <hash>"); without git, the version and the executable's bytes.
+ * malloc'ed. */
+char *provenance_code_id(void);
+
 /* The state in words, as the record's "source_tree" says it. */
 const char *provenance_source_text(enum source_state s);
 

@@ -55,6 +55,39 @@ cJSON *report_cell_json(const struct cell *c)
     return o;
 }
 
+static char *dup_string(const cJSON *j, const char *key)
+{
+    const char *s = cJSON_GetStringValue(cJSON_GetObjectItem(j, key));
+    return s ? xstrdup(s) : NULL;
+}
+
+int report_cell_read(const cJSON *j, struct cell *c)
+{
+    for (int k = 0; k < METRIC_COUNT; k++) {
+        const cJSON *v = cJSON_GetObjectItem(j, metric_info[k].key);
+        if (!cJSON_IsNumber(v) && !cJSON_IsNull(v))
+            return -1;
+        metrics_set(&c->m, k, cJSON_IsNumber(v) ? v->valuedouble : NAN);
+    }
+    c->gl_renderer = cJSON_GetStringValue(cJSON_GetObjectItem(j, "gl_renderer"));
+    const cJSON *e = cJSON_GetObjectItem(j, "engine"), *ratio = cJSON_GetObjectItem(e, "texel_ratio");
+    c->engine_texel_ratio[0] = c->engine_texel_ratio[1] = NAN;
+    if (e) {
+        c->engine_version = dup_string(e, "version");
+        c->engine_renderer = dup_string(e, "renderer");
+        c->gl_renderer = c->engine_renderer;
+        for (int k = 0; k < 2 && cJSON_GetArraySize(ratio) == 2; k++)
+            c->engine_texel_ratio[k] = cJSON_GetNumberValue(cJSON_GetArrayItem(ratio, k));
+    }
+    const cJSON *cascades = cJSON_GetObjectItem(j, "cascades");
+    c->cascades = cascades ? cJSON_Duplicate(cascades, 1) : NULL;
+    c->notice = dup_string(j, "notice");
+    c->failed = dup_string(j, "failed");
+    return c->gl_renderer && (!e || c->engine_version) &&
+                   (!cascades || depth_metrics_read(cJSON_GetObjectItem(j, "depth"), &c->depth) == 0)
+               ? 0 : -1;
+}
+
 int report_write_json(const char *path, const cJSON *value)
 {
     char *text = cJSON_Print(value);

@@ -38,6 +38,13 @@ struct report {
  * metrics): the row of matrix.json and the body of metrics.json. */
 cJSON *report_cell_json(const struct cell *c);
 
+/* The rest of a cell from its metrics.json j (report_cell_json's), after
+ * cell_describe gave it its scene, technique, settings and label: its
+ * metrics, device, engine, maps, error by depth, notice and failure. Its
+ * device's name points into j, which must outlive c. Returns 0, or -1
+ * when j is not such a record. */
+int report_cell_read(const cJSON *j, struct cell *c);
+
 /* Writes a JSON value atomically (pretty-printed). Returns 0 or -1. */
 int report_write_json(const char *path, const cJSON *value);
 

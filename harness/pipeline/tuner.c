@@ -17,12 +17,18 @@
  * after --warmup. */
 #define TUNE_SEARCH_FRAMES 1
 
+double tune_space_size(const struct technique *t, unsigned long long held)
+{
+    double values = 1, v[TUNE_MAX_VALUES];
+    for (const struct technique_param *p = t->params; p->name; p++)
+        if (!(p - t->params < 64 && (held >> (p - t->params) & 1)))
+            values += fmax(params_tune_values(p, v, TUNE_MAX_VALUES) - 1, 0);
+    return values;
+}
+
 double tuner_size(const struct tuner *tn)
 {
-    double values = 1;
-    for (int d = 0; d < tn->dim_count; d++)
-        values += tn->dims[d].count - 1;
-    return values * tn->scene_count;
+    return tune_space_size(tn->t, tn->held) * tn->scene_count;
 }
 
 static void *settings_of(const struct tuner *tn, const int *point)

@@ -82,6 +82,9 @@ int tuner_init(struct tuner *tn, const struct technique *t, const void *base, un
  * parameter, on every scene (the ETA's unit). */
 double tuner_size(const struct tuner *tn);
 
+/* The same of technique t with the parameters `held` held, per scene. */
+double tune_space_size(const struct technique *t, unsigned long long held);
+
 enum tuner_result {
     TUNER_FAILED = -1,    /* a runtime error, logged */
     TUNER_DONE = 0,

@@ -3,6 +3,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 struct sums {
     double e2, pen2, noise2;
@@ -119,4 +120,41 @@ cJSON *depth_metrics_json(const struct depth_metrics *d)
         cJSON_AddItemToArray(seams, j);
     }
     return o;
+}
+
+static double read_number(const cJSON *o, const char *key)
+{
+    const cJSON *v = cJSON_GetObjectItem(o, key);
+    return cJSON_IsNumber(v) ? v->valuedouble : NAN;
+}
+
+static void group_read(const cJSON *o, struct depth_group *g)
+{
+    g->lo = (float)read_number(o, "from"), g->hi = (float)read_number(o, "to");
+    g->rmse = read_number(o, "rmse"), g->penumbra_rmse = read_number(o, "penumbra_rmse");
+    g->gt_noise_penumbra_rmse = read_number(o, "gt_noise_penumbra_rmse");
+    g->pixels = (long)read_number(o, "pixels"), g->penumbra_pixels = (long)read_number(o, "penumbra_pixels");
+}
+
+int depth_metrics_read(const cJSON *j, struct depth_metrics *d)
+{
+    const cJSON *bins = cJSON_GetObjectItem(j, "distance_bins"), *slices = cJSON_GetObjectItem(j, "slices"),
+                *seams = cJSON_GetObjectItem(j, "seams");
+    memset(d, 0, sizeof *d);
+    d->bins = cJSON_GetArraySize(bins), d->slices = cJSON_GetArraySize(slices);
+    if (!cJSON_IsArray(bins) || !cJSON_IsArray(slices) || !cJSON_IsArray(seams) || d->bins > DEPTH_BINS ||
+        d->slices > CASCADES_MAX || cJSON_GetArraySize(seams) != (d->slices ? d->slices - 1 : 0))
+        return -1;
+    for (int b = 0; b < d->bins; b++)
+        group_read(cJSON_GetArrayItem(bins, b), &d->bin[b]);
+    for (int c = 0; c < d->slices; c++)
+        group_read(cJSON_GetArrayItem(slices, c), &d->slice[c]);
+    for (int k = 0; k + 1 < d->slices; k++) {
+        const cJSON *s = cJSON_GetArrayItem(seams, k);
+        d->seam[k].at = (float)read_number(s, "at");
+        d->seam[k].seam = read_number(s, "seam"), d->seam[k].gt_seam = read_number(s, "gt_seam");
+        group_read(cJSON_GetObjectItem(s, "near"), &d->seam[k].near);
+        group_read(cJSON_GetObjectItem(s, "far"), &d->seam[k].far);
+    }
+    return 0;
 }

@@ -47,4 +47,7 @@ void depth_metrics_compute(const float *v_tech, const struct gt_image *gt, const
 /* As metrics.json's "depth" object. */
 cJSON *depth_metrics_json(const struct depth_metrics *d);
 
+/* d from such an object (null: NaN). Returns 0, or -1 when j is not one. */
+int depth_metrics_read(const cJSON *j, struct depth_metrics *d);
+
 #endif

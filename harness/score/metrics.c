@@ -210,6 +210,15 @@ double metrics_value(const struct metrics *m, int k)
     return NAN;
 }
 
+void metrics_set(struct metrics *m, int k, double v)
+{
+    switch (k) {
+#define X(key, type, format, in_report, help) case METRIC_##key: m->key = (type)v; break;
+        METRICS(X)
+#undef X
+    }
+}
+
 void metrics_cost(double fetches, long covered, long expensive, const float *shortcut, const struct gt_image *gt,
                   const float *scored, int count, struct metrics *m)
 {

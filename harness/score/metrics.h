@@ -101,6 +101,9 @@ extern const struct metric_info metric_info[METRIC_COUNT];
 /* The value of metric k (METRIC_*) of m. */
 double metrics_value(const struct metrics *m, int k);
 
+/* Sets metric k (METRIC_*) of m to v (a count: v as a whole number). */
+void metrics_set(struct metrics *m, int k, double v);
+
 /* scored[i] = 1 where gt_mask is set and GL saw the same surface (camera
  * distances agree within depth_tolerance, relative: METRICS_DEPTH_TOLERANCE
  * or the technique's own, metrics_depth_tolerance; a wider one applies

@@ -31,7 +31,9 @@
 
 #include <embree3/rtcore.h>
 
+#include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
 #include <float.h>
 #include <math.h>
 #include <omp.h>
@@ -39,6 +41,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #define TILE 4
@@ -587,6 +590,52 @@ static int cache_read(const char *path, const char *key, const struct gt_desc *d
     return rc;
 }
 
+/* The lock of the cache entry at path (docs/scale-out.md): "<path>.lock",
+ * held (flock, exclusive) while the entry is read, or traced and written.
+ * Shards on other machines share the cache through their file system, so
+ * one traces a truth while the others wait for it, and none reads an entry
+ * being written (it is renamed into place whole, too). Returns the open
+ * lock, or -1 where it cannot be taken (logged as a warning: the cache is
+ * then used without it, as before locks). */
+static int cache_lock(const char *path, const char *scene)
+{
+    char *name = util_printf("%s.lock", path);
+    int fd = open(name, O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd >= 0 && flock(fd, LOCK_EX | LOCK_NB) != 0) {
+        log_info("ground truth %s: another shadowbench is tracing it (%s): waiting for it", scene, name);
+        while (flock(fd, LOCK_EX) != 0 && errno == EINTR)
+            ;
+    }
+    if (fd < 0)
+        log_warn("%s: cannot lock (%s): the cache is used unlocked", name, strerror(errno));
+    free(name);
+    return fd;
+}
+
+/* Removes what writers killed before their rename left in the cache:
+ * "<entry>.tmp.<pid>" whose entry's lock is free or was never made (its
+ * writer holds it while writing; a pid says nothing of a process on
+ * another machine). */
+static void cache_sweep(const char *cache_dir)
+{
+    DIR *d = opendir(cache_dir);
+    for (struct dirent *e; d && (e = readdir(d));) {
+        const char *mark = strstr(e->d_name, UTIL_TEMP_SUFFIX);
+        if (!mark || e->d_name[0] == '.')
+            continue;
+        char *temp = util_printf("%s/%s", cache_dir, e->d_name);
+        char *lock = util_printf("%s/%.*s.lock", cache_dir, (int)(mark - e->d_name), e->d_name);
+        const int fd = open(lock, O_RDWR | O_CLOEXEC | O_NOFOLLOW);
+        if ((fd < 0 && errno == ENOENT) || (fd >= 0 && flock(fd, LOCK_EX | LOCK_NB) == 0))
+            unlink(temp);
+        if (fd >= 0)
+            close(fd);
+        free(temp), free(lock);
+    }
+    if (d)
+        closedir(d);
+}
+
 int gt_obtain(const struct scene *s, const struct light_frustum *f, const struct gt_desc *desc,
               const char *cache_dir, struct gt_image *out)
 {
@@ -599,9 +648,10 @@ int gt_obtain(const struct scene *s, const struct light_frustum *f, const struct
     memset(out, 0, sizeof *out);
     static char swept[4096];  /* what writers killed before their rename left, once per cache */
     if (cache_dir && strcmp(swept, cache_dir) != 0) {
-        util_remove_stale_temps(cache_dir, 0);
+        cache_sweep(cache_dir);
         snprintf(swept, sizeof swept, "%s", cache_dir);
     }
+    const int lock = path && util_mkdirs(cache_dir) == 0 ? cache_lock(path, s->name) : -1;
     log_errors_as_warnings(true);  /* an unusable entry is rendered again: not an error of the run */
     int rc = path ? cache_read(path, key, &d, out) : -ENOENT;
     log_errors_as_warnings(false);
@@ -626,6 +676,8 @@ int gt_obtain(const struct scene *s, const struct light_frustum *f, const struct
             log_errors_as_warnings(false);
         }
     }
+    if (lock >= 0)
+        close(lock);  /* the entry is written (or will not be): the next one reads it */
     free(key);
     free(path);
     return rc;
