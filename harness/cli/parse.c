@@ -195,8 +195,11 @@ enum cli_parse_result cli_parse(int argc, char **argv, enum command cmd, struct 
     o->placement = xcalloc((size_t)argc + 1, sizeof *o->placement);
     optind = 1;
     opterr = 0;
-    /* "+": options stop at the first operand (merge's folders), so what each
-     * consumed, argv[at..optind-1], is where it was given */
+    /* "+": options stop at the first argument that is none, so what each
+     * consumed, argv[at..optind-1], is where it was given; merge's folders
+     * and options may mix (it records no placement) */
+    if (commands[cmd].operands)
+        memmove(shorts, shorts + 1, strlen(shorts));
     for (; result == CLI_PARSE_OK && (c = getopt_long(argc, argv, shorts, long_options, &index)) != -1;
          at = optind) {
         const struct option_row *r = option_rows;
