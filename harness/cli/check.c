@@ -17,37 +17,45 @@
 #include <string.h>
 #include <sys/stat.h>
 
-static void print_status(const char *status, const struct regression_cell *c, const char *extra)
+/* What check says of a cell (its lines on stdout, its failures), kept for
+ * its shard's record (docs/scale-out.md). */
+struct cell_said {
+    char *text;    /* its lines (owned) */
+    char *page;    /* its section of check.html (owned), "" when it did not move */
+    int failures;
+    bool done;     /* checked by this process */
+};
+
+static void print_status(FILE *f, const char *status, const struct regression_cell *c, const char *extra)
 {
-    printf("  %-11s %-22s %s%s\n", status, c->scene->name, c->label, extra);
-    fflush(stdout);  /* progress, in order with stderr's */
+    fprintf(f, "  %-11s %-22s %s%s\n", status, c->scene->name, c->label, extra);
 }
 
 /* c compared with its baseline: its line and, unless it passed, what moved. */
-static void compare(struct regression_cell *c, const struct options *o)
+static void compare(FILE *f, struct regression_cell *c, const struct options *o)
 {
     const struct baseline_comparison *k = &c->cmp;
     baseline_compare(&c->base, &c->now, c->v, &c->cmp);
     c->compared = true;
-    print_status(baseline_status_names[k->status], c, "");
+    print_status(f, baseline_status_names[k->status], c, "");
     if (k->status != BASELINE_PASS || k->picture_moved) {
         for (int g = 0; g < BASELINE_GUARDS; g++) {
             const int m = baseline_guards[g].metric;
             const double base = baseline_metric(&c->base, m), now = metrics_value(&c->now, m);
             if (k->direction[g])
-                printf("      %-16s %10.5f -> %10.5f  (%+.5f, tolerance %.5f: %s)\n", metric_info[m].key, base, now,
+                fprintf(f, "      %-16s %10.5f -> %10.5f  (%+.5f, tolerance %.5f: %s)\n", metric_info[m].key, base, now,
                        now - base, baseline_tolerance(&c->base, m), k->direction[g] > 0 ? "worse" : "better");
         }
-        printf("      picture: %.2f %% of pixels moved by more than %g (allowed %.2f %%)%s\n",
+        fprintf(f, "      picture: %.2f %% of pixels moved by more than %g (allowed %.2f %%)%s\n",
                100.0 * k->moved_fraction, c->base.pixel_threshold, 100.0 * c->base.max_moved,
                k->picture_moved && !k->worse && !k->better ? ", with no metric better" : "");
     }
     if (k->status == BASELINE_IMPROVED)
-        printf("      record it: shadowbench check --update --scene %s --technique %s --baselines %s\n",
+        fprintf(f, "      record it: shadowbench check --update --scene %s --technique %s --baselines %s\n",
                c->scene->name, c->t->name, o->baselines_dir);
     /* The baseline's parameters against what its name means today. */
     if (!regression_params_current(c)) {
-        printf("      its recorded parameters are no longer what '%s' means (a default changed?): record it "
+        fprintf(f, "      its recorded parameters are no longer what '%s' means (a default changed?): record it "
                "anew\n", c->label);
         if (k->status == BASELINE_PASS)
             c->cmp.status = BASELINE_REGRESSED;
@@ -80,12 +88,72 @@ static int setup_for(struct scene_setup *ss, struct baseline_setup *open, struct
     return 0;
 }
 
-/* Renders, compares (or, into the baselines folder `record`, records)
- * every cell of one scene. Returns -1 on a runtime error, else the number
- * of failures (regressions, missing baselines, idle parameters,
- * improvements with --strict). */
+/* Renders, compares (or, into the baselines folder `record`, records) cell
+ * c, its lines into f and its section of check.html into *page (none when
+ * it did not move). Returns its failures (a regression, a missing
+ * baseline, idle parameters, an improvement with --strict), or -1 on a
+ * runtime error. */
+static int check_cell(FILE *f, struct regression_cell *c, const struct options *o, const cJSON *provenance,
+                      const char *record, struct program_cache *programs, struct scene_setup *ss,
+                      struct baseline_setup *open, struct gt_image *extra, char **page)
+{
+    const struct scene *s = c->scene;
+    int failures = 0;
+    if (!c->base.doc && !o->update) {
+        c->cmp.status = BASELINE_MISSING;
+        char *how = util_printf("   (record it: shadowbench check --update --scene %s --technique %s "
+                                "--baselines %s)", s->name, c->t->name, o->baselines_dir);
+        print_status(f, baseline_status_names[BASELINE_MISSING], c, how);
+        free(how);
+        return 1;
+    }
+    bool comparable = c->base.doc != NULL;
+    if (o->update) {  /* recorded anew: today's settings for its name */
+        comparable = comparable && baseline_setup_equal(&c->setup, &baseline_setup_default) &&
+                     regression_params_current(c);
+        memcpy(c->settings, c->label_settings, c->t->settings_size);
+        c->setup = baseline_setup_default;
+    }
+    if (setup_for(ss, open, extra, c, o, programs) != 0 || regression_render(ss, c) != 0)
+        return -1;
+    if (o->update) {
+        baseline_spread(c->v, ss->distance, metrics_depth_tolerance(c->t->depth_tolerance), &c->now, extra,
+                        BASELINE_SEEDS - 1, c->spread);
+        if (comparable)
+            compare(f, c, o);
+        else
+            print_status(f, "new", c, c->base.doc ? "   (its settings changed: not compared)" : "");
+        const struct baseline_record rec = {s->name, c->label, c->t, c->settings, c->setup, &c->now, c->v,
+                                            c->spread, provenance};
+        char *json = regression_file(record, c, "json"), *png = regression_file(record, c, "png");
+        if (baseline_write(json, png, &rec) != 0)
+            failures = -1;
+        free(json), free(png);
+    } else {
+        compare(f, c, o);
+        failures += c->cmp.status == BASELINE_REGRESSED || (c->cmp.status == BASELINE_IMPROVED && o->strict);
+    }
+    if (failures >= 0 && c->declared) {
+        struct regression_param idle[64];
+        const int n = regression_idle_params(ss, c, idle, 64);
+        for (int k = 0; k < n; k++)
+            fprintf(f, "  IDLE        %-22s %s: setting %s.%s back to %s changes no pixel (is it used?)\n", s->name,
+                    c->label, idle[k].t->name, idle[k].p->name, idle[k].def);
+        failures += n;
+    }
+    if (failures >= 0) {  /* its section of the page, its heatmap written */
+        struct strbuf html = {0};
+        failures = check_page_cell(c, o->out_dir, &html) < 0 ? -1 : failures;
+        *page = html.data;
+    }
+    return failures;
+}
+
+/* Checks this shard's cells of one scene (owner[i]: cell i's shard), each
+ * said on stdout when done and kept in said[i]. Returns -1 on a runtime
+ * error, else the number of failures. */
 static int check_scene(struct regression *r, const struct scene *s, const struct options *o, const cJSON *provenance,
-                       const char *record, struct program_cache *programs)
+                       const char *record, struct program_cache *programs, const int *owner, struct cell_said *said)
 {
     int failures = 0;
     struct scene_setup ss = {0};
@@ -93,53 +161,20 @@ static int check_scene(struct regression *r, const struct scene *s, const struct
     struct gt_image extra[BASELINE_SEEDS - 1] = {0};
     for (int i = 0; i < r->count && failures >= 0; i++) {
         struct regression_cell *c = &r->cells[i];
-        if (c->scene != s)
+        if (c->scene != s || !shard_owns(&o->shard, owner[i]))
             continue;
-        if (!c->base.doc && !o->update) {
-            c->cmp.status = BASELINE_MISSING;
-            char *how = util_printf("   (record it: shadowbench check --update --scene %s --technique %s "
-                                    "--baselines %s)", s->name, c->t->name, o->baselines_dir);
-            print_status(baseline_status_names[BASELINE_MISSING], c, how);
-            free(how);
-            failures++;
-            continue;
-        }
-        bool comparable = c->base.doc != NULL;
-        if (o->update) {  /* recorded anew: today's settings for its name */
-            comparable = comparable && baseline_setup_equal(&c->setup, &baseline_setup_default) &&
-                         regression_params_current(c);
-            memcpy(c->settings, c->label_settings, c->t->settings_size);
-            c->setup = baseline_setup_default;
-        }
-        if (setup_for(&ss, &open, extra, c, o, programs) != 0 || regression_render(&ss, c) != 0) {
-            failures = -1;
-            break;
-        }
-        if (o->update) {
-            baseline_spread(c->v, ss.distance, metrics_depth_tolerance(c->t->depth_tolerance), &c->now, extra, BASELINE_SEEDS - 1,
-                            c->spread);
-            if (comparable)
-                compare(c, o);
-            else
-                print_status("new", c, c->base.doc ? "   (its settings changed: not compared)" : "");
-            const struct baseline_record rec = {s->name, c->label, c->t, c->settings, c->setup, &c->now, c->v,
-                                                c->spread, provenance};
-            char *json = regression_file(record, c, "json"), *png = regression_file(record, c, "png");
-            if (baseline_write(json, png, &rec) != 0)
-                failures = -1;
-            free(json), free(png);
-        } else {
-            compare(c, o);
-            failures += c->cmp.status == BASELINE_REGRESSED || (c->cmp.status == BASELINE_IMPROVED && o->strict);
-        }
-        if (failures >= 0 && c->declared) {
-            struct regression_param idle[64];
-            const int n = regression_idle_params(&ss, c, idle, 64);
-            for (int k = 0; k < n; k++)
-                printf("  IDLE        %-22s %s: setting %s.%s back to %s changes no pixel (is it used?)\n", s->name,
-                       c->label, idle[k].t->name, idle[k].p->name, idle[k].def);
-            failures += n;
-        }
+        char *text = NULL;
+        size_t len = 0;
+        FILE *f = open_memstream(&text, &len);
+        if (!f)
+            util_out_of_memory(BUFSIZ);
+        char *page = NULL;
+        const int k = check_cell(f, c, o, provenance, record, programs, &ss, &open, extra, &page);
+        fclose(f);
+        fputs(text, stdout);
+        fflush(stdout);  /* progress, in order with stderr's */
+        said[i] = (struct cell_said){text, page ? page : xstrdup(""), k, true};
+        failures = k < 0 ? -1 : failures + k;
     }
     scene_setup_free(&ss);
     for (int k = 0; k < BASELINE_SEEDS - 1; k++)
@@ -217,57 +252,134 @@ static int read_baselines(struct regression *r, const struct options *o)
     return 0;
 }
 
+/* The checks of the whole selection, with every scene checked (not --scene):
+ * every parameter set by a declared cell, and no baselines of a scene that
+ * is not shipped. Said; returns the failures. */
+static int whole_checks(const struct options *o, const struct regression *r, const struct scene *scenes,
+                        int scene_count)
+{
+    if (o->scene_count != 0)
+        return 0;
+    struct regression_param missing[256];
+    const int n = regression_uncovered(r, o->techniques, o->technique_count, missing, 256);
+    for (int k = 0; k < n; k++)
+        printf("  UNCOVERED   %s.%s: no cell sets it away from its default (add one to the .regression cells "
+               "of techniques/%s.c)\n", missing[k].t->name, missing[k].p->name, missing[k].t->name);
+    const int orphaned = orphans(o, scenes, scene_count);
+    return n + (o->strict ? orphaned : 0);
+}
+
+/* The last line: how many cells of each status (n[status]). */
+static void summary(const struct options *o, const int *n, double seconds)
+{
+    printf("check: %d passed, %d REGRESSED, %d improved, %d without a baseline%s; %.1f s; page of moved cells: "
+           "%s/%s\n", n[BASELINE_PASS], n[BASELINE_REGRESSED], n[BASELINE_IMPROVED], n[BASELINE_MISSING],
+           o->update ? " (recorded anew)" : "", seconds, o->out_dir, output_files[OUTPUT_CHECK_PAGE]);
+}
+
+/* The owner (1..shards) of each cell, in the order check checks them
+ * (scene by scene, each scene's cells in r's order): contiguous runs of
+ * about equal expected cost, an engine cell RUN_ENGINE_CELL_COST. */
+static void check_owners(const struct regression *r, const struct scene *scenes, int scene_count, int shards,
+                         int *owner)
+{
+    int *order = xmalloc(sizeof *order * (size_t)(r->count + 1)), n = 0, *in_order = NULL;
+    double *cost = xmalloc(sizeof *cost * (size_t)(r->count + 1));
+    for (int s = 0; s < scene_count; s++)
+        for (int i = 0; i < r->count; i++)
+            if (r->cells[i].scene == &scenes[s]) {
+                cost[n] = technique_is_engine(r->cells[i].t) ? RUN_ENGINE_CELL_COST : 1.0;
+                order[n++] = i;
+            }
+    in_order = xmalloc(sizeof *in_order * (size_t)(n + 1));
+    shard_split_contiguous(cost, n, shards, in_order);
+    for (int k = 0; k < n; k++)
+        owner[order[k]] = in_order[k];
+    free(order), free(cost), free(in_order);
+}
+
+static void said_free(struct cell_said *said, int n)
+{
+    for (int i = 0; i < n && said; i++)
+        free(said[i].text), free(said[i].page);
+    free(said);
+}
+
 int check_main(const struct options *o)
 {
     const double start = util_now_ms();
     static struct scene scenes[CLI_MAX_SCENES];
-    int scene_count = 0, status = EXIT_USAGE;
+    int scene_count = 0, status = EXIT_USAGE, *owner = NULL;
     struct regression r = {.baselines_dir = o->baselines_dir, .tuned_dir = o->tuned_dir};
     struct program_cache programs = {0};
     struct results_set record = {0};
+    struct cell_said *said = NULL;
     cJSON *provenance = NULL;
     if ((o->update && cli_require_committed(o, "check --update") != 0) ||
         cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0 || check_folders(o, &record) != 0 ||
         regression_collect(&r, scenes, scene_count, o->techniques, o->technique_count) != 0 ||
         read_baselines(&r, o) != 0)
         goto out;
+    cli_shard_begin(o);
+    owner = xcalloc((size_t)r.count + 1, sizeof *owner);
+    said = xcalloc((size_t)r.count + 1, sizeof *said);
+    check_owners(&r, scenes, scene_count, o->shard.count ? o->shard.count : 1, owner);
     if (cli_gl_open(o, o->gl) != 0)
         goto out;
     status = EXIT_CHECK_FAILED;
     provenance = provenance_json(o->argc, o->argv, false, o->timing);
-    printf("check: %d cells on %d scene(s) against %s%s\n", r.count, scene_count, o->baselines_dir,
-           o->update ? " (recording them anew)" : "");
+    int mine = 0;
+    for (int i = 0; i < r.count; i++)
+        mine += shard_owns(&o->shard, owner[i]);
+    if (o->shard.count)
+        printf("check: shard %d of %d: %d of %d cells on %d scene(s) against %s\n", o->shard.index, o->shard.count,
+               mine, r.count, scene_count, o->baselines_dir);
+    else
+        printf("check: %d cells on %d scene(s) against %s%s\n", r.count, scene_count, o->baselines_dir,
+               o->update ? " (recording them anew)" : "");
     int failures = 0;
     for (int s = 0; s < scene_count && failures >= 0; s++) {
-        const int f = check_scene(&r, &scenes[s], o, provenance, record.next, &programs);
+        const int f = check_scene(&r, &scenes[s], o, provenance, record.next, &programs, owner, said);
         failures = f < 0 ? -1 : failures + f;
     }
-    if (failures >= 0 && o->scene_count == 0) {  /* every scene: every parameter set by a declared cell */
-        struct regression_param missing[256];
-        const int n = regression_uncovered(&r, o->techniques, o->technique_count, missing, 256);
-        for (int k = 0; k < n; k++)
-            printf("  UNCOVERED   %s.%s: no cell sets it away from its default (add one to the .regression cells "
-                   "of techniques/%s.c)\n", missing[k].t->name, missing[k].p->name, missing[k].t->name);
-        failures += n;
-        const int orphaned = orphans(o, scenes, scene_count);
-        failures += o->strict ? orphaned : 0;
-    }
+    if (failures >= 0 && !o->shard.count)  /* a shard's are the merge's */
+        failures += whole_checks(o, &r, scenes, scene_count);
     if (failures >= 0 && o->update) {  /* the new baselines as one set, held from signals (run.c) */
         util_signals_defer();
         failures = results_set_commit(&record) != 0 ? -1 : failures;
         util_signals_finished(failures == 0 ? EXIT_OK : EXIT_CHECK_FAILED);
     }
-    if (failures >= 0 && check_page_write(&r, o->out_dir) != 0)
+    struct strbuf page = {0};
+    for (int i = 0; i < r.count; i++)
+        if (said[i].done)
+            strbuf_printf(&page, "%s", said[i].page);
+    if (failures >= 0 && check_page_write_sections(page.data, o->out_dir) != 0)
         failures = -1;
+    strbuf_free(&page);
     if (failures >= 0) {
         int n[4] = {0};
         for (int i = 0; i < r.count; i++)
-            n[r.cells[i].cmp.status]++;
-        printf("check: %d passed, %d REGRESSED, %d improved, %d without a baseline%s; %.1f s; page of moved cells: "
-               "%s/%s\n", n[BASELINE_PASS], n[BASELINE_REGRESSED], n[BASELINE_IMPROVED], n[BASELINE_MISSING],
-               o->update ? " (recorded anew)" : "", (util_now_ms() - start) * 1e-3, o->out_dir,
-               output_files[OUTPUT_CHECK_PAGE]);
+            n[r.cells[i].cmp.status] += said[i].done;
+        summary(o, n, (util_now_ms() - start) * 1e-3);
         status = failures ? EXIT_CHECK_FAILED : EXIT_OK;
+    }
+    if (failures >= 0 && o->shard.count) {  /* each cell as said, for the merge */
+        cJSON *more = cJSON_CreateObject(), *cells = cJSON_AddArrayToObject(more, "cells");
+        cJSON_AddNumberToObject(more, "seconds", (util_now_ms() - start) * 1e-3);
+        for (int i = 0; i < r.count; i++) {
+            if (!said[i].done)
+                continue;
+            cJSON *c = cJSON_CreateObject();
+            cJSON_AddStringToObject(c, "scene", r.cells[i].scene->name);
+            cJSON_AddStringToObject(c, "cell", r.cells[i].label);
+            cJSON_AddNumberToObject(c, "status", r.cells[i].cmp.status);
+            cJSON_AddNumberToObject(c, "failures", said[i].failures);
+            cJSON_AddStringToObject(c, "said", said[i].text);
+            cJSON_AddStringToObject(c, "page", said[i].page);
+            cJSON_AddItemToArray(cells, c);
+        }
+        if (cli_shard_end(o, scenes, scene_count, more) != 0)
+            status = EXIT_CHECK_FAILED;
     }
     if (status == EXIT_CHECK_FAILED && engine_faulted())  /* an engine that could not render: said, 2 */
         status = EXIT_USAGE;
@@ -277,6 +389,83 @@ out:
     /* after a usage error: nothing to say of it; after an engine's fault, what was kept */
     results_set_free(&record, status != EXIT_USAGE || engine_faulted());
     cJSON_Delete(provenance);
+    said_free(said, r.count);
+    free(owner);
+    regression_free(&r);
+    for (int s = 0; s < scene_count; s++)
+        scene_free(&scenes[s]);
+    return status;
+}
+
+/* A shard's record of cell c ("cells" of its shard.json), or NULL. */
+static const cJSON *shard_cell(const cJSON *record, const struct regression_cell *c)
+{
+    const cJSON *e;
+    cJSON_ArrayForEach(e, cJSON_GetObjectItem(record, "cells"))
+        if (!strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(e, "scene")) ?: "", c->scene->name) &&
+            !strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(e, "cell")) ?: "", c->label))
+            return e;
+    return NULL;
+}
+
+int check_merge(const struct options *o, const struct merge_input *in)
+{
+    static struct scene scenes[CLI_MAX_SCENES];
+    int scene_count = 0, status = EXIT_USAGE, *owner = NULL, failures = 0, n[4] = {0};
+    struct regression r = {.baselines_dir = o->baselines_dir, .tuned_dir = o->tuned_dir};
+    struct strbuf page = {0};
+    if (cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0 ||
+        regression_collect(&r, scenes, scene_count, o->techniques, o->technique_count) != 0 ||
+        out_dir_claim(o->out_dir) != 0)
+        goto out;
+    owner = xcalloc((size_t)r.count + 1, sizeof *owner);
+    check_owners(&r, scenes, scene_count, in->count, owner);
+    status = EXIT_CHECK_FAILED;
+    printf("check: %d cells on %d scene(s) against %s\n", r.count, scene_count, o->baselines_dir);
+    for (int s = 0; s < scene_count; s++)
+        for (int i = 0; i < r.count; i++) {
+            const struct regression_cell *c = &r.cells[i];
+            if (c->scene != &scenes[s])
+                continue;
+            const cJSON *e = shard_cell(in->records[owner[i]], c);
+            const double st = cJSON_GetNumberValue(cJSON_GetObjectItem(e, "status")),
+                         f = cJSON_GetNumberValue(cJSON_GetObjectItem(e, "failures"));
+            const char *said = cJSON_GetStringValue(cJSON_GetObjectItem(e, "said")),
+                       *html = cJSON_GetStringValue(cJSON_GetObjectItem(e, "page"));
+            if (!e || !said || !html || !(st >= 0 && st < 4 && st == (int)st) || !(f >= 0 && f == (int)f)) {
+                log_error("merge: %s: its shard.json holds no record of cell %s/%s, which it owns",
+                          in->dirs[owner[i]], c->scene->name, c->label);
+                goto out;
+            }
+            fputs(said, stdout);
+            n[(int)st]++;
+            failures += (int)f;
+            if (*html) {  /* it moved: its heatmap too */
+                char *from = util_printf("%s/%s/%s.png", in->dirs[owner[i]], c->scene->name, c->label),
+                     *dir = util_printf("%s/%s", o->out_dir, c->scene->name),
+                     *to = util_printf("%s/%s.png", dir, c->label), *data = NULL;
+                size_t size;
+                const int err = util_read_file(from, &data, &size);
+                if (err)
+                    log_error("merge: %s: %s", from, util_read_error(err));
+                const int rc = err || util_mkdirs_own(dir, 1) != 0 || util_write_file_atomic(to, data, size) != 0;
+                free(from), free(dir), free(to), free(data);
+                if (rc)
+                    goto out;
+                strbuf_printf(&page, "%s", html);
+            }
+        }
+    failures += whole_checks(o, &r, scenes, scene_count);
+    if (check_page_write_sections(page.data, o->out_dir) != 0)
+        goto out;
+    double seconds = 0;
+    for (int k = 1; k <= in->count; k++)  /* side by side: the longest */
+        seconds = fmax(seconds, cJSON_GetNumberValue(cJSON_GetObjectItem(in->records[k], "seconds")));
+    summary(o, n, seconds);
+    status = failures ? EXIT_CHECK_FAILED : EXIT_OK;
+out:
+    strbuf_free(&page);
+    free(owner);
     regression_free(&r);
     for (int s = 0; s < scene_count; s++)
         scene_free(&scenes[s]);

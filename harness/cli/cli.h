@@ -202,6 +202,8 @@ struct merge_input {
  * returns the exit status the command would have. */
 int run_merge(const struct options *o, const struct merge_input *in);
 int tune_merge(const struct options *o, const struct merge_input *in);
+int check_merge(const struct options *o, const struct merge_input *in);
+int stability_merge(const struct options *o, const struct merge_input *in);
 
 /* Copies the files under folder from (depth levels of folders down) into
  * to, each written atomically, folders made as owned by shadowbench.

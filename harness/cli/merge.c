@@ -2,7 +2,7 @@
  * sharded command records of itself (shard.json), and `shadowbench merge
  * OUT SHARD...`, which checks that the shards are the N parts of one
  * command of one code and hands them to that command's merge (run.c,
- * tune.c). */
+ * tune.c, check.c, stability.c). */
 #include "cli.h"
 #include "base/log.h"
 #include "base/util.h"
@@ -25,6 +25,8 @@ void cli_shard_begin(const struct options *o)
     char *path = out_dir_path(o->out_dir, OUTPUT_SHARD_JSON);
     unlink(path);
     free(path);
+    if (o->shard.count)
+        free(provenance_code_id());  /* the code as the shard starts (provenance.h) */
 }
 
 int cli_shard_end(const struct options *o, const struct scene *scenes, int scene_count, cJSON *more)
@@ -57,7 +59,7 @@ int cli_shard_end(const struct options *o, const struct scene *scenes, int scene
     }
     util_json_merge(j, more);
     cJSON_Delete(more);
-    cJSON *provenance = provenance_json(o->argc, o->argv, false, o->timing);
+    cJSON *provenance = provenance_json(o->argc, o->argv, o->cmd == CMD_RUN || o->cmd == CMD_TUNE, o->timing);
     cJSON_AddItemToObject(j, "provenance", provenance);
     cJSON_AddTrueToObject(j, "complete");
     char *path = out_dir_path(o->out_dir, OUTPUT_SHARD_JSON);
@@ -181,8 +183,8 @@ static int unsharded_options(const cJSON *record, const char *out, struct option
     for (int i = 2; i < argc; i++)
         if (!argv[i])
             cmd = -1;
-    if (cmd != CMD_RUN && cmd != CMD_TUNE) {
-        log_error("merge: the shards record a command that is not run or tune");
+    if (cmd != CMD_RUN && cmd != CMD_TUNE && cmd != CMD_CHECK && cmd != CMD_STABILITY) {
+        log_error("merge: the shards record a command that is not run, tune, check or stability");
         return -1;
     }
     *o = (struct options){.argc = argc, .argv = argv};
@@ -225,7 +227,12 @@ int merge_main(const struct options *mo)
         ordered[shard_number(records[i], "index")] = records[i];
     const struct merge_input in = {by_index, ordered, count, mo};
     log_info("merge: %d shard(s) of %s into %s", count, commands[o.cmd].name, out);
-    status = o.cmd == CMD_RUN ? run_merge(&o, &in) : tune_merge(&o, &in);
+    switch (o.cmd) {
+    case CMD_RUN: status = run_merge(&o, &in); break;
+    case CMD_TUNE: status = tune_merge(&o, &in); break;
+    case CMD_CHECK: status = check_merge(&o, &in); break;
+    default: status = stability_merge(&o, &in); break;
+    }
     free(ordered);
 out:
     cli_options_free(&o);
@@ -272,10 +279,32 @@ int cli_copy_files(const char *from, const char *to, int depth)
 
 void cli_merge_record(cJSON *r, const struct merge_input *in)
 {
+    /* the device the shards rendered on, not the merge's (none): each key
+     * the shards' value, or their values joined where they differ */
+    static const char *const device_keys[] = {"gl_renderer", "gl_vendor", "gl_version", "gl_platform",
+                                              "timing_method"};
+    for (size_t d = 0; d < ARRAY_SIZE(device_keys); d++) {
+        struct strbuf values = {0};
+        for (int k = 1; k <= in->count; k++) {
+            const char *v = cJSON_GetStringValue(
+                cJSON_GetObjectItem(cJSON_GetObjectItem(in->records[k], "provenance"), device_keys[d]));
+            if (v && (!values.data || !strstr(values.data, v)))
+                strbuf_list_printf(&values, "; ", "%s", v);
+        }
+        if (values.data)
+            cJSON_ReplaceItemInObject(r, device_keys[d], cJSON_CreateString(values.data));
+        strbuf_free(&values);
+    }
     cJSON *shards = cJSON_AddArrayToObject(r, "shards");
-    for (int k = 1; k <= in->count; k++) {
-        cJSON *s = cJSON_Duplicate(in->records[k], 1);
+    for (int k = 1; k <= in->count; k++) {  /* each one's identity, not its results (merged here) */
+        static const char *const keys[] = {"shard", "code", "seconds", "ground_truth", "provenance"};
+        cJSON *s = cJSON_CreateObject();
         cJSON_AddStringToObject(s, "folder", in->dirs[k]);
+        for (size_t i = 0; i < ARRAY_SIZE(keys); i++) {
+            const cJSON *v = cJSON_GetObjectItem(in->records[k], keys[i]);
+            if (v)
+                cJSON_AddItemToObject(s, keys[i], cJSON_Duplicate(v, 1));
+        }
         cJSON_AddItemToArray(shards, s);
     }
     cJSON *merge = provenance_json(in->merge->argc, in->merge->argv, false, in->merge->timing);

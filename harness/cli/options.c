@@ -447,7 +447,7 @@ const struct option_row option_rows[] = {
     {"warmup", 0, "K", ON(RUN) | ON(BENCH) | ON(TUNE), OPTION_INT, FIELD(warmup), 0, CLI_MAX_WARMUP, NULL,
      "untimed frames per cell before them, 0.." UTIL_STR(CLI_MAX_WARMUP) " (default {D})"},
     {"out", 0, "DIR", TRACING | ON(CHECK), OPTION_FOLDER, FIELD(out_dir), 0, 0, NULL, "output folder (default {D})"},
-    {"shard", 0, "K/N", ON(RUN) | ON(TUNE), OPTION_NONE, 0, 0, 0, set_shard,
+    {"shard", 0, "K/N", ON(RUN) | ON(TUNE) | ON(CHECK) | ON(STABILITY), OPTION_NONE, 0, 0, 0, set_shard,
      "do shard K of N of the cells (K from 1, as Slurm's array index): every cell belongs to one shard, chosen from "
      "the cells alone and balanced by their expected cost; --out holds this shard's complete outputs and its "
      "shard.json, and 'shadowbench merge' builds what the command unsharded writes (docs/scale-out.md)"},

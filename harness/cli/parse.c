@@ -90,6 +90,10 @@ static int check_options(struct options *o)
         log_error("--strict: has no effect with --update (which records every cell)");
         return -1;
     }
+    if (o->update && o->shard.count) {
+        log_error("--shard: check --update records every baseline as one set; record them unsharded");
+        return -1;
+    }
     if (o->allow_uncommitted && !o->update && !o->write_tuned) {
         log_error("--allow-uncommitted: has an effect only when recording (check --update, tune --write-tuned)");
         return -1;

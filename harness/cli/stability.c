@@ -78,66 +78,242 @@ static int judge(const struct stability *st)
     return bad ? EXIT_CHECK_FAILED : EXIT_OK;
 }
 
+/* The study's units, in the order it runs them: each motion on each scene
+ * it runs on, then each variation on each scene (motion or variation -1). */
+struct unit {
+    int scene, motion, variation;
+};
+
+/* The units of st into *out (malloc'ed), their owners (1..shards) into
+ * *owner: balanced by expected cost (a motion's frames, a variation's
+ * values, times the techniques they render). Returns how many. */
+static int plan_units(const struct stability *st, int shards, struct unit **out, int **owner)
+{
+    const int max = st->scene_count * (st->motion_count + st->var_count) + 1;
+    struct unit *u = xmalloc(sizeof *u * (size_t)max);
+    double *cost = xmalloc(sizeof *cost * (size_t)max);
+    int n = 0;
+    for (int s = 0; s < st->scene_count; s++)
+        for (int m = 0; m < st->motion_count; m++)
+            if (motion_on(&st->motions[m], s)) {
+                cost[n] = (double)st->frames * st->technique_count;
+                u[n++] = (struct unit){s, m, -1};
+            }
+    for (int s = 0; s < st->scene_count; s++)
+        for (int v = 0; v < st->var_count; v++) {
+            cost[n] = (double)st->vars[v].count * (st->vars[v].kind == VARY_PARAM ? 1 : st->technique_count);
+            u[n++] = (struct unit){s, -1, v};
+        }
+    *owner = xcalloc((size_t)n + 1, sizeof **owner);
+    shard_split_balanced(cost, n, shards, *owner);
+    free(cost);
+    *out = u;
+    return n;
+}
+
+static void add_number(cJSON *o, const char *key, double x)
+{
+    if (isfinite(x))
+        cJSON_AddNumberToObject(o, key, x);
+    else
+        cJSON_AddNullToObject(o, key);
+}
+
+static double number(const cJSON *o, const char *key)
+{
+    const cJSON *v = cJSON_GetObjectItem(o, key);
+    return cJSON_IsNumber(v) ? v->valuedouble : NAN;
+}
+
+/* A flicker result's fields: X(name, kind): d double, l long, i int, b bool;
+ * how each is written into a JSON object and read from one. */
+#define PUT_d(o, k, x) add_number(o, k, x)
+#define PUT_l(o, k, x) cJSON_AddNumberToObject(o, k, (double)(x))
+#define PUT_i PUT_l
+#define PUT_b(o, k, x) cJSON_AddBoolToObject(o, k, x)
+#define GET_d(o, k) number(o, k)
+#define GET_l(o, k) (long)number(o, k)
+#define GET_i(o, k) (int)number(o, k)
+#define GET_b(o, k) cJSON_IsTrue(cJSON_GetObjectItem(o, k))
+#define FLICKER_FIELDS(X)                                                                                   \
+    X(flicker, d) X(flicker_p99, d) X(floor, d) X(flicker_penumbra, d) X(floor_penumbra, d) X(meaningful, b) \
+    X(rmse_mean, d) X(rmse_max, d) X(rmse_jump, d) X(pairs_pixels, l) X(band_pixels, l) X(mask_changes, l)  \
+    X(frames, i) X(scored_frames, i)
+
+/* The shard's record of its rows and points, every number as measured
+ * (for the merge, docs/scale-out.md). */
+static cJSON *results_json(const struct stability *st)
+{
+    cJSON *j = cJSON_CreateObject(), *rows = cJSON_AddArrayToObject(j, "rows"),
+          *points = cJSON_AddArrayToObject(j, "points");
+    for (int i = 0; i < st->row_count; i++) {
+        const struct motion_row *r = &st->rows[i];
+        cJSON *o = cJSON_CreateObject(), *f = cJSON_CreateObject(), *frames = cJSON_CreateArray();
+        cJSON_AddNumberToObject(o, "scene", r->scene);
+        cJSON_AddNumberToObject(o, "motion", r->motion);
+        cJSON_AddStringToObject(o, "technique", r->t->name);
+        cJSON_AddBoolToObject(o, "animated", r->animated);
+        cJSON_AddBoolToObject(o, "accumulated", r->accumulated);
+        cJSON_AddStringToObject(o, "label", r->label);
+#define X(name, kind) PUT_##kind(f, #name, r->r.name);
+        FLICKER_FIELDS(X)
+#undef X
+        cJSON_AddItemToObject(o, "flicker", f);
+        for (int k = 0; k < r->r.frames; k++) {
+            cJSON *v = cJSON_CreateObject();
+            add_number(v, "rmse", r->frame_rmse[k]);
+            cJSON_AddItemToArray(frames, v);
+        }
+        cJSON_AddItemToObject(o, "frame_rmse", frames);
+        cJSON_AddNumberToObject(o, "nonfinite", (double)r->nonfinite);
+        cJSON_AddItemToArray(rows, o);
+    }
+    for (int i = 0; i < st->point_count; i++) {
+        const struct vary_point *p = &st->points[i];
+        cJSON *o = cJSON_CreateObject(), *m = cJSON_CreateObject();
+        cJSON_AddNumberToObject(o, "scene", p->scene);
+        cJSON_AddNumberToObject(o, "variation", p->variation);
+        cJSON_AddNumberToObject(o, "value", p->value);
+        cJSON_AddStringToObject(o, "technique", p->t->name);
+        for (int k = 0; k < METRIC_COUNT; k++)
+            add_number(m, metric_info[k].key, metrics_value(&p->m, k));
+        cJSON_AddItemToObject(o, "metrics", m);
+        cJSON_AddItemToArray(points, o);
+    }
+    return j;
+}
+
+/* Unit u's rows and points from a shard's record into st. Returns 0 or -1
+ * (none there: not the shard that owns it). */
+static int read_unit(struct stability *st, const cJSON *record, const struct unit *u)
+{
+    const cJSON *e;
+    int found = 0;
+    cJSON_ArrayForEach(e, cJSON_GetObjectItem(record, u->motion >= 0 ? "rows" : "points")) {
+        const struct technique *t = technique_find(cJSON_GetStringValue(cJSON_GetObjectItem(e, "technique")) ?: "");
+        if (number(e, "scene") != u->scene || !t ||
+            number(e, u->motion >= 0 ? "motion" : "variation") != (u->motion >= 0 ? u->motion : u->variation))
+            continue;
+        found++;
+        if (u->motion >= 0) {
+            st->rows = xrealloc(st->rows, sizeof *st->rows * (size_t)(st->row_count + 1));
+            struct motion_row *r = &st->rows[st->row_count++];
+            const cJSON *f = cJSON_GetObjectItem(e, "flicker"), *frames = cJSON_GetObjectItem(e, "frame_rmse");
+            *r = (struct motion_row){.scene = u->scene, .motion = u->motion, .t = t,
+                                     .animated = cJSON_IsTrue(cJSON_GetObjectItem(e, "animated")),
+                                     .accumulated = cJSON_IsTrue(cJSON_GetObjectItem(e, "accumulated")),
+                                     .nonfinite = (long)number(e, "nonfinite")};
+            snprintf(r->label, sizeof r->label, "%s", cJSON_GetStringValue(cJSON_GetObjectItem(e, "label")) ?: "");
+#define X(name, kind) r->r.name = GET_##kind(f, #name);
+            FLICKER_FIELDS(X)
+#undef X
+            r->frame_rmse = xcalloc((size_t)cJSON_GetArraySize(frames) + 1, sizeof *r->frame_rmse);
+            for (int k = 0; k < cJSON_GetArraySize(frames) && k < r->r.frames; k++)
+                r->frame_rmse[k] = number(cJSON_GetArrayItem(frames, k), "rmse");
+        } else {
+            const double value = number(e, "value");
+            if (!(value >= 0 && value < st->vars[u->variation].count))
+                return -1;
+            struct vary_point p = {.scene = u->scene, .variation = u->variation, .value = (int)value, .t = t};
+            const cJSON *m = cJSON_GetObjectItem(e, "metrics");
+            for (int k = 0; k < METRIC_COUNT; k++)
+                metrics_set(&p.m, k, number(m, metric_info[k].key));
+            st->points = xrealloc(st->points, sizeof *st->points * (size_t)(st->point_count + 1));
+            st->points[st->point_count++] = p;
+        }
+    }
+    return found ? 0 : -1;
+}
+
+/* The study o describes, planned into st over scenes (loaded into
+ * scenes[0..*scene_count-1]). Returns 0 or -1 (logged). */
+static int open_study(const struct options *o, struct stability *st, struct scene *scenes, int *scene_count)
+{
+    *st = (struct stability){.width = o->width, .height = o->height, .gt_samples = o->gt_samples,
+                             .shadow_map_size = o->shadow_map_size, .frames = o->frames,
+                             .accumulate = o->accumulate, .cache_dir = o->cache_dir,
+                             .technique_count = o->technique_count, .scenes = scenes, .cascades = o->cascades};
+    for (int i = 0; i < o->technique_count; i++)
+        st->techniques[i] = o->techniques[i], st->settings[i] = cli_settings(o, o->techniques[i]);
+    const int scene_motions = plan(st, o);
+    if (scene_motions < 0)
+        return -1;
+    if (o->gt_samples < 4) {  /* the floor compares two halves of the samples */
+        log_error("--gt-samples: stability needs at least 4 (its noise floor compares two halves of the samples)");
+        return -1;
+    }
+    if (cli_load_scenes(o, stability_default_scenes, (int)ARRAY_SIZE(stability_default_scenes), scenes,
+                        CLI_MAX_SCENES, scene_count) != 0)
+        return -1;
+    st->scene_count = *scene_count;
+    if (scene_motions && add_scene_motions(st, scenes, *scene_count) != 0)
+        return -1;
+    if (o->motion_count && !st->motion_count) {  /* only --motion scene */
+        log_error("--motion scene: none of the scenes lists motions of its own (extras.shadowbench.motions)");
+        return -1;
+    }
+    return stability_check_nodes(st);
+}
+
+/* run.json's keys of the study (stability.json's "run"). */
+static cJSON *study_record(const struct options *o, double seconds)
+{
+    cJSON *run = cli_run_record(o, false, seconds);
+    cJSON_AddNumberToObject(run, "accumulate", o->accumulate);
+    return run;
+}
+
 int stability_main(const struct options *o)
 {
     const double start = util_now_ms();
     static struct scene scenes[CLI_MAX_SCENES];
-    int scene_count = 0, status = EXIT_USAGE;
-    struct stability st = {.width = o->width, .height = o->height, .gt_samples = o->gt_samples,
-                           .shadow_map_size = o->shadow_map_size, .frames = o->frames, .accumulate = o->accumulate,
-                           .cache_dir = o->cache_dir, .technique_count = o->technique_count, .scenes = scenes,
-                           .cascades = o->cascades};
+    int scene_count = 0, status = EXIT_USAGE, *owner = NULL, unit_count = 0;
+    struct stability st = {0};
     struct stability_output so = {0};
-    for (int i = 0; i < o->technique_count; i++)
-        st.techniques[i] = o->techniques[i], st.settings[i] = cli_settings(o, o->techniques[i]);
-    const int scene_motions = plan(&st, o);
-    if (scene_motions < 0)
+    struct unit *units = NULL;
+    if (open_study(o, &st, scenes, &scene_count) != 0 || out_dir_claim(o->out_dir) != 0 ||
+        cli_gl_open(o, o->gl) != 0)
         goto out;
-    if (o->gt_samples < 4) {  /* the floor compares two halves of the samples */
-        log_error("--gt-samples: stability needs at least 4 (its noise floor compares two halves of the samples)");
-        goto out;
-    }
-    if (cli_load_scenes(o, stability_default_scenes, (int)ARRAY_SIZE(stability_default_scenes), scenes,
-                        CLI_MAX_SCENES, &scene_count) != 0)
-        goto out;
-    st.scene_count = scene_count;
-    if (scene_motions && add_scene_motions(&st, scenes, scene_count) != 0)
-        goto out;
-    if (o->motion_count && !st.motion_count) {  /* only --motion scene */
-        log_error("--motion scene: none of the scenes lists motions of its own (extras.shadowbench.motions)");
-        goto out;
-    }
-    if (stability_check_nodes(&st) != 0 || out_dir_claim(o->out_dir) != 0 || cli_gl_open(o, o->gl) != 0)
-        goto out;
+    cli_shard_begin(o);
+    unit_count = plan_units(&st, o->shard.count ? o->shard.count : 1, &units, &owner);
     status = EXIT_CHECK_FAILED;
     stability_output_begin(&so, &st, o->out_dir);
     st.on_frame = stability_output_frame, st.user = &so;
-    int shared = 0;
+    int shared = 0, mine = 0;
     for (int m = 0; m < st.motion_count; m++)
         shared += st.motions[m].scene < 0;
+    for (int i = 0; i < unit_count; i++)
+        mine += shard_owns(&o->shard, owner[i]);
+    if (o->shard.count)
+        log_info("stability: shard %d of %d: %d of the %d motions and variations on their scenes", o->shard.index,
+                 o->shard.count, mine, unit_count);
     log_info("stability: %d scene(s), %d technique(s), %d motion(s) and %d of the scenes' own, of %d frames, %d "
              "variation(s), %dx%d, %d GT samples, %d^2 shadow map, on %s", scene_count, o->technique_count, shared,
              st.motion_count - shared, o->frames, st.var_count, o->width, o->height, o->gt_samples,
              o->shadow_map_size, gl_context_renderer());
     int rc = 0;
-    for (int s = 0; s < scene_count && !rc; s++)
-        for (int m = 0; m < st.motion_count && !rc; m++)
-            if (motion_on(&st.motions[m], s)) {
-                log_info("scene %s, motion %s", scenes[s].name, st.motions[m].label);
-                rc = stability_motion(&st, s, m) || stability_output_frames(&so);
-            }
-    for (int s = 0; s < scene_count && !rc; s++)
-        for (int v = 0; v < st.var_count && !rc; v++) {
-            log_info("scene %s, varying %s", scenes[s].name, st.vars[v].name);
-            rc = stability_vary(&st, s, v);
+    for (int i = 0; i < unit_count && !rc; i++) {
+        const struct unit *u = &units[i];
+        if (!shard_owns(&o->shard, owner[i]))
+            continue;
+        if (u->motion >= 0) {
+            log_info("scene %s, motion %s", scenes[u->scene].name, st.motions[u->motion].label);
+            rc = stability_motion(&st, u->scene, u->motion) || stability_output_frames(&so);
+        } else {
+            log_info("scene %s, varying %s", scenes[u->scene].name, st.vars[u->variation].name);
+            rc = stability_vary(&st, u->scene, u->variation);
         }
+    }
     if (!rc) {
         util_signals_defer();  /* its files are written as a set: whole, then the status (run.c) */
         stability_judge(&st);
-        cJSON *run = cli_run_record(o, false, (util_now_ms() - start) * 1e-3);
-        cJSON_AddNumberToObject(run, "accumulate", o->accumulate);
+        const double seconds = (util_now_ms() - start) * 1e-3;
+        cJSON *run = study_record(o, seconds);
         rc = stability_output_write(&so, run);
         cJSON_Delete(run);
+        cJSON *more = results_json(&st);
+        cJSON_AddNumberToObject(more, "seconds", seconds);
+        rc = rc || cli_shard_end(o, scenes, scene_count, more) != 0;
     }
     if (!rc)
         status = judge(&st);
@@ -145,6 +321,56 @@ int stability_main(const struct options *o)
     programs_free(&st.programs);  /* with its context */
     gl_context_destroy();
 out:
+    free(units), free(owner);
+    stability_output_free(&so);
+    stability_free(&st);
+    for (int s = 0; s < scene_count; s++)
+        scene_free(&scenes[s]);
+    return status;
+}
+
+int stability_merge(const struct options *o, const struct merge_input *in)
+{
+    const double start = util_now_ms();
+    static struct scene scenes[CLI_MAX_SCENES];
+    int scene_count = 0, status = EXIT_USAGE, *owner = NULL;
+    struct stability st = {0};
+    struct stability_output so = {0};
+    struct unit *units = NULL;
+    if (open_study(o, &st, scenes, &scene_count) != 0 || out_dir_claim(o->out_dir) != 0)
+        goto out;
+    status = EXIT_CHECK_FAILED;
+    const int unit_count = plan_units(&st, in->count, &units, &owner);
+    stability_output_begin(&so, &st, o->out_dir);
+    for (int i = 0; i < unit_count; i++)  /* each unit's rows and points, in the study's order */
+        if (read_unit(&st, in->records[owner[i]], &units[i]) != 0) {
+            log_error("merge: %s: its shard.json holds no results of scene %s's %s %s, which it owns",
+                      in->dirs[owner[i]], scenes[units[i].scene].name, units[i].motion >= 0 ? "motion" : "variation",
+                      units[i].motion >= 0 ? st.motions[units[i].motion].label : st.vars[units[i].variation].name);
+            goto out;
+        }
+    for (int k = 1; k <= in->count; k++)  /* the motions' frames, each scene's from every shard that ran some */
+        for (int s = 0; s < scene_count; s++) {
+            char *from = util_printf("%s/%s", in->dirs[k], scenes[s].name),
+                 *to = util_printf("%s/%s", o->out_dir, scenes[s].name);
+            const int rc = util_is_dir(from) ? cli_copy_files(from, to, 3) : 0;
+            free(from), free(to);
+            if (rc)
+                goto out;
+        }
+    double seconds = 0;
+    for (int k = 1; k <= in->count; k++)  /* side by side: the longest */
+        seconds = fmax(seconds, cJSON_GetNumberValue(cJSON_GetObjectItem(in->records[k], "seconds")));
+    util_signals_defer();
+    stability_judge(&st);
+    cJSON *run = study_record(o, seconds);
+    cli_merge_record(run, in);
+    const int rc = stability_output_write(&so, run);
+    cJSON_Delete(run);
+    status = rc ? EXIT_CHECK_FAILED : judge(&st);
+    cli_done(o, status, !rc, "merge", OUTPUT_STABILITY_PAGE, "data", OUTPUT_STABILITY_CSV, start);
+out:
+    free(units), free(owner);
     stability_output_free(&so);
     stability_free(&st);
     for (int s = 0; s < scene_count; s++)

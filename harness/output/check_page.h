@@ -5,8 +5,12 @@
 
 #include "pipeline/regression.h"
 
-/* Writes <out>/check.html and the heatmaps under <out>/<scene>/. Returns 0
- * or -1 (logged). */
-int check_page_write(const struct regression *r, const char *out);
+/* Cell c's section of <out>/check.html appended to html and its heatmap
+ * written (<out>/<scene>/<cell>.png), if c moved: 1; else 0 (nothing); or
+ * -1 (logged). Then the page around the cells' sections, in the check's
+ * order (NULL or empty: no cell moved): 0 or -1. A sharded check records
+ * its cells' sections, and merge writes them (docs/scale-out.md). */
+int check_page_cell(const struct regression_cell *c, const char *out, struct strbuf *html);
+int check_page_write_sections(const char *sections, const char *out);
 
 #endif

@@ -92,6 +92,8 @@ static char *git_describe(enum source_state state)
     return util_printf("%s%s", buf, strcmp(buf, "unknown") != 0 && state == SOURCE_CHANGED ? "-dirty" : "");
 }
 
+static char *provenance_code_now(void);
+
 /* The hash of what cmd prints; 0 when it fails. */
 static uint64_t hash_output(const char *cmd)
 {
@@ -104,6 +106,14 @@ static uint64_t hash_output(const char *cmd)
 }
 
 char *provenance_code_id(void)
+{
+    static char *id;  /* the tree as it was when first asked: the code this process loaded */
+    if (!id)
+        id = provenance_code_now();
+    return xstrdup(id);
+}
+
+static char *provenance_code_now(void)
 {
     char head[64] = "", what[512];
     const enum source_state state = provenance_source_state(what, sizeof what);

@@ -31,7 +31,8 @@ enum source_state provenance_source_state(char *what, size_t size);
  * code from another (docs/scale-out.md): the commit ("git <hash>"), with
  * a hash of its uncommitted changes and new files where there are any
  * ("+changes <hash>"); without git, the version and the executable's bytes.
- * malloc'ed. */
+ * As the source tree was at the first call (shaders are read from it as a
+ * command starts). malloc'ed. */
 char *provenance_code_id(void);
 
 /* The state in words, as the record's "source_tree" says it. */
