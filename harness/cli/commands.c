@@ -233,14 +233,18 @@ const struct command_def commands[COMMAND_COUNT] = {
     },
     [CMD_MERGE] = {
         .name = "merge", .main = merge_main, .synopsis = "merge OUT SHARD...", .operands = true,
-        .summary = "the shards of a run or a tuning (--shard K/N) into the one output the command writes unsharded",
+        .summary = "the shards of a run, tuning, check or stability study (--shard K/N) into the one output the "
+                   "command writes unsharded",
         .about =
             "Builds in the folder OUT what the command the shards split would have written\n"
             "unsharded: a run's matrix, report, charts and cell folders (every metric as\n"
-            "its shard measured it; each cell's times on the device that timed it), a\n"
-            "tuning's records and tune.json, and with --write-tuned its --tuned folder, as\n"
-            "one set. run.json (tune.json) lists every shard's record. Each SHARD is a\n"
-            "folder a command with --shard K/N finished (its shard.json).\n"
+            "its shard measured it; each cell's times on the device that timed it); a\n"
+            "tuning's records and tune.json, and with --write-tuned its --tuned folder as\n"
+            "one set; a check's lines (on stdout), check.html and heatmaps, and the\n"
+            "checks of the whole selection; a stability study's pages, data, charts and\n"
+            "frames. Its record (run.json, tune.json, stability.json's run) lists every\n"
+            "shard. Each SHARD is a folder a command with --shard K/N finished (its\n"
+            "shard.json).\n"
             "\n"
             "It refuses, in one line, shards of another command line, of other code, of\n"
             "other scenes or of another ground-truth version, a shard given twice or one\n"
@@ -248,7 +252,8 @@ const struct command_def commands[COMMAND_COUNT] = {
             "the shards as a Slurm array job and merges them (docs/scale-out.md).\n",
         .after =
             "exit status: that of the command unsharded over the merged cells (run: 1\n"
-            "for a cell with NaN/Inf or none to score); 2 shards that do not merge.\n",
+            "for a cell with NaN/Inf or none to score; check: 1 for a failure); 2 shards\n"
+            "that do not merge.\n",
     },
     [CMD_VIEW] = {
         .name = "view", .main = view_main, .synopsis = "view --scene S [options]",

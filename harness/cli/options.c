@@ -449,7 +449,8 @@ const struct option_row option_rows[] = {
     {"out", 0, "DIR", TRACING | ON(CHECK), OPTION_FOLDER, FIELD(out_dir), 0, 0, NULL, "output folder (default {D})"},
     {"shard", 0, "K/N", ON(RUN) | ON(TUNE) | ON(CHECK) | ON(STABILITY), OPTION_NONE, 0, 0, 0, set_shard,
      "do shard K of N of the cells (K from 1, as Slurm's array index): every cell belongs to one shard, chosen from "
-     "the cells alone and balanced by their expected cost; --out holds this shard's complete outputs and its "
+     "the cells alone and balanced by their expected cost (run, check: a cell; tune: a technique's tuning; "
+     "stability: a motion or variation on a scene); --out holds this shard's complete outputs and its "
      "shard.json, and 'shadowbench merge' builds what the command unsharded writes (docs/scale-out.md)"},
     {"cache", 0, "DIR", TRACING | ON(CHECK), OPTION_FOLDER, FIELD(cache_dir), 0, 0, NULL,
      "ground-truth cache (default {D})"},

@@ -1,0 +1,99 @@
+#!/bin/bash
+# Shards without a scheduler (docs/scale-out.md): a check and a stability
+# study in two shards, run side by side, merge into what the command
+# writes unsharded — the check's lines, page and heatmaps (with a cell
+# that moved), the study's files and pictures (its run record aside) —
+# and merge refuses, in one line and exit 2 each, what is not the parts of
+# one command: a missing shard, a duplicate, another command, other
+# settings, other code, another ground-truth version, an unfinished shard.
+# test_slurm does the same for a run and a tuning on a real Slurm cluster.
+set -u
+sb=$1
+src=$(cd "$(dirname "$0")/.." && pwd)
+t=$(mktemp -d /tmp/sb_test_shards_XXXXXX)
+trap 'rm -rf "$t"' EXIT
+fails=0
+fail() { echo "FAILED: $*"; fails=$((fails + 1)); }
+ok() { echo "ok: $*"; }
+
+# both shards of a command at once (a shared cache), then the merge
+sharded() {  # sharded NAME COMMAND ARGS...
+  local name=$1; shift
+  "$sb" "$@" --shard 1/2 --out "$t/$name-1" >"$t/$name-1.log" 2>&1 &
+  local p=$!
+  "$sb" "$@" --shard 2/2 --out "$t/$name-2" >"$t/$name-2.log" 2>&1
+  wait $p
+  "$sb" merge "$t/$name" "$t/$name-1" "$t/$name-2" >"$t/$name.out" 2>"$t/$name.err"
+}
+
+# ---- check: a baseline that records a far smaller rmse than hard's makes
+# it REGRESSED (a section and a heatmap on the page); the others pass
+scene=contact_hardening
+mkdir -p "$t/baselines"
+cp -r "$src/results/baselines/$scene" "$t/baselines/"
+sed -i '0,/"rmse":/s/"rmse":[^,]*/"rmse": 0.001/' "$t/baselines/$scene/hard.json"
+cargs="--scene $scene --technique hard --technique pcf --baselines $t/baselines --tuned $src/results/tuned
+       --cache $t/cache"
+"$sb" check $cargs --out "$t/check-alone" >"$t/check-alone.out" 2>/dev/null
+alone=$?
+sharded check check $cargs
+merged=$?
+[ $alone = 1 ] && [ $merged = 1 ] || fail "check: exit $alone alone, $merged merged (1: a cell regressed)"
+# the same lines, but the seconds and the folder in the last one
+same_lines() { sed 's/; [0-9.]* s;/; s;/; s|'"$t"'/[a-z-]*/check.html|OUT/check.html|' "$1"; }
+if diff <(same_lines "$t/check-alone.out") <(same_lines "$t/check.out") >"$t/check.diff"; then
+  ok "check: the merge says what the check says, line for line ($(wc -l < "$t/check.out") lines)"
+else
+  fail "check: the merge's lines differ: $(head -5 "$t/check.diff")"
+fi
+grep -q "REGRESSED   $scene *hard" "$t/check.out" || fail "check: the moved cell is not REGRESSED"
+cmp -s "$t/check-alone/check.html" "$t/check/check.html" && grep -q "$scene/hard.png" "$t/check/check.html" &&
+  cmp -s "$t/check-alone/$scene/hard.png" "$t/check/$scene/hard.png" &&
+  ok "check: the same page and heatmap" || fail "check: the page or the heatmap differs"
+
+# ---- stability: two motions and a variation on two scenes
+sargs="--scene floating_box_sphere --scene sun_contact --technique hard --technique pcf --frames 3
+       --motion light_shift --motion static --vary light_scale=0.5,1,2 --width 64 --height 64 --gt-samples 64
+       --cache $t/cache"
+"$sb" stability $sargs --out "$t/stab-alone" >/dev/null 2>&1 || fail "stability alone"
+sharded stab stability $sargs || fail "stability merged: $(cat "$t/stab.err")"
+same=1
+for f in stability.csv $(cd "$t/stab-alone" && find charts floating_box_sphere sun_contact -type f | sort); do
+  cmp -s "$t/stab-alone/$f" "$t/stab/$f" || { same=0; fail "stability: $f differs"; }
+done
+# stability.json: the same but its run record (command line, date, seconds, the shards)
+strip_run() { sed '/"run":/,$d' "$1"; }
+cmp -s <(strip_run "$t/stab-alone/stability.json") <(strip_run "$t/stab/stability.json") ||
+  { same=0; fail "stability: stability.json differs"; }
+[ $same = 1 ] && ok "stability: the same data, charts and frames"
+
+# ---- merge refuses what is not one command's shards, one line each
+rargs="--scene parallel_planes --technique hard --width 64 --height 64 --gt-samples 64 --cache $t/cache"
+for k in 1 2; do "$sb" run $rargs --shard $k/2 --out "$t/r$k" >/dev/null 2>&1 || fail "run shard $k"; done
+"$sb" run $rargs --width 48 --shard 2/2 --out "$t/other" >/dev/null 2>&1 || fail "run shard of other settings"
+cp -r "$t/r2" "$t/oldgt" && sed -i 's/"ground_truth_version":[^,]*/"ground_truth_version": 0/' "$t/oldgt/shard.json"
+cp -r "$t/r2" "$t/oldcode" && sed -i 's/"code":[^,]*/"code": "git 0000"/' "$t/oldcode/shard.json"
+cp -r "$t/r2" "$t/unfinished" && rm "$t/unfinished/shard.json"
+refuse() {  # refuse WHAT PATTERN SHARD...
+  local what=$1 pattern=$2; shift 2
+  "$sb" merge "$t/refused" "$@" >"$t/refused.out" 2>"$t/refused.err"
+  local rc=$?
+  if [ $rc -eq 2 ] && [ "$(wc -l < "$t/refused.err")" -eq 1 ] && grep -q "$pattern" "$t/refused.err" &&
+     [ ! -e "$t/refused" ]; then
+    ok "merge of $what: $(cat "$t/refused.err")"
+  else
+    fail "merge of $what: exit $rc, $(cat "$t/refused.err")"
+  fi
+}
+refuse "a missing shard" "shard(s) 2 of 2 missing" "$t/r1"
+refuse "a duplicate shard" "both shard 1 of 2" "$t/r1" "$t/r1"
+refuse "shards of two commands" "another command" "$t/r1" "$t/stab-2"
+refuse "shards of other settings" "other arguments" "$t/r1" "$t/other"
+refuse "shards of another ground truth" "another ground-truth version" "$t/r1" "$t/oldgt"
+refuse "shards of other code" "other code" "$t/r1" "$t/oldcode"
+refuse "an unfinished shard" "not a finished shard" "$t/r1" "$t/unfinished"
+"$sb" merge "$t/r12" "$t/r1" "$t/r2" >/dev/null 2>&1 && ok "the two shards themselves merge" ||
+  fail "the two run shards do not merge"
+
+[ $fails -eq 0 ] && echo "test_shards: passed"
+exit $((fails > 0))
