@@ -1,10 +1,12 @@
-/* same_results run|tune A B: whether two output folders hold the same
- * results, timings aside (docs/scale-out.md: a merge of shards against the
- * command unsharded). run: matrix.json's cells, every metric but the
- * times (ms_*), and depth.csv and each cell's pictures byte for byte;
- * tune: each technique's record, but its times (ms, ms_q1, ms_q3,
- * seconds) and where and when it ran (command_line, date). Prints what
- * differs; exit 0 same, 1 different, 2 unreadable. */
+/* same_results run|tune|stability A B: whether two output folders hold the
+ * same results, timings aside (docs/scale-out.md: a merge of shards
+ * against the command unsharded). run: matrix.json's cells, every metric
+ * but the times (ms_*), and depth.csv, each cell's pictures and each
+ * scene's ground-truth pictures byte for byte; tune: each technique of A's
+ * tune.json, its record in A and B (a tuned folder), but its times (ms,
+ * ms_q1, ms_q3, seconds) and where and when it ran (command_line, date);
+ * stability: stability.json but its run record. Prints what differs; exit
+ * 0 same, 1 different, 2 unreadable. */
 #include "base/util.h"
 
 #include <cjson/cJSON.h>
@@ -75,11 +77,21 @@ static void same_bytes(const char *a, const char *b)
 
 int main(int argc, char **argv)
 {
-    if (argc != 4 || (strcmp(argv[1], "run") && strcmp(argv[1], "tune"))) {
-        fprintf(stderr, "usage: same_results run|tune A B\n");
+    if (argc != 4 || (strcmp(argv[1], "run") && strcmp(argv[1], "tune") && strcmp(argv[1], "stability"))) {
+        fprintf(stderr, "usage: same_results run|tune|stability A B\n");
         return 2;
     }
     const char *a = argv[2], *b = argv[3];
+    if (!strcmp(argv[1], "stability")) {
+        char *x = util_printf("%s/stability.json", a), *y = util_printf("%s/stability.json", b);
+        cJSON *p = read_json(x), *q = read_json(y);
+        cJSON_DeleteItemFromObject(p, "run"), cJSON_DeleteItemFromObject(q, "run");
+        const bool same = cJSON_GetArraySize(p) > 0 && cJSON_Compare(p, q, true);
+        printf("%s and %s: %s\n", x, y, same ? "the same but their run records" : "differ");
+        free(x), free(y);
+        cJSON_Delete(p), cJSON_Delete(q);
+        return same ? 0 : 1;
+    }
     const bool run = !strcmp(argv[1], "run");
     char *pa = util_printf("%s/%s", a, run ? "matrix.json" : "tune.json");
     cJSON *index = read_json(pa);
@@ -99,6 +111,12 @@ int main(int argc, char **argv)
                     same_json(x, y, run);
                 else
                     same_bytes(x, y);
+                free(x), free(y);
+            }
+            for (size_t f = 0; f < 2; f++) {  /* its scene's ground truth */
+                static const char *const truth[] = {"groundtruth.exr", "groundtruth.png"};
+                char *x = util_printf("%s/%s/%s", a, scene, truth[f]), *y = util_printf("%s/%s/%s", b, scene, truth[f]);
+                same_bytes(x, y);
                 free(x), free(y);
             }
             items++;

@@ -664,6 +664,29 @@ void util_json_merge(cJSON *into, const cJSON *from)
         cJSON_AddItemToObject(into, e->string, cJSON_Duplicate(e, true));
 }
 
+void util_json_add_number(cJSON *o, const char *key, double v)
+{
+    if (isfinite(v))
+        cJSON_AddNumberToObject(o, key, v);
+    else
+        cJSON_AddNullToObject(o, key);
+}
+
+double util_json_number(const cJSON *o, const char *key)
+{
+    const cJSON *v = cJSON_GetObjectItem(o, key);
+    return cJSON_IsNumber(v) ? v->valuedouble : NAN;
+}
+
+bool util_json_whole(const cJSON *o, const char *key, double lo, double hi, long *out)
+{
+    const double v = util_json_number(o, key);
+    if (!(v >= lo && v <= hi && v == floor(v)))  /* NaN too */
+        return false;
+    *out = (long)v;
+    return true;
+}
+
 int util_parse_finite(const char *what, const char *text, double *out)
 {
     char *end;

@@ -111,6 +111,14 @@ struct cJSON;
 const char *util_json_duplicate_key(const struct cJSON *v);
 /* Adds a copy of every key of object `from` (may be NULL) to `into`. */
 void util_json_merge(struct cJSON *into, const struct cJSON *from);
+/* A number as the files write it: key's value, null (NaN: nothing
+ * measured) where it is not finite. */
+void util_json_add_number(struct cJSON *o, const char *key, double v);
+/* Key's number in o; NaN when it is null, absent or not a number. */
+double util_json_number(const struct cJSON *o, const char *key);
+/* Whether key's value in o is a whole number in [lo, hi] (into *out). What
+ * another process wrote is read with it before it indexes or counts. */
+bool util_json_whole(const struct cJSON *o, const char *key, double lo, double hi, long *out);
 
 /* Whether path is dir or lies inside it, both made absolute with their
  * links resolved as far as they exist. */

@@ -305,6 +305,62 @@ static void said_free(struct cell_said *said, int n)
     free(said);
 }
 
+/* The check's cells in its order, as one number (cli_merge_plan). */
+static uint64_t check_plan(const struct regression *r, const struct scene *scenes, int scene_count)
+{
+    uint64_t h = UTIL_HASH_INIT;
+    for (int s = 0; s < scene_count; s++)
+        for (int i = 0; i < r->count; i++)
+            if (r->cells[i].scene == &scenes[s])
+                h = cli_plan_add(cli_plan_add(h, scenes[s].name), r->cells[i].label);
+    return h;
+}
+
+/* A moved cell's section of the page as its shard records it. */
+static cJSON *section_json(const struct check_section *s)
+{
+    cJSON *j = cJSON_CreateObject(), *guards = cJSON_AddArrayToObject(j, "guards");
+    util_json_add_number(j, "moved_fraction", s->moved_fraction);
+    util_json_add_number(j, "pixel_threshold", s->pixel_threshold);
+    util_json_add_number(j, "max_moved", s->max_moved);
+    for (int g = 0; g < BASELINE_GUARDS; g++) {
+        cJSON *e = cJSON_CreateObject();
+        util_json_add_number(e, "baseline", s->base[g]);
+        util_json_add_number(e, "now", s->now[g]);
+        util_json_add_number(e, "tolerance", s->tolerance[g]);
+        cJSON_AddItemToArray(guards, e);
+    }
+    return j;
+}
+
+/* The section of cell c from its shard's record j (section_json's):
+ * 0, or -1 when j is not one. */
+static int section_read(const cJSON *j, const struct regression_cell *c, int status, struct check_section *s)
+{
+    const cJSON *guards = cJSON_GetObjectItem(j, "guards");
+    *s = (struct check_section){.status = status, .scene = c->scene->name, .label = c->label,
+                                .moved_fraction = util_json_number(j, "moved_fraction"),
+                                .pixel_threshold = util_json_number(j, "pixel_threshold"),
+                                .max_moved = util_json_number(j, "max_moved")};
+    for (int g = 0; g < BASELINE_GUARDS; g++) {
+        const cJSON *e = cJSON_GetArrayItem(guards, g);
+        s->base[g] = util_json_number(e, "baseline"), s->now[g] = util_json_number(e, "now");
+        s->tolerance[g] = util_json_number(e, "tolerance");
+    }
+    return cJSON_GetArraySize(guards) == BASELINE_GUARDS ? 0 : -1;
+}
+
+/* A shard's record of cell c ("cells" of its shard.json), or NULL. */
+static const cJSON *shard_cell(const cJSON *record, const struct regression_cell *c)
+{
+    const cJSON *e;
+    cJSON_ArrayForEach(e, cJSON_GetObjectItem(record, "cells"))
+        if (!strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(e, "scene")) ?: "", c->scene->name) &&
+            !strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(e, "cell")) ?: "", c->label))
+            return e;
+    return NULL;
+}
+
 int check_main(const struct options *o)
 {
     const double start = util_now_ms();
@@ -364,8 +420,8 @@ int check_main(const struct options *o)
         status = failures ? EXIT_CHECK_FAILED : EXIT_OK;
     }
     if (failures >= 0 && o->shard.count) {  /* each cell as said, for the merge */
-        cJSON *more = cJSON_CreateObject(), *cells = cJSON_AddArrayToObject(more, "cells");
-        cJSON_AddNumberToObject(more, "seconds", (util_now_ms() - start) * 1e-3);
+        cJSON *more = cli_shard_more((util_now_ms() - start) * 1e-3, check_plan(&r, scenes, scene_count)),
+              *cells = cJSON_AddArrayToObject(more, "cells");
         for (int i = 0; i < r.count; i++) {
             if (!said[i].done)
                 continue;
@@ -375,7 +431,9 @@ int check_main(const struct options *o)
             cJSON_AddNumberToObject(c, "status", r.cells[i].cmp.status);
             cJSON_AddNumberToObject(c, "failures", said[i].failures);
             cJSON_AddStringToObject(c, "said", said[i].text);
-            cJSON_AddStringToObject(c, "page", said[i].page);
+            struct check_section sec;
+            if (check_section_of(&r.cells[i], &sec))  /* its section's numbers */
+                cJSON_AddItemToObject(c, "moved", section_json(&sec));
             cJSON_AddItemToArray(cells, c);
         }
         if (cli_shard_end(o, scenes, scene_count, more) != 0)
@@ -397,75 +455,70 @@ out:
     return status;
 }
 
-/* A shard's record of cell c ("cells" of its shard.json), or NULL. */
-static const cJSON *shard_cell(const cJSON *record, const struct regression_cell *c)
-{
-    const cJSON *e;
-    cJSON_ArrayForEach(e, cJSON_GetObjectItem(record, "cells"))
-        if (!strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(e, "scene")) ?: "", c->scene->name) &&
-            !strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(e, "cell")) ?: "", c->label))
-            return e;
-    return NULL;
-}
-
 int check_merge(const struct options *o, const struct merge_input *in)
 {
     static struct scene scenes[CLI_MAX_SCENES];
     int scene_count = 0, status = EXIT_USAGE, *owner = NULL, failures = 0, n[4] = {0};
     struct regression r = {.baselines_dir = o->baselines_dir, .tuned_dir = o->tuned_dir};
+    struct results_set none = {0};
     struct strbuf page = {0};
+    struct merged {
+        const char *said;
+        long status, failures;
+        bool moved;
+        struct check_section sec;
+    } *m = NULL;
     if (cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0 ||
         regression_collect(&r, scenes, scene_count, o->techniques, o->technique_count) != 0 ||
-        out_dir_claim(o->out_dir) != 0)
+        cli_merge_plan(in, check_plan(&r, scenes, scene_count)) != 0)
         goto out;
     owner = xcalloc((size_t)r.count + 1, sizeof *owner);
+    m = xcalloc((size_t)r.count + 1, sizeof *m);
     check_owners(&r, scenes, scene_count, in->count, owner);
-    status = EXIT_CHECK_FAILED;
+    for (int i = 0; i < r.count; i++) {  /* every cell's record first: a shard that lacks one says nothing */
+        const struct regression_cell *c = &r.cells[i];
+        const cJSON *e = shard_cell(in->records[owner[i]], c), *moved = cJSON_GetObjectItem(e, "moved");
+        m[i].said = cJSON_GetStringValue(cJSON_GetObjectItem(e, "said"));
+        m[i].moved = moved != NULL;
+        if (!m[i].said || !util_json_whole(e, "status", 0, BASELINE_MISSING, &m[i].status) ||
+            !util_json_whole(e, "failures", 0, 1e6, &m[i].failures) ||
+            (moved && section_read(moved, c, (int)m[i].status, &m[i].sec))) {
+            log_error("merge: %s: its shard.json holds no record of cell %s/%s, which it owns", in->dirs[owner[i]],
+                      c->scene->name, c->label);
+            goto out;
+        }
+    }
+    if (check_folders(o, &none) != 0)
+        goto out;
+    cli_shard_begin(o);  /* a shard's record left in OUT would make it pass for one */
+    status = EXIT_CHECK_FAILED;  /* the shards are read: what fails now is a write */
     printf("check: %d cells on %d scene(s) against %s\n", r.count, scene_count, o->baselines_dir);
     for (int s = 0; s < scene_count; s++)
         for (int i = 0; i < r.count; i++) {
             const struct regression_cell *c = &r.cells[i];
             if (c->scene != &scenes[s])
                 continue;
-            const cJSON *e = shard_cell(in->records[owner[i]], c);
-            const double st = cJSON_GetNumberValue(cJSON_GetObjectItem(e, "status")),
-                         f = cJSON_GetNumberValue(cJSON_GetObjectItem(e, "failures"));
-            const char *said = cJSON_GetStringValue(cJSON_GetObjectItem(e, "said")),
-                       *html = cJSON_GetStringValue(cJSON_GetObjectItem(e, "page"));
-            if (!e || !said || !html || !(st >= 0 && st < 4 && st == (int)st) || !(f >= 0 && f == (int)f)) {
-                log_error("merge: %s: its shard.json holds no record of cell %s/%s, which it owns",
-                          in->dirs[owner[i]], c->scene->name, c->label);
-                goto out;
-            }
-            fputs(said, stdout);
-            n[(int)st]++;
-            failures += (int)f;
-            if (*html) {  /* it moved: its heatmap too */
+            fputs(m[i].said, stdout);
+            n[m[i].status]++;
+            failures += (int)m[i].failures;
+            if (m[i].moved) {  /* its section, and its heatmap */
                 char *from = util_printf("%s/%s/%s.png", in->dirs[owner[i]], c->scene->name, c->label),
-                     *dir = util_printf("%s/%s", o->out_dir, c->scene->name),
-                     *to = util_printf("%s/%s.png", dir, c->label), *data = NULL;
-                size_t size;
-                const int err = util_read_file(from, &data, &size);
-                if (err)
-                    log_error("merge: %s: %s", from, util_read_error(err));
-                const int rc = err || util_mkdirs_own(dir, 1) != 0 || util_write_file_atomic(to, data, size) != 0;
-                free(from), free(dir), free(to), free(data);
+                     *to = util_printf("%s/%s/%s.png", o->out_dir, c->scene->name, c->label);
+                const int rc = cli_copy_file(from, to);
+                free(from), free(to);
                 if (rc)
                     goto out;
-                strbuf_printf(&page, "%s", html);
+                check_page_section(&page, &m[i].sec);
             }
         }
     failures += whole_checks(o, &r, scenes, scene_count);
     if (check_page_write_sections(page.data, o->out_dir) != 0)
         goto out;
-    double seconds = 0;
-    for (int k = 1; k <= in->count; k++)  /* side by side: the longest */
-        seconds = fmax(seconds, cJSON_GetNumberValue(cJSON_GetObjectItem(in->records[k], "seconds")));
-    summary(o, n, seconds);
+    summary(o, n, cli_merge_seconds(in));
     status = failures ? EXIT_CHECK_FAILED : EXIT_OK;
 out:
     strbuf_free(&page);
-    free(owner);
+    free(owner), free(m);
     regression_free(&r);
     for (int s = 0; s < scene_count; s++)
         scene_free(&scenes[s]);

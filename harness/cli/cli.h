@@ -205,10 +205,24 @@ int tune_merge(const struct options *o, const struct merge_input *in);
 int check_merge(const struct options *o, const struct merge_input *in);
 int stability_merge(const struct options *o, const struct merge_input *in);
 
-/* Copies the files under folder from (depth levels of folders down) into
- * to, each written atomically, folders made as owned by shadowbench.
- * Returns 0 or -1 (logged). */
+/* Copies file from to to, written atomically, its folder made (the last
+ * one, as shadowbench's own); and the files under folder from (depth
+ * levels of folders down) into folder to. Return 0 or -1 (logged). */
+int cli_copy_file(const char *from, const char *to);
 int cli_copy_files(const char *from, const char *to, int depth);
+
+/* A command's plan: its cells' names in its order, hashed one by one
+ * (cli_plan_add), which every shard records and merge computes again, so
+ * that inputs that changed in between (tuned files, baselines) are
+ * refused rather than merged into the wrong cells. A shard's record of
+ * its time and plan (for cli_shard_end); merge's check of the plan
+ * (0, or -1 logged). */
+uint64_t cli_plan_add(uint64_t plan, const char *name);
+cJSON *cli_shard_more(double seconds, uint64_t plan);
+int cli_merge_plan(const struct merge_input *in, uint64_t plan);
+
+/* The shards' time side by side: the longest shard's seconds. */
+double cli_merge_seconds(const struct merge_input *in);
 
 /* The merged record of the shards (their shard.json each, under
  * "shards"), added to a command's record r. */

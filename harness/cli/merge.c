@@ -14,9 +14,12 @@
 
 #include <dirent.h>
 #include <errno.h>
+#include <fcntl.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -69,14 +72,21 @@ int cli_shard_end(const struct options *o, const struct scene *scenes, int scene
     return rc;
 }
 
-/* The shard in folder dir: its record, or NULL (logged). */
+/* The shard in folder dir: its record, or NULL (logged). The folder's
+ * lock is held shared until the process ends: no shadowbench writes
+ * there while it is merged, and one writing there now is refused. */
 static cJSON *read_shard(const char *dir)
 {
-    char *path = out_dir_path(dir, OUTPUT_SHARD_JSON), *text = NULL;
+    char *path = out_dir_path(dir, OUTPUT_SHARD_JSON), *text = NULL, *lock = util_printf("%s/.lock", dir);
     size_t size;
     cJSON *j = NULL;
+    const int fd = open(lock, O_RDONLY | O_CLOEXEC | O_NOFOLLOW);  /* none: a shard copied without it */
+    const bool busy = fd >= 0 && flock(fd, LOCK_SH | LOCK_NB) != 0;
+    free(lock);
     if (!util_is_dir(dir))
         log_error("merge: %s: not a folder", dir);
+    else if (busy)
+        log_error("merge: %s: a shadowbench is writing there now: merge it once its command has finished", dir);
     else if (util_read_file(path, &text, &size) != 0)
         log_error("merge: %s: no shard.json, so not a finished shard (its command failed, was stopped, is still "
                   "running, or ran without --shard)", dir);
@@ -108,6 +118,7 @@ static const struct {
     {"code", "other code"},
     {"ground_truth_version", "another ground-truth version"},
     {"scenes", "other scenes (names or bytes)"},
+    {"plan", "other cells (the tuned settings or baselines they read)"},
 };
 
 /* Checks that records[0..n-1] (of folders dirs) are shards 1..N of one
@@ -127,7 +138,10 @@ static int check_shards(cJSON *const *records, char *const *dirs, int n, const c
             char *a = cJSON_PrintUnformatted(cJSON_GetObjectItem(records[0], same[s].key));
             char *b = cJSON_PrintUnformatted(cJSON_GetObjectItem(records[i], same[s].key));
             const bool differ = !a || !b || strcmp(a, b) != 0;
-            if (differ)
+            if (!b)
+                log_error("merge: %s: its shard.json records no %s: not a shard this shadowbench wrote", dirs[i],
+                          same[s].key);
+            else if (differ)
                 log_error("merge: %s is a shard of %s than %s (%s: %s against %s)", dirs[i], same[s].what, dirs[0],
                           same[s].key, b ? b : "none", a ? a : "none");
             cJSON_free(a), cJSON_free(b);
@@ -153,10 +167,13 @@ static int check_shards(cJSON *const *records, char *const *dirs, int n, const c
         return -1;
     char *code = provenance_code_id();
     const char *theirs = cJSON_GetStringValue(cJSON_GetObjectItem(records[0], "code"));
-    const bool other = !theirs || strcmp(theirs, code) != 0;
-    if (other)
+    const bool unknown = !theirs || strstr(theirs, "unknown"), other = unknown || strcmp(theirs, code) != 0;
+    if (unknown)
+        log_error("merge: the shards could not name their code (%s): nothing tells whether they ran one code",
+                  theirs ? theirs : "none recorded");
+    else if (other)
         log_error("merge: the shards ran %s, this shadowbench is %s: merge with the code the shards ran",
-                  theirs ? theirs : "unnamed code", code);
+                  theirs, code);
     free(code);
     return other ? -1 : 0;
 }
@@ -244,6 +261,21 @@ out:
     return status;
 }
 
+int cli_copy_file(const char *from, const char *to)
+{
+    char *dir = xstrdup(to), *slash = strrchr(dir, '/');
+    if (slash)
+        *slash = '\0';
+    char *data = NULL;
+    size_t size;
+    const int err = util_read_file(from, &data, &size);
+    if (err)
+        log_error("merge: %s: %s", from, util_read_error(err));
+    const int rc = err || (slash && util_mkdirs_own(dir, 1) != 0) || util_write_file_atomic(to, data, size) != 0;
+    free(data), free(dir);
+    return rc ? -1 : 0;
+}
+
 int cli_copy_files(const char *from, const char *to, int depth)
 {
     DIR *d = opendir(from);
@@ -263,13 +295,7 @@ int cli_copy_files(const char *from, const char *to, int depth)
         } else if (S_ISDIR(st.st_mode) && depth > 0) {
             rc = cli_copy_files(src, dst, depth - 1);
         } else if (S_ISREG(st.st_mode)) {
-            char *data = NULL;
-            size_t size;
-            const int err = util_read_file(src, &data, &size);
-            if (err)
-                log_error("merge: %s: %s", src, util_read_error(err));
-            rc = err || util_write_file_atomic(dst, data, size) != 0 ? -1 : 0;
-            free(data);
+            rc = cli_copy_file(src, dst);
         }
         free(src), free(dst);
     }
@@ -277,23 +303,69 @@ int cli_copy_files(const char *from, const char *to, int depth)
     return rc;
 }
 
+uint64_t cli_plan_add(uint64_t plan, const char *name)
+{
+    return util_hash(plan, name, strlen(name) + 1);
+}
+
+static void plan_text(uint64_t plan, char text[17])
+{
+    snprintf(text, 17, "%016llx", (unsigned long long)plan);
+}
+
+cJSON *cli_shard_more(double seconds, uint64_t plan)
+{
+    cJSON *j = cJSON_CreateObject();
+    char text[17];
+    plan_text(plan, text);
+    cJSON_AddNumberToObject(j, "seconds", seconds);
+    cJSON_AddStringToObject(j, "plan", text);
+    return j;
+}
+
+int cli_merge_plan(const struct merge_input *in, uint64_t plan)
+{
+    char text[17];
+    plan_text(plan, text);
+    const char *theirs = cJSON_GetStringValue(cJSON_GetObjectItem(in->records[1], "plan"));
+    if (theirs && !strcmp(theirs, text))
+        return 0;
+    log_error("merge: the shards split other cells than their command line gives here (plan %s, here %s): the "
+              "tuned settings or baselines it reads changed since they ran; run them again", theirs ? theirs : "none",
+              text);
+    return -1;
+}
+
+double cli_merge_seconds(const struct merge_input *in)
+{
+    double seconds = 0;
+    for (int k = 1; k <= in->count; k++)
+        seconds = fmax(seconds, util_json_number(in->records[k], "seconds"));
+    return seconds;
+}
+
 void cli_merge_record(cJSON *r, const struct merge_input *in)
 {
     /* the device the shards rendered on, not the merge's (none): each key
      * the shards' value, or their values joined where they differ */
     static const char *const device_keys[] = {"gl_renderer", "gl_vendor", "gl_version", "gl_platform",
-                                              "timing_method"};
+                                              "timing_method", "cpu", "cpu_threads"};
     for (size_t d = 0; d < ARRAY_SIZE(device_keys); d++) {
-        struct strbuf values = {0};
+        if (!cJSON_HasObjectItem(r, device_keys[d]))  /* a record without it (tune.json) */
+            continue;
+        cJSON *values = cJSON_CreateArray();
         for (int k = 1; k <= in->count; k++) {
-            const char *v = cJSON_GetStringValue(
-                cJSON_GetObjectItem(cJSON_GetObjectItem(in->records[k], "provenance"), device_keys[d]));
-            if (v && (!values.data || !strstr(values.data, v)))
-                strbuf_list_printf(&values, "; ", "%s", v);
+            const cJSON *v = cJSON_GetObjectItem(cJSON_GetObjectItem(in->records[k], "provenance"), device_keys[d]);
+            bool seen = !v;
+            for (const cJSON *e = values->child; e && !seen; e = e->next)
+                seen = cJSON_Compare(e, v, true);
+            if (!seen)
+                cJSON_AddItemToArray(values, cJSON_Duplicate(v, true));
         }
-        if (values.data)
-            cJSON_ReplaceItemInObject(r, device_keys[d], cJSON_CreateString(values.data));
-        strbuf_free(&values);
+        cJSON_DeleteItemFromObject(r, device_keys[d]);  /* the merge's own */
+        cJSON_AddItemToObject(r, device_keys[d], cJSON_GetArraySize(values) == 1 ? cJSON_DetachItemFromArray(values, 0)
+                                                                                  : cJSON_Duplicate(values, true));
+        cJSON_Delete(values);
     }
     cJSON *shards = cJSON_AddArrayToObject(r, "shards");
     for (int k = 1; k <= in->count; k++) {  /* each one's identity, not its results (merged here) */

@@ -197,7 +197,7 @@ enum cli_parse_result cli_parse(int argc, char **argv, enum command cmd, struct 
     enum cli_parse_result result = CLI_PARSE_OK;
     free(o->placement);
     o->placement = xcalloc((size_t)argc + 1, sizeof *o->placement);
-    optind = 1;
+    optind = 0;  /* glibc's full reset: "+" is read again (merge parses a second command line) */
     opterr = 0;
     /* "+": options stop at the first argument that is none, so what each
      * consumed, argv[at..optind-1], is where it was given; merge's folders

@@ -233,6 +233,26 @@ static void say_estimate(const struct options *o, int cells)
     free(text), free(source);
 }
 
+/* --out is not inside the tuned folder: a report among the tuned files.
+ * Returns 0 or -1 (logged). */
+static int out_folders_apart(const struct options *o)
+{
+    if (!o->tuned_dir || !util_path_within(o->out_dir, o->tuned_dir))
+        return 0;
+    log_error("--out %s: inside the tuned folder %s; name a folder apart", o->out_dir, o->tuned_dir);
+    return -1;
+}
+
+/* The run's cells in its order, as one number (cli_merge_plan). */
+static uint64_t run_plan(const struct config_set *configs, const struct scene *scenes, int scene_count)
+{
+    uint64_t h = UTIL_HASH_INIT;
+    for (int s = 0; s < scene_count; s++)
+        for (int i = 0; i < configs->count; i++)
+            h = cli_plan_add(cli_plan_add(h, scenes[s].name), configs->configs[i].label);
+    return h;
+}
+
 int run_main(const struct options *o)
 {
     const double start = util_now_ms();
@@ -245,10 +265,8 @@ int run_main(const struct options *o)
     cJSON *truths = cJSON_CreateArray();  /* each scene's ground truth, for the shard's record */
     const struct config_desc cd = {o->techniques, o->technique_count, o->settings, o->sweeps, o->sweep_count,
                                    o->set_count, o->settings_mode, o->tuned_dir};
-    if (o->tuned_dir && util_path_within(o->out_dir, o->tuned_dir)) {  /* a report among the tuned files */
-        log_error("--out %s: inside the tuned folder %s; name a folder apart", o->out_dir, o->tuned_dir);
+    if (out_folders_apart(o) != 0)
         goto out;
-    }
     if (configs_build(&r.configs, &cd) != 0 || cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0 ||
         out_dir_claim(o->out_dir) != 0)
         goto out;
@@ -344,11 +362,13 @@ int run_main(const struct options *o)
                              .frontier_fetches = frontiers.cost_fetches};
         failed = report_write(&rep);
         cJSON_Delete(run);
-        cJSON *more = cJSON_CreateObject();
-        cJSON_AddNumberToObject(more, "seconds", (util_now_ms() - start) * 1e-3);
+        cJSON *more = cli_shard_more((util_now_ms() - start) * 1e-3, run_plan(&r.configs, scenes, scene_count));
         cJSON_AddItemToObject(more, "ground_truth", truths);
         truths = NULL;
-        failed = failed || cli_shard_end(o, scenes, scene_count, more) != 0;
+        if (failed)
+            cJSON_Delete(more);
+        else
+            failed = cli_shard_end(o, scenes, scene_count, more) != 0;
     }
     if (!failed)
         status = judge(&r);
@@ -418,33 +438,38 @@ int run_merge(const struct options *o, const struct merge_input *in)
                                    o->set_count, o->settings_mode, o->tuned_dir};
     int *owner = NULL;
     cJSON **docs = NULL;
-    if (configs_build(&r.configs, &cd) != 0 || cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0 ||
-        out_dir_claim(o->out_dir) != 0 || begin_run(o) != 0)
+    if (out_folders_apart(o) != 0 || configs_build(&r.configs, &cd) != 0 ||
+        cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0)
         goto out;
     const int n = r.configs.count;
+    if (cli_merge_plan(in, run_plan(&r.configs, scenes, scene_count)) != 0 || out_dir_claim(o->out_dir) != 0 ||
+        begin_run(o) != 0)
+        goto out;
+    cli_shard_begin(o);  /* a shard's record left in OUT would make it pass for one */
     owner = xcalloc((size_t)(scene_count * n) + 1, sizeof *owner);
     run_owners(&r.configs, scene_count, in->count, owner);
     r.cells = xcalloc((size_t)(scene_count * n) + 1, sizeof *r.cells);
     docs = xcalloc((size_t)(scene_count * n) + 1, sizeof *docs);
-    status = EXIT_CHECK_FAILED;
-    for (int s = 0; s < scene_count; s++) {
+    for (int s = 0; s < scene_count && n; s++) {
         for (int i = 0; i < n; i++, cell_count++)
             if (merge_cell(o, in->dirs[owner[s * n + i]], &scenes[s], &r.configs.configs[i], &r.cells[cell_count],
                            &docs[cell_count]) != 0) {
                 cell_count++;
                 goto out;
             }
-        /* the scene's own files from the shard of its last cell, as a run writes them after it */
-        char *from = util_printf("%s/%s", in->dirs[owner[s * n + n - 1]], scenes[s].name),
-             *to = util_printf("%s/%s", o->out_dir, scenes[s].name);
-        const int rc = n ? cli_copy_files(from, to, 0) : 0;
-        free(from), free(to);
-        if (rc)
-            goto out;
+        /* the scene's ground-truth pictures from the shard of its last cell, as a run writes them after it */
+        for (int f = CELL_GROUNDTRUTH_EXR; f <= CELL_GROUNDTRUTH_PNG; f++) {
+            char *from = util_printf("%s/%s/%s", in->dirs[owner[s * n + n - 1]], scenes[s].name, cell_files[f]),
+                 *to = util_printf("%s/%s/%s", o->out_dir, scenes[s].name, cell_files[f]);
+            const int rc = cli_copy_file(from, to);
+            free(from), free(to);
+            if (rc)
+                goto out;
+        }
     }
     r.cell_count = cell_count;
+    status = EXIT_CHECK_FAILED;  /* the shards are read: what fails now is the run's */
     /* each scene's ground truth as the shard that traced it saw it (one traced, the others read it cached) */
-    double seconds = 0;
     frontiers_build(&frontiers, r.configs.configs, n, scenes, scene_count, o->tuned_dir);
     for (int s = 0; s < scene_count; s++) {
         const cJSON *truth = NULL;
@@ -461,10 +486,8 @@ int run_merge(const struct options *o, const struct merge_input *in)
                                       cJSON_IsTrue(cJSON_GetObjectItem(truth, "cached")), frontiers.scene[s],
                                       frontiers.scene_count[s]};
     }
-    for (int k = 1; k <= in->count; k++)  /* side by side: the longest */
-        seconds = fmax(seconds, cJSON_GetNumberValue(cJSON_GetObjectItem(in->records[k], "seconds")));
     util_signals_defer();
-    cJSON *run = cli_run_record(o, true, seconds);
+    cJSON *run = cli_run_record(o, true, cli_merge_seconds(in));
     cJSON_AddTrueToObject(run, "complete");
     cli_merge_record(run, in);
     struct report rep = {.out_dir = o->out_dir, .width = o->width, .height = o->height, .run = run, .scenes = rs,

@@ -111,34 +111,15 @@ static int plan_units(const struct stability *st, int shards, struct unit **out,
     return n;
 }
 
-static void add_number(cJSON *o, const char *key, double x)
-{
-    if (isfinite(x))
-        cJSON_AddNumberToObject(o, key, x);
-    else
-        cJSON_AddNullToObject(o, key);
-}
-
-static double number(const cJSON *o, const char *key)
-{
-    const cJSON *v = cJSON_GetObjectItem(o, key);
-    return cJSON_IsNumber(v) ? v->valuedouble : NAN;
-}
-
-/* A flicker result's fields: X(name, kind): d double, l long, i int, b bool;
- * how each is written into a JSON object and read from one. */
-#define PUT_d(o, k, x) add_number(o, k, x)
-#define PUT_l(o, k, x) cJSON_AddNumberToObject(o, k, (double)(x))
-#define PUT_i PUT_l
-#define PUT_b(o, k, x) cJSON_AddBoolToObject(o, k, x)
-#define GET_d(o, k) number(o, k)
-#define GET_l(o, k) (long)number(o, k)
-#define GET_i(o, k) (int)number(o, k)
-#define GET_b(o, k) cJSON_IsTrue(cJSON_GetObjectItem(o, k))
+/* A flicker result's fields: X(name, kind): d a double, n a count, b a
+ * bool; how each is written into a JSON object and read from one. */
 #define FLICKER_FIELDS(X)                                                                                   \
     X(flicker, d) X(flicker_p99, d) X(floor, d) X(flicker_penumbra, d) X(floor_penumbra, d) X(meaningful, b) \
-    X(rmse_mean, d) X(rmse_max, d) X(rmse_jump, d) X(pairs_pixels, l) X(band_pixels, l) X(mask_changes, l)  \
-    X(frames, i) X(scored_frames, i)
+    X(rmse_mean, d) X(rmse_max, d) X(rmse_jump, d) X(pairs_pixels, n) X(band_pixels, n) X(mask_changes, n)  \
+    X(frames, n) X(scored_frames, n)
+#define PUT_d(o, k, x) util_json_add_number(o, k, x)
+#define PUT_n(o, k, x) cJSON_AddNumberToObject(o, k, (double)(x))
+#define PUT_b(o, k, x) cJSON_AddBoolToObject(o, k, x)
 
 /* The shard's record of its rows and points, every number as measured
  * (for the merge, docs/scale-out.md). */
@@ -154,14 +135,13 @@ static cJSON *results_json(const struct stability *st)
         cJSON_AddStringToObject(o, "technique", r->t->name);
         cJSON_AddBoolToObject(o, "animated", r->animated);
         cJSON_AddBoolToObject(o, "accumulated", r->accumulated);
-        cJSON_AddStringToObject(o, "label", r->label);
 #define X(name, kind) PUT_##kind(f, #name, r->r.name);
         FLICKER_FIELDS(X)
 #undef X
         cJSON_AddItemToObject(o, "flicker", f);
         for (int k = 0; k < r->r.frames; k++) {
             cJSON *v = cJSON_CreateObject();
-            add_number(v, "rmse", r->frame_rmse[k]);
+            util_json_add_number(v, "rmse", r->frame_rmse[k]);
             cJSON_AddItemToArray(frames, v);
         }
         cJSON_AddItemToObject(o, "frame_rmse", frames);
@@ -176,48 +156,71 @@ static cJSON *results_json(const struct stability *st)
         cJSON_AddNumberToObject(o, "value", p->value);
         cJSON_AddStringToObject(o, "technique", p->t->name);
         for (int k = 0; k < METRIC_COUNT; k++)
-            add_number(m, metric_info[k].key, metrics_value(&p->m, k));
+            util_json_add_number(m, metric_info[k].key, metrics_value(&p->m, k));
         cJSON_AddItemToObject(o, "metrics", m);
         cJSON_AddItemToArray(points, o);
     }
     return j;
 }
 
+/* Row e of a shard's record into r, its unit's (st's frames): 0, or -1
+ * when it is not a row this study makes. */
+static int read_row(const struct stability *st, const cJSON *e, const struct unit *u, const struct technique *t,
+                    struct motion_row *r)
+{
+    const cJSON *f = cJSON_GetObjectItem(e, "flicker"), *frames = cJSON_GetObjectItem(e, "frame_rmse");
+    *r = (struct motion_row){.scene = u->scene, .motion = u->motion, .t = t,
+                             .animated = cJSON_IsTrue(cJSON_GetObjectItem(e, "animated")),
+                             .accumulated = cJSON_IsTrue(cJSON_GetObjectItem(e, "accumulated"))};
+    snprintf(r->label, sizeof r->label, "%s%s%s", t->name, r->animated ? "~anim" : "", r->accumulated ? "+ema" : "");
+    long n[5] = {0};
+    bool ok = util_json_whole(e, "nonfinite", 0, 1e15, &r->nonfinite);
+#define d(name) r->r.name = util_json_number(f, #name);
+#define n(name, k) ok = ok && util_json_whole(f, #name, 0, k < 3 ? 1e15 : st->frames, &n[k]);
+    d(flicker) d(flicker_p99) d(floor) d(flicker_penumbra) d(floor_penumbra) d(rmse_mean) d(rmse_max) d(rmse_jump)
+    n(pairs_pixels, 0) n(band_pixels, 1) n(mask_changes, 2) n(frames, 3) n(scored_frames, 4)
+#undef d
+#undef n
+    r->r.meaningful = cJSON_IsTrue(cJSON_GetObjectItem(f, "meaningful"));
+    r->r.pairs_pixels = n[0], r->r.band_pixels = n[1], r->r.mask_changes = n[2];
+    r->r.frames = (int)n[3], r->r.scored_frames = (int)n[4];
+    if (!ok || r->r.scored_frames > r->r.frames || cJSON_GetArraySize(frames) != r->r.frames)
+        return -1;
+    r->frame_rmse = xcalloc((size_t)r->r.frames + 1, sizeof *r->frame_rmse);
+    for (int k = 0; k < r->r.frames; k++)
+        r->frame_rmse[k] = util_json_number(cJSON_GetArrayItem(frames, k), "rmse");
+    return 0;
+}
+
 /* Unit u's rows and points from a shard's record into st. Returns 0 or -1
- * (none there: not the shard that owns it). */
+ * (none there, or one this study does not make: not the shard that owns
+ * it). */
 static int read_unit(struct stability *st, const cJSON *record, const struct unit *u)
 {
     const cJSON *e;
     int found = 0;
+    long scene, index, value;
     cJSON_ArrayForEach(e, cJSON_GetObjectItem(record, u->motion >= 0 ? "rows" : "points")) {
         const struct technique *t = technique_find(cJSON_GetStringValue(cJSON_GetObjectItem(e, "technique")) ?: "");
-        if (number(e, "scene") != u->scene || !t ||
-            number(e, u->motion >= 0 ? "motion" : "variation") != (u->motion >= 0 ? u->motion : u->variation))
+        if (!util_json_whole(e, "scene", 0, st->scene_count - 1, &scene) || scene != u->scene ||
+            !util_json_whole(e, u->motion >= 0 ? "motion" : "variation", 0, 1e9, &index) ||
+            index != (u->motion >= 0 ? u->motion : u->variation))
             continue;
+        if (!t)
+            return -1;
         found++;
         if (u->motion >= 0) {
-            st->rows = xrealloc(st->rows, sizeof *st->rows * (size_t)(st->row_count + 1));
-            struct motion_row *r = &st->rows[st->row_count++];
-            const cJSON *f = cJSON_GetObjectItem(e, "flicker"), *frames = cJSON_GetObjectItem(e, "frame_rmse");
-            *r = (struct motion_row){.scene = u->scene, .motion = u->motion, .t = t,
-                                     .animated = cJSON_IsTrue(cJSON_GetObjectItem(e, "animated")),
-                                     .accumulated = cJSON_IsTrue(cJSON_GetObjectItem(e, "accumulated")),
-                                     .nonfinite = (long)number(e, "nonfinite")};
-            snprintf(r->label, sizeof r->label, "%s", cJSON_GetStringValue(cJSON_GetObjectItem(e, "label")) ?: "");
-#define X(name, kind) r->r.name = GET_##kind(f, #name);
-            FLICKER_FIELDS(X)
-#undef X
-            r->frame_rmse = xcalloc((size_t)cJSON_GetArraySize(frames) + 1, sizeof *r->frame_rmse);
-            for (int k = 0; k < cJSON_GetArraySize(frames) && k < r->r.frames; k++)
-                r->frame_rmse[k] = number(cJSON_GetArrayItem(frames, k), "rmse");
-        } else {
-            const double value = number(e, "value");
-            if (!(value >= 0 && value < st->vars[u->variation].count))
+            struct motion_row r;
+            if (read_row(st, e, u, t, &r) != 0)
                 return -1;
-            struct vary_point p = {.scene = u->scene, .variation = u->variation, .value = (int)value, .t = t};
-            const cJSON *m = cJSON_GetObjectItem(e, "metrics");
-            for (int k = 0; k < METRIC_COUNT; k++)
-                metrics_set(&p.m, k, number(m, metric_info[k].key));
+            st->rows = xrealloc(st->rows, sizeof *st->rows * (size_t)(st->row_count + 1));
+            st->rows[st->row_count++] = r;
+        } else {
+            struct vary_point p = {.scene = u->scene, .variation = u->variation, .t = t};
+            if (!util_json_whole(e, "value", 0, st->vars[u->variation].count - 1, &value) ||
+                metrics_read_json(cJSON_GetObjectItem(e, "metrics"), &p.m) != 0)
+                return -1;
+            p.value = (int)value;
             st->points = xrealloc(st->points, sizeof *st->points * (size_t)(st->point_count + 1));
             st->points[st->point_count++] = p;
         }
@@ -253,6 +256,16 @@ static int open_study(const struct options *o, struct stability *st, struct scen
         return -1;
     }
     return stability_check_nodes(st);
+}
+
+/* The study's units in its order, as one number (cli_merge_plan). */
+static uint64_t stability_plan(const struct stability *st, const struct unit *u, int n)
+{
+    uint64_t h = UTIL_HASH_INIT;
+    for (int i = 0; i < n; i++)
+        h = cli_plan_add(cli_plan_add(h, st->scenes[u[i].scene].name),
+                         u[i].motion >= 0 ? st->motions[u[i].motion].label : st->vars[u[i].variation].name);
+    return h;
 }
 
 /* run.json's keys of the study (stability.json's "run"). */
@@ -311,9 +324,13 @@ int stability_main(const struct options *o)
         cJSON *run = study_record(o, seconds);
         rc = stability_output_write(&so, run);
         cJSON_Delete(run);
-        cJSON *more = results_json(&st);
-        cJSON_AddNumberToObject(more, "seconds", seconds);
-        rc = rc || cli_shard_end(o, scenes, scene_count, more) != 0;
+        cJSON *more = cli_shard_more(seconds, stability_plan(&st, units, unit_count)), *results = results_json(&st);
+        util_json_merge(more, results);
+        cJSON_Delete(results);
+        if (rc)
+            cJSON_Delete(more);
+        else
+            rc = cli_shard_end(o, scenes, scene_count, more) != 0;
     }
     if (!rc)
         status = judge(&st);
@@ -333,15 +350,15 @@ int stability_merge(const struct options *o, const struct merge_input *in)
 {
     const double start = util_now_ms();
     static struct scene scenes[CLI_MAX_SCENES];
-    int scene_count = 0, status = EXIT_USAGE, *owner = NULL;
+    int scene_count = 0, status = EXIT_USAGE, *owner = NULL, unit_count = 0;
     struct stability st = {0};
     struct stability_output so = {0};
     struct unit *units = NULL;
-    if (open_study(o, &st, scenes, &scene_count) != 0 || out_dir_claim(o->out_dir) != 0)
+    if (open_study(o, &st, scenes, &scene_count) != 0)
         goto out;
-    status = EXIT_CHECK_FAILED;
-    const int unit_count = plan_units(&st, in->count, &units, &owner);
-    stability_output_begin(&so, &st, o->out_dir);
+    unit_count = plan_units(&st, in->count, &units, &owner);
+    if (cli_merge_plan(in, stability_plan(&st, units, unit_count)) != 0)
+        goto out;
     for (int i = 0; i < unit_count; i++)  /* each unit's rows and points, in the study's order */
         if (read_unit(&st, in->records[owner[i]], &units[i]) != 0) {
             log_error("merge: %s: its shard.json holds no results of scene %s's %s %s, which it owns",
@@ -349,21 +366,27 @@ int stability_merge(const struct options *o, const struct merge_input *in)
                       units[i].motion >= 0 ? st.motions[units[i].motion].label : st.vars[units[i].variation].name);
             goto out;
         }
-    for (int k = 1; k <= in->count; k++)  /* the motions' frames, each scene's from every shard that ran some */
-        for (int s = 0; s < scene_count; s++) {
-            char *from = util_printf("%s/%s", in->dirs[k], scenes[s].name),
-                 *to = util_printf("%s/%s", o->out_dir, scenes[s].name);
-            const int rc = util_is_dir(from) ? cli_copy_files(from, to, 3) : 0;
-            free(from), free(to);
-            if (rc)
-                goto out;
-        }
-    double seconds = 0;
-    for (int k = 1; k <= in->count; k++)  /* side by side: the longest */
-        seconds = fmax(seconds, cJSON_GetNumberValue(cJSON_GetObjectItem(in->records[k], "seconds")));
+    if (out_dir_claim(o->out_dir) != 0)
+        goto out;
+    cli_shard_begin(o);  /* a shard's record left in OUT would make it pass for one */
+    status = EXIT_CHECK_FAILED;  /* the shards are read: what fails now is a write */
+    stability_output_begin(&so, &st, o->out_dir);
+    /* each row's frames from the shard that ran it, where it wrote them */
+    for (int i = 0, k = 0; i < unit_count; i++)
+        for (; k < st.row_count && st.rows[k].scene == units[i].scene && st.rows[k].motion == units[i].motion; k++)
+            for (int f = 0; f < 2; f++) {
+                const struct motion_row *r = &st.rows[k];
+                char *at = util_printf("%s/%s/%s/%s", scenes[r->scene].name, st.motions[r->motion].label, r->label,
+                                       stability_frame_files[f]),
+                     *from = util_printf("%s/%s", in->dirs[owner[i]], at), *to = util_printf("%s/%s", o->out_dir, at);
+                const int rc = util_file_exists(from) ? cli_copy_file(from, to) : 0;  /* accumulated rows have none */
+                free(at), free(from), free(to);
+                if (rc)
+                    goto out;
+            }
     util_signals_defer();
     stability_judge(&st);
-    cJSON *run = study_record(o, seconds);
+    cJSON *run = study_record(o, cli_merge_seconds(in));
     cli_merge_record(run, in);
     const int rc = stability_output_write(&so, run);
     cJSON_Delete(run);

@@ -118,6 +118,27 @@ static int tune_all(const struct options *o, const struct technique *const *tech
     return status != EXIT_OK && engine_faulted() ? EXIT_USAGE : status;  /* an engine's fault: said, 2 */
 }
 
+/* With --write-tuned, the tuned folder is checked first (one it cannot
+ * write is refused before --out is made) and neither folder is inside the
+ * other (the swapped set would take --out with it, or --out would hold a
+ * folder it did not make). Returns 0 or -1 (logged). */
+static int folders_apart(const struct options *o)
+{
+    if (!o->write_tuned || (!util_path_within(o->out_dir, o->tuned_dir) && !util_path_within(o->tuned_dir, o->out_dir)))
+        return 0;
+    log_error("--out %s and --tuned %s: one inside the other; name two folders apart", o->out_dir, o->tuned_dir);
+    return -1;
+}
+
+/* The tuning's techniques in its order, as one number (cli_merge_plan). */
+static uint64_t tune_plan(const struct options *o)
+{
+    uint64_t h = UTIL_HASH_INIT;
+    for (int i = 0; i < o->technique_count; i++)
+        h = cli_plan_add(h, o->techniques[i]->name);
+    return h;
+}
+
 int tune_main(const struct options *o)
 {
     const double start = util_now_ms();
@@ -134,14 +155,8 @@ int tune_main(const struct options *o)
                   TUNE_MAX_SCENES, scene_count);
         goto out;
     }
-    /* the tuned folder first: one it cannot write is refused before --out is
-     * made; neither inside the other (the swapped set would take --out
-     * with it, or --out would hold a folder it did not make) */
-    if (o->write_tuned &&
-        (util_path_within(o->out_dir, o->tuned_dir) || util_path_within(o->tuned_dir, o->out_dir))) {
-        log_error("--out %s and --tuned %s: one inside the other; name two folders apart", o->out_dir, o->tuned_dir);
+    if (folders_apart(o) != 0)
         goto out;
-    }
     /* a shard writes none: the merge writes them all as one set */
     const bool write_tuned = o->write_tuned && !o->shard.count;
     if ((write_tuned && (tuned_dir_ours(o->tuned_dir) != 0 || results_set_open(&tuned, o->tuned_dir, 1) != 0)) ||
@@ -179,10 +194,8 @@ int tune_main(const struct options *o)
     if (status == EXIT_OK) {
         util_signals_defer();  /* the tuned set, then tune.json "complete": as one step (run.c) */
         const double seconds = (util_now_ms() - start) * 1e-3;
-        cJSON *more = cJSON_CreateObject();
-        cJSON_AddNumberToObject(more, "seconds", seconds);
         if ((write_tuned && results_set_commit(&tuned) != 0) || tune_state(o, mine, count, true, seconds, NULL) != 0 ||
-            cli_shard_end(o, scenes, scene_count, more) != 0)
+            cli_shard_end(o, scenes, scene_count, cli_shard_more(seconds, tune_plan(o))) != 0)
             status = EXIT_CHECK_FAILED;
         util_signals_finished(status);
         if (status == EXIT_OK) {
@@ -209,53 +222,53 @@ int tune_merge(const struct options *o, const struct merge_input *in)
     static struct scene scenes[CLI_MAX_SCENES];
     struct results_set tuned = {0};
     int scene_count = 0, status = EXIT_USAGE, owner[CLI_MAX_TECHNIQUES];
+    cJSON *records[CLI_MAX_TECHNIQUES] = {0};
     if ((o->write_tuned && cli_require_committed(o, "merge of tune --write-tuned") != 0) ||
-        cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0)
+        cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0 || folders_apart(o) != 0 ||
+        cli_merge_plan(in, tune_plan(o)) != 0)
         goto out;
-    if (o->write_tuned &&
-        (util_path_within(o->out_dir, o->tuned_dir) || util_path_within(o->tuned_dir, o->out_dir))) {
-        log_error("OUT %s and --tuned %s: one inside the other; name two folders apart", o->out_dir, o->tuned_dir);
-        goto out;
-    }
-    if ((o->write_tuned && (tuned_dir_ours(o->tuned_dir) != 0 || results_set_open(&tuned, o->tuned_dir, 1) != 0)) ||
-        out_dir_claim(o->out_dir) != 0 ||
-        tune_state(o, o->techniques, o->technique_count, false, 0, NULL) != 0)
-        goto out;
-    status = EXIT_CHECK_FAILED;
     tune_owners(o, in->count, owner);
-    double seconds = 0;
     for (int i = 0; i < o->technique_count; i++) {  /* each record as its shard wrote it */
         const char *name = o->techniques[i]->name;
         char *path = util_printf("%s/%s.json", in->dirs[owner[i]], name), *text = NULL;
         size_t size;
         const int err = util_read_file(path, &text, &size);
-        cJSON *record = err ? NULL : cJSON_Parse(text);
-        const bool ours = record && !strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(record, "technique")) ?: "",
-                                            name);
+        records[i] = err ? NULL : cJSON_Parse(text);
+        const bool ours = records[i] && !strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(records[i], "technique")) ?: "",
+                                                name);
         if (!ours)
             log_error("merge: %s: %s (the shard that owns %s's tuning)", path,
                       err ? util_read_error(err) : "not the tuned record of this technique", name);
-        const int rc = !ours || write_file(o->out_dir, name, record) != 0 ||
-                       (tuned.next && write_file(tuned.next, name, record) != 0);
-        cJSON_Delete(record);
         free(path), free(text);
-        if (rc)
+        if (!ours)
             goto out;
     }
-    for (int k = 1; k <= in->count; k++)  /* side by side: the longest */
-        seconds = fmax(seconds, cJSON_GetNumberValue(cJSON_GetObjectItem(in->records[k], "seconds")));
+    if ((o->write_tuned && (tuned_dir_ours(o->tuned_dir) != 0 || results_set_open(&tuned, o->tuned_dir, 1) != 0)) ||
+        out_dir_claim(o->out_dir) != 0)
+        goto out;
+    cli_shard_begin(o);  /* a shard's record left in OUT would make it pass for one */
+    status = EXIT_CHECK_FAILED;  /* the shards are read: what fails now is a write */
+    if (tune_state(o, o->techniques, o->technique_count, false, 0, NULL) != 0)
+        goto out;
+    for (int i = 0; i < o->technique_count; i++)
+        if (write_file(o->out_dir, o->techniques[i]->name, records[i]) != 0 ||
+            (tuned.next && write_file(tuned.next, o->techniques[i]->name, records[i]) != 0))
+            goto out;
     util_signals_defer();
     cJSON *more = cJSON_CreateObject();
     cli_merge_record(more, in);
-    if ((o->write_tuned && results_set_commit(&tuned) != 0) ||
-        tune_state(o, o->techniques, o->technique_count, true, seconds, more) != 0)
-        goto out;
-    status = EXIT_OK;
+    if ((!o->write_tuned || results_set_commit(&tuned) == 0) &&
+        tune_state(o, o->techniques, o->technique_count, true, cli_merge_seconds(in), more) == 0)
+        status = EXIT_OK;
     util_signals_finished(status);
-    printf("tuned: %s/<technique>.json%s%s\n", o->out_dir, o->write_tuned ? " and " : "",
-           o->write_tuned ? o->tuned_dir : "");
-    log_info("merge finished in %.1f s", (util_now_ms() - start) * 1e-3);
+    if (status == EXIT_OK) {
+        printf("tuned: %s/<technique>.json%s%s\n", o->out_dir, o->write_tuned ? " and " : "",
+               o->write_tuned ? o->tuned_dir : "");
+        log_info("merge finished in %.1f s", (util_now_ms() - start) * 1e-3);
+    }
 out:
+    for (int i = 0; i < o->technique_count; i++)
+        cJSON_Delete(records[i]);
     results_set_free(&tuned, status != EXIT_USAGE);
     for (int s = 0; s < scene_count; s++)
         scene_free(&scenes[s]);

@@ -7,9 +7,46 @@
 #include <math.h>
 #include <stdlib.h>
 
-int check_page_cell(const struct regression_cell *c, const char *out, struct strbuf *html)
+void check_page_section(struct strbuf *html, const struct check_section *s)
+{
+    strbuf_printf(html, "<h2>%s: ", baseline_status_names[s->status]);
+    strbuf_xml(html, s->scene);
+    strbuf_printf(html, " / ");
+    strbuf_xml(html, s->label);
+    strbuf_printf(html, "</h2>\n<p>%.2f %% of pixels moved by more than %g (allowed %.2f %%).</p>\n"
+                        "<table><tr><th>metric</th><th>baseline</th><th>now</th><th>difference</th>"
+                        "<th>tolerance</th></tr>\n",
+                  100.0 * s->moved_fraction, s->pixel_threshold, 100.0 * s->max_moved);
+    for (int g = 0; g < BASELINE_GUARDS; g++)
+        strbuf_printf(html, "<tr><td>%s</td><td>%.5f</td><td>%.5f</td><td>%+.5f</td><td>%.5f</td></tr>\n",
+                      metric_info[baseline_guards[g].metric].key, s->base[g], s->now[g], s->now[g] - s->base[g],
+                      s->tolerance[g]);
+    strbuf_printf(html, "</table>\n<p><img src=\"");
+    strbuf_xml(html, s->scene);
+    strbuf_printf(html, "/");
+    strbuf_xml(html, s->label);
+    strbuf_printf(html, ".png\" alt=\"V_now - V_baseline\"></p>\n");
+}
+
+bool check_section_of(const struct regression_cell *c, struct check_section *s)
 {
     if (!c->base.picture || !c->v || !c->compared || (c->cmp.status == BASELINE_PASS && c->cmp.moved_fraction == 0.0))
+        return false;
+    *s = (struct check_section){.status = c->cmp.status, .scene = c->scene->name, .label = c->label,
+                                .moved_fraction = c->cmp.moved_fraction, .pixel_threshold = c->base.pixel_threshold,
+                                .max_moved = c->base.max_moved};
+    for (int g = 0; g < BASELINE_GUARDS; g++) {
+        const int k = baseline_guards[g].metric;
+        s->base[g] = baseline_metric(&c->base, k), s->now[g] = metrics_value(&c->now, k);
+        s->tolerance[g] = baseline_tolerance(&c->base, k);
+    }
+    return true;
+}
+
+int check_page_cell(const struct regression_cell *c, const char *out, struct strbuf *html)
+{
+    struct check_section sec;
+    if (!check_section_of(c, &sec))
         return 0;
     const size_t count = (size_t)c->setup.width * (size_t)c->setup.height;
     float *base = xmalloc(count * sizeof *base), *shown_px = xmalloc(count * sizeof *shown_px);
@@ -36,25 +73,7 @@ int check_page_cell(const struct regression_cell *c, const char *out, struct str
     free(base), free(shown_px), free(name), free(dir);
     if (rc)
         return -1;
-    strbuf_printf(html, "<h2>%s: ", baseline_status_names[c->cmp.status]);
-    strbuf_xml(html, c->scene->name);
-    strbuf_printf(html, " / ");
-    strbuf_xml(html, c->label);
-    strbuf_printf(html, "</h2>\n<p>%.2f %% of pixels moved by more than %g (allowed %.2f %%).</p>\n"
-                         "<table><tr><th>metric</th><th>baseline</th><th>now</th><th>difference</th>"
-                         "<th>tolerance</th></tr>\n",
-                  100.0 * c->cmp.moved_fraction, c->base.pixel_threshold, 100.0 * c->base.max_moved);
-    for (int g = 0; g < BASELINE_GUARDS; g++) {
-        const int k = baseline_guards[g].metric;
-        const double b = baseline_metric(&c->base, k), v = metrics_value(&c->now, k);
-        strbuf_printf(html, "<tr><td>%s</td><td>%.5f</td><td>%.5f</td><td>%+.5f</td><td>%.5f</td></tr>\n",
-                      metric_info[k].key, b, v, v - b, baseline_tolerance(&c->base, k));
-    }
-    strbuf_printf(html, "</table>\n<p><img src=\"");
-    strbuf_xml(html, c->scene->name);
-    strbuf_printf(html, "/");
-    strbuf_xml(html, c->label);
-    strbuf_printf(html, ".png\" alt=\"V_now - V_baseline\"></p>\n");
+    check_page_section(html, &sec);
     return 1;
 }
 

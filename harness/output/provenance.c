@@ -139,6 +139,8 @@ static char *provenance_code_now(void)
                       "xargs -0r cat --", SB_SOURCE_DIR, source_paths, source_paths);
     const uint64_t changes = hash_output(cmd);
     free(cmd);
+    if (!changes)  /* git failed: nothing names the changes */
+        return util_printf("git %s +changes unknown", head);
     return util_printf("git %s +changes %016llx", head, (unsigned long long)changes);
 }
 

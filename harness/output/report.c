@@ -63,12 +63,8 @@ static char *dup_string(const cJSON *j, const char *key)
 
 int report_cell_read(const cJSON *j, struct cell *c)
 {
-    for (int k = 0; k < METRIC_COUNT; k++) {
-        const cJSON *v = cJSON_GetObjectItem(j, metric_info[k].key);
-        if (!cJSON_IsNumber(v) && !cJSON_IsNull(v))
-            return -1;
-        metrics_set(&c->m, k, cJSON_IsNumber(v) ? v->valuedouble : NAN);
-    }
+    if (metrics_read_json(j, &c->m) != 0)
+        return -1;
     c->gl_renderer = cJSON_GetStringValue(cJSON_GetObjectItem(j, "gl_renderer"));
     const cJSON *e = cJSON_GetObjectItem(j, "engine"), *ratio = cJSON_GetObjectItem(e, "texel_ratio");
     c->engine_texel_ratio[0] = c->engine_texel_ratio[1] = NAN;

@@ -13,16 +13,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-/* A motion row's frames: V_tech, signed error. */
-static const char *const frame_files[2] = {"visibility_frames.png", "error_frames.png"};
-
-static void add_number(cJSON *o, const char *key, double v)
-{
-    if (isfinite(v))
-        cJSON_AddNumberToObject(o, key, v);
-    else
-        cJSON_AddNullToObject(o, key);
-}
+const char *const stability_frame_files[2] = {"visibility_frames.png", "error_frames.png"};
+#define frame_files stability_frame_files
 
 static void csv_number(struct strbuf *csv, double v, bool last)
 {
@@ -65,16 +57,16 @@ static int write_data(struct stability_output *so, const cJSON *run)
         cJSON_AddBoolToObject(j, "accumulated", r->accumulated);
         cJSON_AddNumberToObject(j, "frames", r->r.frames);
         cJSON_AddNumberToObject(j, "scored_frames", r->r.scored_frames);
-        add_number(j, "flicker", r->r.flicker);
-        add_number(j, "flicker_p99", r->r.flicker_p99);
-        add_number(j, "flicker_floor", r->r.floor);
-        add_number(j, "flicker_penumbra", r->r.flicker_penumbra);
-        add_number(j, "flicker_floor_penumbra", r->r.floor_penumbra);
+        util_json_add_number(j, "flicker", r->r.flicker);
+        util_json_add_number(j, "flicker_p99", r->r.flicker_p99);
+        util_json_add_number(j, "flicker_floor", r->r.floor);
+        util_json_add_number(j, "flicker_penumbra", r->r.flicker_penumbra);
+        util_json_add_number(j, "flicker_floor_penumbra", r->r.floor_penumbra);
         cJSON_AddNumberToObject(j, "band_pixels", (double)r->r.band_pixels);
         cJSON_AddBoolToObject(j, "flicker_meaningful", r->r.meaningful);
-        add_number(j, "rmse_mean", r->r.rmse_mean);
-        add_number(j, "rmse_max", r->r.rmse_max);
-        add_number(j, "rmse_jump", r->r.rmse_jump);
+        util_json_add_number(j, "rmse_mean", r->r.rmse_mean);
+        util_json_add_number(j, "rmse_max", r->r.rmse_max);
+        util_json_add_number(j, "rmse_jump", r->r.rmse_jump);
         cJSON *fr = cJSON_AddArrayToObject(j, "frame_rmse");
         for (int f = 0; r->frame_rmse && f < r->r.frames; f++)
             cJSON_AddItemToArray(fr, isfinite(r->frame_rmse[f]) ? cJSON_CreateNumber(r->frame_rmse[f]) : cJSON_CreateNull());
@@ -110,7 +102,7 @@ static int write_data(struct stability_output *so, const cJSON *run)
         cJSON_AddBoolToObject(j, "reference", p->value == v->reference);
         for (int k = 0; k < METRIC_COUNT; k++)
             if (strncmp(metric_info[k].key, "ms_", 3) != 0)  /* not timed here */
-                add_number(j, metric_info[k].key, metrics_value(&p->m, k));
+                util_json_add_number(j, metric_info[k].key, metrics_value(&p->m, k));
         cJSON_AddBoolToObject(j, "broken", p->broken);
         cJSON_AddItemToArray(vars, j);
         report_csv_field(&csv, st->scenes[p->scene].name);

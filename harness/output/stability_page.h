@@ -13,6 +13,9 @@
 
 #include <cjson/cJSON.h>
 
+/* A motion row's frames, in <scene>/<motion>/<row>/: V_tech, signed error. */
+extern const char *const stability_frame_files[2];
+
 struct stability_output {
     const struct stability *st;
     const char *out_dir;

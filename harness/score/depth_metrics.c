@@ -78,22 +78,14 @@ void depth_metrics_compute(const float *v_tech, const struct gt_image *gt, const
     free(pen);
 }
 
-static void add_number(cJSON *o, const char *key, double x)
-{
-    if (isfinite(x))
-        cJSON_AddNumberToObject(o, key, x);
-    else
-        cJSON_AddNullToObject(o, key);  /* unscored is not perfect */
-}
-
 static cJSON *group_json(const struct depth_group *g)
 {
     cJSON *o = cJSON_CreateObject();
-    add_number(o, "from", g->lo);
-    add_number(o, "to", g->hi);
-    add_number(o, "rmse", g->rmse);
-    add_number(o, "penumbra_rmse", g->penumbra_rmse);
-    add_number(o, "gt_noise_penumbra_rmse", g->gt_noise_penumbra_rmse);
+    util_json_add_number(o, "from", g->lo);
+    util_json_add_number(o, "to", g->hi);
+    util_json_add_number(o, "rmse", g->rmse);
+    util_json_add_number(o, "penumbra_rmse", g->penumbra_rmse);
+    util_json_add_number(o, "gt_noise_penumbra_rmse", g->gt_noise_penumbra_rmse);
     cJSON_AddNumberToObject(o, "pixels", (double)g->pixels);
     cJSON_AddNumberToObject(o, "penumbra_pixels", (double)g->penumbra_pixels);
     return o;
@@ -112,9 +104,9 @@ cJSON *depth_metrics_json(const struct depth_metrics *d)
     for (int k = 0; k + 1 < d->slices; k++) {
         const struct depth_seam *s = &d->seam[k];
         cJSON *j = cJSON_CreateObject();
-        add_number(j, "at", s->at);
-        add_number(j, "seam", s->seam);
-        add_number(j, "gt_seam", s->gt_seam);
+        util_json_add_number(j, "at", s->at);
+        util_json_add_number(j, "seam", s->seam);
+        util_json_add_number(j, "gt_seam", s->gt_seam);
         cJSON_AddItemToObject(j, "near", group_json(&s->near));
         cJSON_AddItemToObject(j, "far", group_json(&s->far));
         cJSON_AddItemToArray(seams, j);
@@ -122,18 +114,14 @@ cJSON *depth_metrics_json(const struct depth_metrics *d)
     return o;
 }
 
-static double read_number(const cJSON *o, const char *key)
+static int group_read(const cJSON *o, struct depth_group *g)
 {
-    const cJSON *v = cJSON_GetObjectItem(o, key);
-    return cJSON_IsNumber(v) ? v->valuedouble : NAN;
-}
-
-static void group_read(const cJSON *o, struct depth_group *g)
-{
-    g->lo = (float)read_number(o, "from"), g->hi = (float)read_number(o, "to");
-    g->rmse = read_number(o, "rmse"), g->penumbra_rmse = read_number(o, "penumbra_rmse");
-    g->gt_noise_penumbra_rmse = read_number(o, "gt_noise_penumbra_rmse");
-    g->pixels = (long)read_number(o, "pixels"), g->penumbra_pixels = (long)read_number(o, "penumbra_pixels");
+    g->lo = (float)util_json_number(o, "from"), g->hi = (float)util_json_number(o, "to");
+    g->rmse = util_json_number(o, "rmse"), g->penumbra_rmse = util_json_number(o, "penumbra_rmse");
+    g->gt_noise_penumbra_rmse = util_json_number(o, "gt_noise_penumbra_rmse");
+    return util_json_whole(o, "pixels", 0, 1e15, &g->pixels) &&
+                   util_json_whole(o, "penumbra_pixels", 0, 1e15, &g->penumbra_pixels)
+               ? 0 : -1;
 }
 
 int depth_metrics_read(const cJSON *j, struct depth_metrics *d)
@@ -145,16 +133,17 @@ int depth_metrics_read(const cJSON *j, struct depth_metrics *d)
     if (!cJSON_IsArray(bins) || !cJSON_IsArray(slices) || !cJSON_IsArray(seams) || d->bins > DEPTH_BINS ||
         d->slices > CASCADES_MAX || cJSON_GetArraySize(seams) != (d->slices ? d->slices - 1 : 0))
         return -1;
+    int rc = 0;
     for (int b = 0; b < d->bins; b++)
-        group_read(cJSON_GetArrayItem(bins, b), &d->bin[b]);
+        rc |= group_read(cJSON_GetArrayItem(bins, b), &d->bin[b]);
     for (int c = 0; c < d->slices; c++)
-        group_read(cJSON_GetArrayItem(slices, c), &d->slice[c]);
+        rc |= group_read(cJSON_GetArrayItem(slices, c), &d->slice[c]);
     for (int k = 0; k + 1 < d->slices; k++) {
         const cJSON *s = cJSON_GetArrayItem(seams, k);
-        d->seam[k].at = (float)read_number(s, "at");
-        d->seam[k].seam = read_number(s, "seam"), d->seam[k].gt_seam = read_number(s, "gt_seam");
-        group_read(cJSON_GetObjectItem(s, "near"), &d->seam[k].near);
-        group_read(cJSON_GetObjectItem(s, "far"), &d->seam[k].far);
+        d->seam[k].at = (float)util_json_number(s, "at");
+        d->seam[k].seam = util_json_number(s, "seam"), d->seam[k].gt_seam = util_json_number(s, "gt_seam");
+        rc |= group_read(cJSON_GetObjectItem(s, "near"), &d->seam[k].near);
+        rc |= group_read(cJSON_GetObjectItem(s, "far"), &d->seam[k].far);
     }
-    return 0;
+    return rc ? -1 : 0;
 }

@@ -2,6 +2,8 @@
 #include "base/util.h"
 #include "truth/groundtruth.h"
 
+#include <cjson/cJSON.h>
+
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -210,13 +212,23 @@ double metrics_value(const struct metrics *m, int k)
     return NAN;
 }
 
-void metrics_set(struct metrics *m, int k, double v)
+int metrics_read_json(const cJSON *j, struct metrics *m)
 {
-    switch (k) {
-#define X(key, type, format, in_report, help) case METRIC_##key: m->key = (type)v; break;
-        METRICS(X)
-#undef X
+    long whole;
+#define X(key, type, format, in_report, help)                                                           \
+    if ((type)0.5 == 0) { /* a count */                                                                 \
+        if (!util_json_whole(j, #key, 0, 1e15, &whole))                                                 \
+            return -1;                                                                                  \
+        m->key = (type)whole;                                                                           \
+    } else {                                                                                            \
+        const cJSON *v = cJSON_GetObjectItem(j, #key);                                                  \
+        if (!cJSON_IsNumber(v) && !cJSON_IsNull(v))                                                     \
+            return -1;                                                                                  \
+        m->key = (type)util_json_number(j, #key);                                                       \
     }
+    METRICS(X)
+#undef X
+    return 0;
 }
 
 void metrics_cost(double fetches, long covered, long expensive, const float *shortcut, const struct gt_image *gt,

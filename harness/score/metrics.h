@@ -101,8 +101,12 @@ extern const struct metric_info metric_info[METRIC_COUNT];
 /* The value of metric k (METRIC_*) of m. */
 double metrics_value(const struct metrics *m, int k);
 
-/* Sets metric k (METRIC_*) of m to v (a count: v as a whole number). */
-void metrics_set(struct metrics *m, int k, double v);
+/* Every metric of m from object j, as the files write them (a number,
+ * null where nothing was measured; a count a whole number, never null).
+ * Returns 0, or -1 when j holds anything else (another process's file is
+ * read with it). */
+struct cJSON;
+int metrics_read_json(const struct cJSON *j, struct metrics *m);
 
 /* scored[i] = 1 where gt_mask is set and GL saw the same surface (camera
  * distances agree within depth_tolerance, relative: METRICS_DEPTH_TOLERANCE

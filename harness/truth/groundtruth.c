@@ -627,8 +627,11 @@ static void cache_sweep(const char *cache_dir)
 {
     DIR *d = opendir(cache_dir);
     for (struct dirent *e; d && (e = readdir(d));) {
-        const char *mark = strstr(e->d_name, UTIL_TEMP_SUFFIX);
-        if (!mark || e->d_name[0] == '.')
+        const char *mark = NULL;  /* the last ".tmp.", followed by a pid */
+        for (const char *m = strstr(e->d_name, UTIL_TEMP_SUFFIX); m; m = strstr(m + 1, UTIL_TEMP_SUFFIX))
+            mark = m;
+        const char *pid = mark ? mark + strlen(UTIL_TEMP_SUFFIX) : NULL;
+        if (!pid || !*pid || strspn(pid, "0123456789") != strlen(pid) || e->d_name[0] == '.')
             continue;
         char *temp = util_printf("%s/%s", cache_dir, e->d_name);
         char *lock = util_printf("%s/%.*s.lock", cache_dir, (int)(mark - e->d_name), e->d_name);
