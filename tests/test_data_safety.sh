@@ -151,14 +151,18 @@ done
 
 # A cache writer that died before its rename leaves "<entry>.tmp.<pid>": the
 # next command that uses the cache removes it. A live writer's stays: it
-# holds its entry's lock (flock), wherever it runs (docs/scale-out.md).
+# holds its entry's lock (flock), wherever it runs (docs/scale-out.md). A
+# file whose name is no cache entry's temporary stays too.
 mkdir -p "$tmp/sweep"
-: > "$tmp/sweep/parallel_planes-0.exr.tmp.4194305"
-: > "$tmp/sweep/parallel_planes-1.exr.tmp.$$"
-flock "$tmp/sweep/parallel_planes-1.exr.lock" "$sb" gt --scene parallel_planes --width 32 --height 32 --gt-samples 4 --cache "$tmp/sweep" -q --out "$tmp/sweep-gt" \
+: > "$tmp/sweep/parallel_planes-0000000000000000.exr.tmp.4194305"
+: > "$tmp/sweep/parallel_planes-0000000000000001.exr.tmp.$$"
+: > "$tmp/sweep/notes.txt.tmp.42"
+flock "$tmp/sweep/parallel_planes-0000000000000001.exr.lock" "$sb" gt --scene parallel_planes --width 32 --height 32 --gt-samples 4 --cache "$tmp/sweep" -q --out "$tmp/sweep-gt" \
     >/dev/null || fail "gt into the cache"
-[ ! -e "$tmp/sweep/parallel_planes-0.exr.tmp.4194305" ] && [ -e "$tmp/sweep/parallel_planes-1.exr.tmp.$$" ] &&
-    ok "a dead writer's cache temporary removed, a live one's kept" || fail "cache temporaries: $(ls "$tmp/sweep")"
+[ ! -e "$tmp/sweep/parallel_planes-0000000000000000.exr.tmp.4194305" ] && [ -e "$tmp/sweep/parallel_planes-0000000000000001.exr.tmp.$$" ] &&
+    [ -e "$tmp/sweep/notes.txt.tmp.42" ] &&
+    ok "a dead writer's cache temporary removed, a live one's and a stranger's kept" ||
+    fail "cache temporaries: $(ls "$tmp/sweep")"
 
 # A cache entry that cannot be written (its name taken by a folder) costs
 # time, not the result: a warning, the run exits 0.

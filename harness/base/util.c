@@ -439,8 +439,18 @@ static char *absolute(const char *path)
     }
     char *parent = slash == path ? xstrdup("/") : util_printf("%.*s", (int)(slash - path), path);
     char *head = absolute(parent);
+    free(parent);
+    /* a part that does not exist yet is no link: "." and ".." are read as words */
+    if (!strcmp(slash + 1, ".") || !slash[1])
+        return head;
+    if (!strcmp(slash + 1, "..")) {
+        char *up = strrchr(head, '/');
+        if (up)
+            up[up == head] = '\0';  /* "/a" -> "/", "/a/b" -> "/a" */
+        return head;
+    }
     char *joined = util_printf("%s%s%s", head, head[strlen(head) - 1] == '/' ? "" : "/", slash + 1);
-    free(parent), free(head);
+    free(head);
     return joined;
 }
 

@@ -468,6 +468,10 @@ int check_merge(const struct options *o, const struct merge_input *in)
         bool moved;
         struct check_section sec;
     } *m = NULL;
+    if (o->update) {  /* no shard records: --shard refuses it */
+        log_error("merge: the shards record check --update, which is not sharded");
+        goto out;
+    }
     if (cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0 ||
         regression_collect(&r, scenes, scene_count, o->techniques, o->technique_count) != 0 ||
         cli_merge_plan(in, check_plan(&r, scenes, scene_count)) != 0)
@@ -480,8 +484,12 @@ int check_merge(const struct options *o, const struct merge_input *in)
         const cJSON *e = shard_cell(in->records[owner[i]], c), *moved = cJSON_GetObjectItem(e, "moved");
         m[i].said = cJSON_GetStringValue(cJSON_GetObjectItem(e, "said"));
         m[i].moved = moved != NULL;
+        /* a cell that regressed or has no baseline is a failure; one that
+         * passed may still fail (a parameter that changes nothing) */
         if (!m[i].said || !util_json_whole(e, "status", 0, BASELINE_MISSING, &m[i].status) ||
             !util_json_whole(e, "failures", 0, 1e6, &m[i].failures) ||
+            ((m[i].status == BASELINE_REGRESSED || m[i].status == BASELINE_MISSING ||
+              (m[i].status == BASELINE_IMPROVED && o->strict)) && !m[i].failures) ||
             (moved && section_read(moved, c, (int)m[i].status, &m[i].sec))) {
             log_error("merge: %s: its shard.json holds no record of cell %s/%s, which it owns", in->dirs[owner[i]],
                       c->scene->name, c->label);

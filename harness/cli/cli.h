@@ -205,11 +205,10 @@ int tune_merge(const struct options *o, const struct merge_input *in);
 int check_merge(const struct options *o, const struct merge_input *in);
 int stability_merge(const struct options *o, const struct merge_input *in);
 
-/* Copies file from to to, written atomically, its folder made (the last
- * one, as shadowbench's own); and the files under folder from (depth
- * levels of folders down) into folder to. Return 0 or -1 (logged). */
+/* Copies file from (a file, not a link) to to, written atomically, its
+ * folder made (the last one, as shadowbench's own). Returns 0 or -1
+ * (logged). */
 int cli_copy_file(const char *from, const char *to);
-int cli_copy_files(const char *from, const char *to, int depth);
 
 /* A command's plan: its cells' names in its order, hashed one by one
  * (cli_plan_add), which every shard records and merge computes again, so

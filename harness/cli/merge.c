@@ -9,10 +9,8 @@
 #include "output/out_dir.h"
 #include "output/provenance.h"
 #include "output/report.h"
-#include "output/results_set.h"
 #include "truth/groundtruth.h"
 
-#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <math.h>
@@ -156,9 +154,11 @@ static int check_shards(cJSON *const *records, char *const *dirs, int n, const c
         by_index[k] = dirs[i];
     }
     struct strbuf missing = {0};
-    for (int k = 1; k <= count; k++)
-        if (!by_index[k])
+    for (int k = 1, listed = 0; k <= count; k++)
+        if (!by_index[k] && listed++ < 10)
             strbuf_list_printf(&missing, ", ", "%d", k);
+    if (n + 10 < count)
+        strbuf_printf(&missing, " and %d more", count - n - 10);
     if (missing.data)
         log_error("merge: shard(s) %s of %d missing: every shard's folder is needed", missing.data, count);
     const bool incomplete = missing.data != NULL;
@@ -197,13 +197,15 @@ static int unsharded_options(const cJSON *record, const char *out, struct option
     for (int k = 0; k < COMMAND_COUNT; k++)
         if (argv[1] && !strcmp(commands[k].name, argv[1]))
             cmd = k;
-    for (int i = 2; i < argc; i++)
-        if (!argv[i])
-            cmd = -1;
     if (cmd != CMD_RUN && cmd != CMD_TUNE && cmd != CMD_CHECK && cmd != CMD_STABILITY) {
         log_error("merge: the shards record a command that is not run, tune, check or stability");
         return -1;
     }
+    for (int i = 2; i < argc; i++)  /* what a shard's command line held, or not a shard's */
+        if (!argv[i] || !strcmp(argv[i], "--help") || !strcmp(argv[i], "-h")) {
+            log_error("merge: the shards record arguments no shard ran with (%s)", argv[i] ? argv[i] : "not text");
+            return -1;
+        }
     *o = (struct options){.argc = argc, .argv = argv};
     if (cli_parse(argc - 1, argv + 1, (enum command)cmd, o) != CLI_PARSE_OK) {
         log_error("merge: the shards' command line does not parse here (above)");
@@ -220,6 +222,11 @@ int merge_main(const struct options *mo)
     }
     const char *out = mo->operands[0];
     char *const *dirs = mo->operands + 1;
+    struct stat st;
+    if (!*out || (stat(out, &st) == 0 && !S_ISDIR(st.st_mode))) {
+        log_error("merge: OUT '%s': %s", out, *out ? "not a folder" : "an empty folder name");
+        return EXIT_USAGE;
+    }
     const int n = mo->operand_count - 1;
     cJSON **records = xcalloc((size_t)n, sizeof *records);
     const char **by_index = NULL;
@@ -268,39 +275,13 @@ int cli_copy_file(const char *from, const char *to)
         *slash = '\0';
     char *data = NULL;
     size_t size;
-    const int err = util_read_file(from, &data, &size);
+    struct stat st;
+    const int err = lstat(from, &st) != 0 ? -errno : !S_ISREG(st.st_mode) ? -EINVAL : util_read_file(from, &data, &size);
     if (err)
-        log_error("merge: %s: %s", from, util_read_error(err));
+        log_error("merge: %s: %s", from, err == -EINVAL ? "not a file (a link, a folder)" : util_read_error(err));
     const int rc = err || (slash && util_mkdirs_own(dir, 1) != 0) || util_write_file_atomic(to, data, size) != 0;
     free(data), free(dir);
     return rc ? -1 : 0;
-}
-
-int cli_copy_files(const char *from, const char *to, int depth)
-{
-    DIR *d = opendir(from);
-    if (!d) {
-        log_error("merge: %s: cannot read: %s", from, strerror(errno));
-        return -1;
-    }
-    int rc = util_mkdirs_own(to, 1) != 0 ? -1 : 0;
-    for (struct dirent *e; !rc && (e = readdir(d));) {
-        if (results_set_own_name(e->d_name))  /* ., .., .lock, a temporary */
-            continue;
-        char *src = util_printf("%s/%s", from, e->d_name), *dst = util_printf("%s/%s", to, e->d_name);
-        struct stat st;
-        if (lstat(src, &st) != 0) {
-            log_error("merge: %s: %s", src, strerror(errno));
-            rc = -1;
-        } else if (S_ISDIR(st.st_mode) && depth > 0) {
-            rc = cli_copy_files(src, dst, depth - 1);
-        } else if (S_ISREG(st.st_mode)) {
-            rc = cli_copy_file(src, dst);
-        }
-        free(src), free(dst);
-    }
-    closedir(d);
-    return rc;
 }
 
 uint64_t cli_plan_add(uint64_t plan, const char *name)
@@ -331,8 +312,8 @@ int cli_merge_plan(const struct merge_input *in, uint64_t plan)
     if (theirs && !strcmp(theirs, text))
         return 0;
     log_error("merge: the shards split other cells than their command line gives here (plan %s, here %s): the "
-              "tuned settings or baselines it reads changed since they ran; run them again", theirs ? theirs : "none",
-              text);
+              "tuned settings or baselines it reads are not those they read (merge in the folder they ran in; if "
+              "those files changed since, run the shards again)", theirs ? theirs : "none", text);
     return -1;
 }
 

@@ -416,14 +416,20 @@ static int merge_cell(const struct options *o, const char *dir, const struct sce
     int rc = util_read_file(path, &text, &size);
     *doc = rc ? NULL : cJSON_Parse(text);
     if (rc || !*doc || report_cell_read(*doc, cell) != 0 ||
-        strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(*doc, "cell")) ?: "", c->label) != 0) {
+        strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(*doc, "cell")) ?: "", c->label) != 0 ||
+        strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(*doc, "scene")) ?: "", s->name) != 0) {
         log_error("merge: %s: %s (the shard that owns cell %s/%s)", path,
                   rc ? util_read_error(rc) : "not the metrics.json of this cell", s->name, c->label);
         rc = -1;
     }
-    rc = rc ? -1 : cli_copy_files(from, to, 0);
+    /* the files a run writes of it (of a cell that failed, its metrics.json alone), each a file */
+    for (int f = cell->failed ? CELL_METRICS_JSON : CELL_VISIBILITY_EXR; !rc && f <= CELL_METRICS_JSON; f++) {
+        char *file = util_printf("%s/%s", from, cell_files[f]), *copy = util_printf("%s/%s", to, cell_files[f]);
+        rc = cli_copy_file(file, copy);
+        free(file), free(copy);
+    }
     free(from), free(to), free(path), free(text);
-    return rc;
+    return rc ? -1 : 0;
 }
 
 int run_merge(const struct options *o, const struct merge_input *in)

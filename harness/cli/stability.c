@@ -192,40 +192,52 @@ static int read_row(const struct stability *st, const cJSON *e, const struct uni
     return 0;
 }
 
-/* Unit u's rows and points from a shard's record into st. Returns 0 or -1
- * (none there, or one this study does not make: not the shard that owns
- * it). */
+/* Unit u's rows and points from a shard's record into st, exactly those
+ * the study makes: a motion's rows technique by technique (each per frame
+ * and accumulated, then, where its program animates noise, the same
+ * animated), a variation's points value by value, technique by technique.
+ * Returns 0 or -1 (anything else: not the shard that owns it). */
 static int read_unit(struct stability *st, const cJSON *record, const struct unit *u)
 {
     const cJSON *e;
-    int found = 0;
     long scene, index, value;
+    int next = 0, pair = 0, k = 0;  /* motion: the technique next, rows of it so far; variation: the point next */
+    const struct variation *v = u->variation >= 0 ? &st->vars[u->variation] : NULL;
+    const int per_value = v && v->kind == VARY_PARAM ? 1 : st->technique_count;
     cJSON_ArrayForEach(e, cJSON_GetObjectItem(record, u->motion >= 0 ? "rows" : "points")) {
-        const struct technique *t = technique_find(cJSON_GetStringValue(cJSON_GetObjectItem(e, "technique")) ?: "");
         if (!util_json_whole(e, "scene", 0, st->scene_count - 1, &scene) || scene != u->scene ||
             !util_json_whole(e, u->motion >= 0 ? "motion" : "variation", 0, 1e9, &index) ||
             index != (u->motion >= 0 ? u->motion : u->variation))
             continue;
-        if (!t)
-            return -1;
-        found++;
+        const struct technique *t = technique_find(cJSON_GetStringValue(cJSON_GetObjectItem(e, "technique")) ?: "");
         if (u->motion >= 0) {
             struct motion_row r;
-            if (read_row(st, e, u, t, &r) != 0)
+            if (pair == 4 || (pair == 2 && next + 1 < st->technique_count && t == st->techniques[next + 1]))
+                next++, pair = 0;  /* the next technique's rows */
+            if (next >= st->technique_count || t != st->techniques[next] || read_row(st, e, u, t, &r) != 0)
                 return -1;
+            if (r.accumulated != (pair % 2 == 1) || (pair >= 2 && !r.animated) ||
+                (pair % 2 == 1 && r.animated != st->rows[st->row_count - 1].animated)) {
+                free(r.frame_rmse);
+                return -1;
+            }
             st->rows = xrealloc(st->rows, sizeof *st->rows * (size_t)(st->row_count + 1));
             st->rows[st->row_count++] = r;
+            pair++;
         } else {
+            const struct technique *want = v->kind == VARY_PARAM ? v->t : st->techniques[k % per_value];
             struct vary_point p = {.scene = u->scene, .variation = u->variation, .t = t};
-            if (!util_json_whole(e, "value", 0, st->vars[u->variation].count - 1, &value) ||
-                metrics_read_json(cJSON_GetObjectItem(e, "metrics"), &p.m) != 0)
+            if (k >= v->count * per_value || t != want || !util_json_whole(e, "value", 0, v->count - 1, &value) ||
+                value != k / per_value || metrics_read_json(cJSON_GetObjectItem(e, "metrics"), &p.m) != 0)
                 return -1;
             p.value = (int)value;
             st->points = xrealloc(st->points, sizeof *st->points * (size_t)(st->point_count + 1));
             st->points[st->point_count++] = p;
+            k++;
         }
     }
-    return found ? 0 : -1;
+    return u->motion >= 0 ? (next == st->technique_count - 1 && (pair == 2 || pair == 4) ? 0 : -1)
+                          : (k == v->count * per_value ? 0 : -1);
 }
 
 /* The study o describes, planned into st over scenes (loaded into
@@ -379,7 +391,7 @@ int stability_merge(const struct options *o, const struct merge_input *in)
                 char *at = util_printf("%s/%s/%s/%s", scenes[r->scene].name, st.motions[r->motion].label, r->label,
                                        stability_frame_files[f]),
                      *from = util_printf("%s/%s", in->dirs[owner[i]], at), *to = util_printf("%s/%s", o->out_dir, at);
-                const int rc = util_file_exists(from) ? cli_copy_file(from, to) : 0;  /* accumulated rows have none */
+                const int rc = r->accumulated ? 0 : cli_copy_file(from, to);  /* accumulated rows have none */
                 free(at), free(from), free(to);
                 if (rc)
                     goto out;

@@ -10,6 +10,7 @@
 #include "output/report.h"
 #include "output/results_set.h"
 #include "pipeline/tuner.h"
+#include "score/tuned.h"
 
 #include <dirent.h>
 #include <math.h>
@@ -228,20 +229,16 @@ int tune_merge(const struct options *o, const struct merge_input *in)
         cli_merge_plan(in, tune_plan(o)) != 0)
         goto out;
     tune_owners(o, in->count, owner);
-    for (int i = 0; i < o->technique_count; i++) {  /* each record as its shard wrote it */
-        const char *name = o->techniques[i]->name;
-        char *path = util_printf("%s/%s.json", in->dirs[owner[i]], name), *text = NULL;
-        size_t size;
-        const int err = util_read_file(path, &text, &size);
-        records[i] = err ? NULL : cJSON_Parse(text);
-        const bool ours = records[i] && !strcmp(cJSON_GetStringValue(cJSON_GetObjectItem(records[i], "technique")) ?: "",
-                                                name);
-        if (!ours)
-            log_error("merge: %s: %s (the shard that owns %s's tuning)", path,
-                      err ? util_read_error(err) : "not the tuned record of this technique", name);
-        free(path), free(text);
-        if (!ours)
+    for (int i = 0; i < o->technique_count; i++) {  /* each record as its shard wrote it, read as run reads it */
+        struct tuned tu;
+        const enum tuned_load_result rc = tuned_load(in->dirs[owner[i]], o->techniques[i], &tu);
+        if (rc == TUNED_NONE)
+            log_error("merge: %s/%s.json: missing (the shard that owns %s's tuning)", in->dirs[owner[i]],
+                      o->techniques[i]->name, o->techniques[i]->name);
+        if (rc != TUNED_LOADED)
             goto out;
+        records[i] = cJSON_Duplicate(tu.doc, true);
+        tuned_free(&tu);
     }
     if ((o->write_tuned && (tuned_dir_ours(o->tuned_dir) != 0 || results_set_open(&tuned, o->tuned_dir, 1) != 0)) ||
         out_dir_claim(o->out_dir) != 0)

@@ -619,10 +619,11 @@ static int cache_lock(const char *path, const char *scene)
     return fd;
 }
 
-/* Removes what writers killed before their rename left in the cache:
- * "<entry>.tmp.<pid>" whose entry's lock is free or was never made (its
- * writer holds it while writing; a pid says nothing of a process on
- * another machine). */
+/* Removes what writers killed before their rename left in the cache: an
+ * entry's temporary, "<scene>-<16 hex digits>.exr.tmp.<pid>", whose
+ * entry's lock is free or was never made (its writer holds it while
+ * writing; a pid says nothing of a process on another machine). Nothing
+ * else in the folder is touched. */
 static void cache_sweep(const char *cache_dir)
 {
     DIR *d = opendir(cache_dir);
@@ -631,7 +632,10 @@ static void cache_sweep(const char *cache_dir)
         for (const char *m = strstr(e->d_name, UTIL_TEMP_SUFFIX); m; m = strstr(m + 1, UTIL_TEMP_SUFFIX))
             mark = m;
         const char *pid = mark ? mark + strlen(UTIL_TEMP_SUFFIX) : NULL;
-        if (!pid || !*pid || strspn(pid, "0123456789") != strlen(pid) || e->d_name[0] == '.')
+        const size_t entry = mark ? (size_t)(mark - e->d_name) : 0;  /* "<scene>-<hash>.exr" */
+        if (!pid || !*pid || strspn(pid, "0123456789") != strlen(pid) || e->d_name[0] == '.' || entry < 22 ||
+            strncmp(mark - 4, ".exr", 4) != 0 || mark[-21] != '-' ||
+            strspn(mark - 20, "0123456789abcdef") < 16)
             continue;
         char *temp = util_printf("%s/%s", cache_dir, e->d_name);
         char *lock = util_printf("%s/%.*s.lock", cache_dir, (int)(mark - e->d_name), e->d_name);
