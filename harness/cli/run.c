@@ -12,6 +12,7 @@
 #include "output/report.h"
 #include "pipeline/cell.h"
 #include "pipeline/configs.h"
+#include "techniques/params.h"
 
 #include <cjson/cJSON.h>
 #include <math.h>
@@ -243,13 +244,20 @@ static int out_folders_apart(const struct options *o)
     return -1;
 }
 
-/* The run's cells in its order, as one number (cli_merge_plan). */
+/* The run's cells in its order with the settings each renders at (a
+ * tuned cell's come from its tuned file), as one number (cli_merge_plan). */
 static uint64_t run_plan(const struct config_set *configs, const struct scene *scenes, int scene_count)
 {
     uint64_t h = UTIL_HASH_INIT;
     for (int s = 0; s < scene_count; s++)
-        for (int i = 0; i < configs->count; i++)
-            h = cli_plan_add(cli_plan_add(h, scenes[s].name), configs->configs[i].label);
+        for (int i = 0; i < configs->count; i++) {
+            const struct run_config *c = &configs->configs[i];
+            struct strbuf settings = {0};
+            params_summary(c->technique, config_settings(c, &scenes[s]), &settings);
+            h = cli_plan_add(cli_plan_add(cli_plan_add(h, scenes[s].name), c->label),
+                             settings.data ? settings.data : "");
+            strbuf_free(&settings);
+        }
     return h;
 }
 
