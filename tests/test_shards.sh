@@ -5,7 +5,8 @@
 # that moved), the study's files and pictures (its run record aside) —
 # and merge refuses, in one line and exit 2 each, what is not the parts of
 # one command: a missing shard, a duplicate, another command, other
-# settings, other code, another ground-truth version, an unfinished shard.
+# settings, other code, another ground-truth version, an unfinished shard,
+# a missing or linked picture, hand-edited records, OUT inside a shard.
 # test_slurm does the same for a run and a tuning on a real Slurm cluster.
 set -u
 sb=$1 same_results=$2
@@ -76,12 +77,13 @@ for k in 1 2; do "$sb" run $rargs --shard $k/2 --out "$t/r$k" >/dev/null 2>&1 ||
 cp -r "$t/r2" "$t/oldgt" && sed -i 's/"ground_truth_version":[^,]*/"ground_truth_version": 0/' "$t/oldgt/shard.json"
 cp -r "$t/r2" "$t/oldcode" && sed -i 's/"code":[^,]*/"code": "git 0000"/' "$t/oldcode/shard.json"
 cp -r "$t/r2" "$t/unfinished" && rm "$t/unfinished/shard.json"
-refuse() {  # refuse WHAT PATTERN SHARD...
-  local what=$1 pattern=$2; shift 2
-  "$sb" merge "$t/refused" "$@" >"$t/refused.out" 2>"$t/refused.err"
+refuse() {  # refuse WHAT PATTERN SHARD... [--out-is OUT]
+  local what=$1 pattern=$2 out="$t/refused"; shift 2
+  [ "${3-}" = --out-is ] && { out=$4; set -- "$1" "$2"; }
+  "$sb" merge -q "$out" "$@" >"$t/refused.out" 2>"$t/refused.err"  # -q: its errors alone
   local rc=$?
   if [ $rc -eq 2 ] && [ "$(wc -l < "$t/refused.err")" -eq 1 ] && grep -q "$pattern" "$t/refused.err" &&
-     [ ! -e "$t/refused" ]; then
+     [ ! -e "$out" ]; then
     ok "merge of $what: $(cat "$t/refused.err")"
   else
     fail "merge of $what: exit $rc, $(cat "$t/refused.err")"
@@ -94,6 +96,23 @@ refuse "shards of other settings" "other arguments" "$t/r1" "$t/other"
 refuse "shards of another ground truth" "another ground-truth version" "$t/r1" "$t/oldgt"
 refuse "shards of other code" "other code" "$t/r1" "$t/oldcode"
 refuse "an unfinished shard" "not a finished shard" "$t/r1" "$t/unfinished"
+# records and files edited by hand: each refused, as a shard that is not one
+cell=$(cd "$t/r2" && ls -d parallel_planes/*/ | head -1)  # one of shard 2's cells
+cp -r "$t/r2" "$t/nofile" && rm "$t/nofile/${cell}heatmap.png"
+refuse "a shard missing a cell's picture" "heatmap.png" "$t/r1" "$t/nofile"
+cp -r "$t/r2" "$t/linked" && ln -sf "$t/r1/run.json" "$t/linked/${cell}visibility.png"
+refuse "a shard whose picture is a link" "not a file" "$t/r1" "$t/linked"
+mkdir -p "$t/edited"
+for k in 1 2; do cp -r "$t/check-$k" "$t/edited/check-$k"; done
+sed -i '0,/"status":\t2/s//"status":\t1/' "$t/edited/check-1/shard.json" "$t/edited/check-2/shard.json"
+sed -i '0,/"failures":\t1/s//"failures":\t0/' "$t/edited/check-1/shard.json" "$t/edited/check-2/shard.json"
+refuse "a check cell REGRESSED with no failure" "no record of cell" "$t/edited/check-1" "$t/edited/check-2"
+for k in 1 2; do cp -r "$t/stab-$k" "$t/edited/stab-$k"; done
+sed -i '0,/"technique":\t"hard"/s//"technique":\t"vsm"/' "$t/edited/stab-1/shard.json" "$t/edited/stab-2/shard.json"
+refuse "a stability row of a technique not studied" "holds no results of" "$t/edited/stab-1" "$t/edited/stab-2"
+mkdir -p "$t/sub"
+refuse "OUT inside a shard, through a folder that is not there" "one inside the other" "$t/r1" "$t/r2" \
+  --out-is "$t/nothere/../r1/merged"
 "$sb" merge "$t/r12" "$t/r1" "$t/r2" >/dev/null 2>&1 && ok "the two shards themselves merge" ||
   fail "the two run shards do not merge"
 

@@ -112,8 +112,10 @@ grep -q '"shards"' "$t/merged/run.json" || fail "the merged run.json lists no sh
 
 # ---- a sharded tune, merged = unsharded (its cost counted: deterministic
 # frontiers), with --write-tuned writing the tuned folder once, merged
+# pcf's widest parameters held (--set), so that its search stays short
 targs="--scene contact_hardening --scene parallel_planes --technique hard --technique pcf --width 96 --height 96
-       --gt-samples 256 --frames 1 --cost fetches"
+       --gt-samples 256 --frames 1 --cost fetches --set pcf.samples=32 --set pcf.pattern=poisson
+       --set pcf.rotation=ign --set pcf.denoise_radius_px=0"
 "$sb" tune $targs --cache "$t/alone-cache" --out "$t/tune-alone" >"$t/tune-alone.log" 2>&1 || fail "the unsharded tune"
 "$src/tools/slurm-submit" --shards 2 --work "$t/twork" --out "$t/tune-merged" --poll 0.2 \
   -- tune $targs --cache "$t/shared-cache" --write-tuned --allow-uncommitted --tuned "$t/tuned" >"$t/tsubmit.log" 2>&1 ||

@@ -19,7 +19,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <errno.h>
 #include <unistd.h>
+#include <sys/stat.h>
 
 cJSON *cli_run_record(const struct options *o, bool timed, double seconds)
 {
@@ -410,15 +412,37 @@ void run_owners(const struct config_set *configs, int scene_count, int shards, i
     free(cost);
 }
 
-/* Cell (scene s, configuration c) from the shard that owns it: its
- * metrics.json read into *cell (the parsed record into *doc, which the
- * cell's device name points into) and its files copied into out. */
-static int merge_cell(const struct options *o, const char *dir, const struct scene *s, const struct run_config *c,
-                      struct cell *cell, cJSON **doc)
+/* The files a run writes of a cell (of one that failed, its metrics.json
+ * alone), from this one to CELL_METRICS_JSON. */
+static int cell_file_first(const struct cell *c)
 {
-    char *from = util_printf("%s/%s/%s", dir, s->name, c->label), *to = util_printf("%s/%s/%s", o->out_dir, s->name,
-                                                                                   c->label);
-    char *path = util_printf("%s/metrics.json", from), *text = NULL;
+    return c->failed ? CELL_METRICS_JSON : CELL_VISIBILITY_EXR;
+}
+
+/* "<dir>/<scene>/<cell>/<name>" (cell NULL: the scene's). */
+static char *merge_path(const char *dir, const struct scene *s, const struct run_config *c, int file)
+{
+    return c ? util_printf("%s/%s/%s/%s", dir, s->name, c->label, cell_files[file])
+             : util_printf("%s/%s/%s", dir, s->name, cell_files[file]);
+}
+
+/* Whether path is a file (not a link): logged when not. */
+static bool merge_file(const char *path)
+{
+    struct stat st;
+    const bool file = lstat(path, &st) == 0 && S_ISREG(st.st_mode);
+    if (!file)
+        log_error("merge: %s: %s", path, errno == ENOENT ? "missing" : "not a file (a link, a folder)");
+    return file;
+}
+
+/* Cell (scene s, configuration c) from the shard in dir that owns it: its
+ * metrics.json read into *cell (the parsed record into *doc, which the
+ * cell's device name points into) and each file it should have there. */
+static int merge_cell(const char *dir, const struct scene *s, const struct run_config *c, struct cell *cell,
+                      cJSON **doc)
+{
+    char *path = merge_path(dir, s, c, CELL_METRICS_JSON), *text = NULL;
     size_t size;
     cell_describe(cell, s->name, c->technique, config_settings(c, s), c->label);
     int rc = util_read_file(path, &text, &size);
@@ -430,14 +454,22 @@ static int merge_cell(const struct options *o, const char *dir, const struct sce
                   rc ? util_read_error(rc) : "not the metrics.json of this cell", s->name, c->label);
         rc = -1;
     }
-    /* the files a run writes of it (of a cell that failed, its metrics.json alone), each a file */
-    for (int f = cell->failed ? CELL_METRICS_JSON : CELL_VISIBILITY_EXR; !rc && f <= CELL_METRICS_JSON; f++) {
-        char *file = util_printf("%s/%s", from, cell_files[f]), *copy = util_printf("%s/%s", to, cell_files[f]);
-        rc = cli_copy_file(file, copy);
-        free(file), free(copy);
+    for (int f = cell_file_first(cell); !rc && f <= CELL_METRICS_JSON; f++) {
+        char *file = merge_path(dir, s, c, f);
+        rc = merge_file(file) ? 0 : -1;
+        free(file);
     }
-    free(from), free(to), free(path), free(text);
+    free(path), free(text);
     return rc ? -1 : 0;
+}
+
+/* File `file` of cell c (NULL: of scene s) from shard folder dir into out. */
+static int copy_from(const char *dir, const char *out, const struct scene *s, const struct run_config *c, int file)
+{
+    char *from = merge_path(dir, s, c, file), *to = merge_path(out, s, c, file);
+    const int rc = cli_copy_file(from, to);
+    free(from), free(to);
+    return rc;
 }
 
 int run_merge(const struct options *o, const struct merge_input *in)
@@ -456,33 +488,42 @@ int run_merge(const struct options *o, const struct merge_input *in)
         cli_load_scenes(o, NULL, 0, scenes, CLI_MAX_SCENES, &scene_count) != 0)
         goto out;
     const int n = r.configs.count;
-    if (cli_merge_plan(in, run_plan(&r.configs, scenes, scene_count)) != 0 || out_dir_claim(o->out_dir) != 0 ||
-        begin_run(o) != 0)
+    if (cli_merge_plan(in, run_plan(&r.configs, scenes, scene_count)) != 0)
         goto out;
-    cli_shard_begin(o);  /* a shard's record left in OUT would make it pass for one */
     owner = xcalloc((size_t)(scene_count * n) + 1, sizeof *owner);
     run_owners(&r.configs, scene_count, in->count, owner);
     r.cells = xcalloc((size_t)(scene_count * n) + 1, sizeof *r.cells);
     docs = xcalloc((size_t)(scene_count * n) + 1, sizeof *docs);
-    for (int s = 0; s < scene_count && n; s++) {
+    for (int s = 0; s < scene_count && n; s++) {  /* every cell read and every file seen before OUT is made */
         for (int i = 0; i < n; i++, cell_count++)
-            if (merge_cell(o, in->dirs[owner[s * n + i]], &scenes[s], &r.configs.configs[i], &r.cells[cell_count],
+            if (merge_cell(in->dirs[owner[s * n + i]], &scenes[s], &r.configs.configs[i], &r.cells[cell_count],
                            &docs[cell_count]) != 0) {
                 cell_count++;
                 goto out;
             }
-        /* the scene's ground-truth pictures from the shard of its last cell, as a run writes them after it */
         for (int f = CELL_GROUNDTRUTH_EXR; f <= CELL_GROUNDTRUTH_PNG; f++) {
-            char *from = util_printf("%s/%s/%s", in->dirs[owner[s * n + n - 1]], scenes[s].name, cell_files[f]),
-                 *to = util_printf("%s/%s/%s", o->out_dir, scenes[s].name, cell_files[f]);
-            const int rc = cli_copy_file(from, to);
-            free(from), free(to);
-            if (rc)
+            char *file = merge_path(in->dirs[owner[s * n + n - 1]], &scenes[s], NULL, f);
+            const bool there = merge_file(file);
+            free(file);
+            if (!there)
                 goto out;
         }
     }
     r.cell_count = cell_count;
-    status = EXIT_CHECK_FAILED;  /* the shards are read: what fails now is the run's */
+    if (out_dir_claim(o->out_dir) != 0 || begin_run(o) != 0)
+        goto out;
+    cli_shard_begin(o);  /* a shard's record left in OUT would make it pass for one */
+    status = EXIT_CHECK_FAILED;  /* the shards are read: what fails now is a write, or the run's */
+    for (int s = 0, k = 0; s < scene_count && n; s++) {
+        for (int i = 0; i < n; i++, k++)  /* each cell's files from its shard */
+            for (int f = cell_file_first(&r.cells[k]); f <= CELL_METRICS_JSON; f++)
+                if (copy_from(in->dirs[owner[s * n + i]], o->out_dir, &scenes[s], &r.configs.configs[i], f) != 0)
+                    goto out;
+        /* the scene's ground-truth pictures from the shard of its last cell, as a run writes them after it */
+        for (int f = CELL_GROUNDTRUTH_EXR; f <= CELL_GROUNDTRUTH_PNG; f++)
+            if (copy_from(in->dirs[owner[s * n + n - 1]], o->out_dir, &scenes[s], NULL, f) != 0)
+                goto out;
+    }
     /* each scene's ground truth as the shard that traced it saw it (one traced, the others read it cached) */
     frontiers_build(&frontiers, r.configs.configs, n, scenes, scene_count, o->tuned_dir);
     for (int s = 0; s < scene_count; s++) {
