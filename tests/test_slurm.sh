@@ -87,7 +87,7 @@ fi
 # tuned cell's settings differ by scene): 2 shards of 13 cells each, and a
 # ground-truth cache the shards share, empty at first.
 args="--scene contact_hardening --scene sun_contact --technique hard --technique pcf --technique pcss
-      --settings both --width 96 --height 96 --gt-samples 256 --frames 1"
+      --settings both --tuned $src/results/tuned --width 96 --height 96 --gt-samples 256 --frames 1"
 "$sb" run $args --cache "$t/alone-cache" --out "$t/alone" >"$t/alone.log" 2>&1 || fail "the unsharded run"
 # Shard 1's first try is killed once its first cell is written (a node
 # lost mid-way); slurm-submit must find it unfinished and submit it again.
