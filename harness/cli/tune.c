@@ -13,7 +13,6 @@
 #include "score/tuned.h"
 
 #include <dirent.h>
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
