@@ -21,7 +21,6 @@
  * its shard's record (docs/scale-out.md). */
 struct cell_said {
     char *text;    /* its lines (owned) */
-    char *page;    /* its section of check.html (owned), "" when it did not move */
     int failures;
     bool done;     /* checked by this process */
 };
@@ -43,20 +42,20 @@ static void compare(FILE *f, struct regression_cell *c, const struct options *o)
             const int m = baseline_guards[g].metric;
             const double base = baseline_metric(&c->base, m), now = metrics_value(&c->now, m);
             if (k->direction[g])
-                fprintf(f, "      %-16s %10.5f -> %10.5f  (%+.5f, tolerance %.5f: %s)\n", metric_info[m].key, base, now,
-                       now - base, baseline_tolerance(&c->base, m), k->direction[g] > 0 ? "worse" : "better");
+                fprintf(f, "      %-16s %10.5f -> %10.5f  (%+.5f, tolerance %.5f: %s)\n", metric_info[m].key, base,
+                        now, now - base, baseline_tolerance(&c->base, m), k->direction[g] > 0 ? "worse" : "better");
         }
         fprintf(f, "      picture: %.2f %% of pixels moved by more than %g (allowed %.2f %%)%s\n",
-               100.0 * k->moved_fraction, c->base.pixel_threshold, 100.0 * c->base.max_moved,
-               k->picture_moved && !k->worse && !k->better ? ", with no metric better" : "");
+                100.0 * k->moved_fraction, c->base.pixel_threshold, 100.0 * c->base.max_moved,
+                k->picture_moved && !k->worse && !k->better ? ", with no metric better" : "");
     }
     if (k->status == BASELINE_IMPROVED)
         fprintf(f, "      record it: shadowbench check --update --scene %s --technique %s --baselines %s\n",
-               c->scene->name, c->t->name, o->baselines_dir);
+                c->scene->name, c->t->name, o->baselines_dir);
     /* The baseline's parameters against what its name means today. */
     if (!regression_params_current(c)) {
         fprintf(f, "      its recorded parameters are no longer what '%s' means (a default changed?): record it "
-               "anew\n", c->label);
+                "anew\n", c->label);
         if (k->status == BASELINE_PASS)
             c->cmp.status = BASELINE_REGRESSED;
     }
@@ -89,13 +88,13 @@ static int setup_for(struct scene_setup *ss, struct baseline_setup *open, struct
 }
 
 /* Renders, compares (or, into the baselines folder `record`, records) cell
- * c, its lines into f and its section of check.html into *page (none when
- * it did not move). Returns its failures (a regression, a missing
+ * c, its lines into f and, if it moved, its heatmap into --out. Returns its
+ * failures (a regression, a missing
  * baseline, idle parameters, an improvement with --strict), or -1 on a
  * runtime error. */
 static int check_cell(FILE *f, struct regression_cell *c, const struct options *o, const cJSON *provenance,
                       const char *record, struct program_cache *programs, struct scene_setup *ss,
-                      struct baseline_setup *open, struct gt_image *extra, char **page)
+                      struct baseline_setup *open, struct gt_image *extra)
 {
     const struct scene *s = c->scene;
     int failures = 0;
@@ -141,12 +140,7 @@ static int check_cell(FILE *f, struct regression_cell *c, const struct options *
                     c->label, idle[k].t->name, idle[k].p->name, idle[k].def);
         failures += n;
     }
-    if (failures >= 0) {  /* its section of the page, its heatmap written */
-        struct strbuf html = {0};
-        failures = check_page_cell(c, o->out_dir, &html) < 0 ? -1 : failures;
-        *page = html.data;
-    }
-    return failures;
+    return failures >= 0 && check_page_heatmap(c, o->out_dir) < 0 ? -1 : failures;
 }
 
 /* Checks this shard's cells of one scene (owner[i]: cell i's shard), each
@@ -168,12 +162,11 @@ static int check_scene(struct regression *r, const struct scene *s, const struct
         FILE *f = open_memstream(&text, &len);
         if (!f)
             util_out_of_memory(BUFSIZ);
-        char *page = NULL;
-        const int k = check_cell(f, c, o, provenance, record, programs, &ss, &open, extra, &page);
+        const int k = check_cell(f, c, o, provenance, record, programs, &ss, &open, extra);
         fclose(f);
         fputs(text, stdout);
         fflush(stdout);  /* progress, in order with stderr's */
-        said[i] = (struct cell_said){text, page ? page : xstrdup(""), k, true};
+        said[i] = (struct cell_said){text, k, true};
         failures = k < 0 ? -1 : failures + k;
     }
     scene_setup_free(&ss);
@@ -279,7 +272,7 @@ static void summary(const struct options *o, const int *n, double seconds)
 
 /* The owner (1..shards) of each cell, in the order check checks them
  * (scene by scene, each scene's cells in r's order): contiguous runs of
- * about equal expected cost, an engine cell RUN_ENGINE_CELL_COST. */
+ * about equal expected cost (cli_cell_cost). */
 static void check_owners(const struct regression *r, const struct scene *scenes, int scene_count, int shards,
                          int *owner)
 {
@@ -288,7 +281,7 @@ static void check_owners(const struct regression *r, const struct scene *scenes,
     for (int s = 0; s < scene_count; s++)
         for (int i = 0; i < r->count; i++)
             if (r->cells[i].scene == &scenes[s]) {
-                cost[n] = technique_is_engine(r->cells[i].t) ? RUN_ENGINE_CELL_COST : 1.0;
+                cost[n] = cli_cell_cost(r->cells[i].t);
                 order[n++] = i;
             }
     in_order = xmalloc(sizeof *in_order * (size_t)(n + 1));
@@ -301,7 +294,7 @@ static void check_owners(const struct regression *r, const struct scene *scenes,
 static void said_free(struct cell_said *said, int n)
 {
     for (int i = 0; i < n && said; i++)
-        free(said[i].text), free(said[i].page);
+        free(said[i].text);
     free(said);
 }
 
@@ -405,10 +398,11 @@ int check_main(const struct options *o)
         failures = results_set_commit(&record) != 0 ? -1 : failures;
         util_signals_finished(failures == 0 ? EXIT_OK : EXIT_CHECK_FAILED);
     }
-    struct strbuf page = {0};
+    struct strbuf page = {0};  /* each moved cell's section, in the cells' order */
+    struct check_section sec;
     for (int i = 0; i < r.count; i++)
-        if (said[i].done)
-            strbuf_printf(&page, "%s", said[i].page);
+        if (said[i].done && check_section_of(&r.cells[i], &sec))
+            check_page_section(&page, &sec);
     if (failures >= 0 && check_page_write_sections(page.data, o->out_dir) != 0)
         failures = -1;
     strbuf_free(&page);
@@ -431,7 +425,6 @@ int check_main(const struct options *o)
             cJSON_AddNumberToObject(c, "status", r.cells[i].cmp.status);
             cJSON_AddNumberToObject(c, "failures", said[i].failures);
             cJSON_AddStringToObject(c, "said", said[i].text);
-            struct check_section sec;
             if (check_section_of(&r.cells[i], &sec))  /* its section's numbers */
                 cJSON_AddItemToObject(c, "moved", section_json(&sec));
             cJSON_AddItemToArray(cells, c);
@@ -509,16 +502,19 @@ int check_merge(const struct options *o, const struct merge_input *in)
             fputs(m[i].said, stdout);
             n[m[i].status]++;
             failures += (int)m[i].failures;
-            if (m[i].moved) {  /* its section, and its heatmap */
-                char *from = util_printf("%s/%s/%s.png", in->dirs[owner[i]], c->scene->name, c->label),
-                     *to = util_printf("%s/%s/%s.png", o->out_dir, c->scene->name, c->label);
-                const int rc = cli_copy_file(from, to);
-                free(from), free(to);
-                if (rc)
-                    goto out;
-                check_page_section(&page, &m[i].sec);
-            }
         }
+    for (int i = 0; i < r.count; i++) {  /* each moved cell's section and heatmap, in the page's order */
+        const struct regression_cell *c = &r.cells[i];
+        if (!m[i].moved)
+            continue;
+        char *from = util_printf("%s/%s/%s.png", in->dirs[owner[i]], c->scene->name, c->label),
+             *to = util_printf("%s/%s/%s.png", o->out_dir, c->scene->name, c->label);
+        const int rc = cli_copy_file(from, to);
+        free(from), free(to);
+        if (rc)
+            goto out;
+        check_page_section(&page, &m[i].sec);
+    }
     failures += whole_checks(o, &r, scenes, scene_count);
     if (check_page_write_sections(page.data, o->out_dir) != 0)
         goto out;

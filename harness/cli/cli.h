@@ -177,11 +177,17 @@ cJSON *cli_run_record(const struct options *o, bool timed, double seconds);
 void cli_shard_begin(const struct options *o);
 int cli_shard_end(const struct options *o, const struct scene *scenes, int scene_count, cJSON *more);
 
+/* A cell's expected cost for the split into shards: 1 for one of
+ * shadowbench's own, 20 for an engine cell (an estimate, not a
+ * measurement: it starts a browser and renders there, docs/scale-out.md). */
+static inline double cli_cell_cost(const struct technique *t)
+{
+    return technique_is_engine(t) ? 20.0 : 1.0;
+}
+
 /* The owner (1..shards) of each of run's cells, scene by scene in
  * configuration order (owner[scene * configs + config]): contiguous runs
- * of about equal expected cost, an engine cell RUN_ENGINE_CELL_COST of
- * shadowbench's own (its browser; measured: docs/scale-out.md). */
-#define RUN_ENGINE_CELL_COST 20.0
+ * of about equal expected cost (cli_cell_cost). */
 void run_owners(const struct config_set *configs, int scene_count, int shards, int *owner);
 
 /* The owner of each technique of a tuning (o->techniques' order): balanced
@@ -205,9 +211,10 @@ int tune_merge(const struct options *o, const struct merge_input *in);
 int check_merge(const struct options *o, const struct merge_input *in);
 int stability_merge(const struct options *o, const struct merge_input *in);
 
-/* Copies file from (a file, not a link) to to, written atomically, its
- * folder made (the last one, as shadowbench's own). Returns 0 or -1
- * (logged). */
+/* Whether path is a file, not a link (else logged: missing, or what it
+ * is); and a copy of one (from) to to, written atomically, its folder
+ * made (the last one, as shadowbench's own): 0 or -1 (logged). */
+bool cli_is_file(const char *path);
 int cli_copy_file(const char *from, const char *to);
 
 /* A command's plan: its cells' names in its order, hashed one by one

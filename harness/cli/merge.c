@@ -268,17 +268,27 @@ out:
     return status;
 }
 
+bool cli_is_file(const char *path)
+{
+    struct stat st;
+    if (lstat(path, &st) == 0 && S_ISREG(st.st_mode))
+        return true;
+    log_error("merge: %s: %s", path, access(path, F_OK) != 0 && errno == ENOENT ? "missing"
+                                                                                 : "not a file (a link, a folder)");
+    return false;
+}
+
 int cli_copy_file(const char *from, const char *to)
 {
-    char *dir = xstrdup(to), *slash = strrchr(dir, '/');
+    if (!cli_is_file(from))
+        return -1;
+    char *dir = xstrdup(to), *slash = strrchr(dir, '/'), *data = NULL;
     if (slash)
         *slash = '\0';
-    char *data = NULL;
     size_t size;
-    struct stat st;
-    const int err = lstat(from, &st) != 0 ? -errno : !S_ISREG(st.st_mode) ? -EINVAL : util_read_file(from, &data, &size);
+    const int err = util_read_file(from, &data, &size);
     if (err)
-        log_error("merge: %s: %s", from, err == -EINVAL ? "not a file (a link, a folder)" : util_read_error(err));
+        log_error("merge: %s: %s", from, util_read_error(err));
     const int rc = err || (slash && util_mkdirs_own(dir, 1) != 0) || util_write_file_atomic(to, data, size) != 0;
     free(data), free(dir);
     return rc ? -1 : 0;
@@ -344,9 +354,12 @@ void cli_merge_record(cJSON *r, const struct merge_input *in)
                 cJSON_AddItemToArray(values, cJSON_Duplicate(v, true));
         }
         cJSON_DeleteItemFromObject(r, device_keys[d]);  /* the merge's own */
-        cJSON_AddItemToObject(r, device_keys[d], cJSON_GetArraySize(values) == 1 ? cJSON_DetachItemFromArray(values, 0)
-                                                                                  : cJSON_Duplicate(values, true));
-        cJSON_Delete(values);
+        if (cJSON_GetArraySize(values) == 1) {
+            cJSON_AddItemToObject(r, device_keys[d], cJSON_DetachItemFromArray(values, 0));
+            cJSON_Delete(values);
+        } else {
+            cJSON_AddItemToObject(r, device_keys[d], values);
+        }
     }
     cJSON *shards = cJSON_AddArrayToObject(r, "shards");
     for (int k = 1; k <= in->count; k++) {  /* each one's identity, not its results (merged here) */

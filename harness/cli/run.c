@@ -19,9 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <errno.h>
 #include <unistd.h>
-#include <sys/stat.h>
 
 cJSON *cli_run_record(const struct options *o, bool timed, double seconds)
 {
@@ -236,6 +234,19 @@ static void say_estimate(const struct options *o, int cells)
     free(text), free(source);
 }
 
+/* The run's report (report_write) of the cells in r over scenes rs, with
+ * its record run. Returns 0 or -1. */
+static int write_report(const struct options *o, cJSON *run, const struct report_scene *rs, int scene_count,
+                        const struct run *r, const struct frontiers *f)
+{
+    const struct report rep = {.out_dir = o->out_dir, .width = o->width, .height = o->height, .run = run,
+                               .scenes = rs, .scene_count = scene_count, .cells = r->cells,
+                               .cell_count = r->cell_count, .frontier = f->all, .frontier_count = f->all_count,
+                               .frontier_source = f->source, .frontier_objective = f->objective,
+                               .frontier_fetches = f->cost_fetches};
+    return report_write(&rep);
+}
+
 /* --out is not inside the tuned folder: a report among the tuned files.
  * Returns 0 or -1 (logged). */
 static int out_folders_apart(const struct options *o)
@@ -365,12 +376,7 @@ int run_main(const struct options *o)
         util_signals_defer();
         cJSON *run = cli_run_record(o, true, (util_now_ms() - start) * 1e-3);
         cJSON_AddTrueToObject(run, "complete");
-        struct report rep = {.out_dir = o->out_dir, .width = o->width, .height = o->height, .run = run, .scenes = rs,
-                             .scene_count = rs_count, .cells = r.cells, .cell_count = r.cell_count,
-                             .frontier = frontiers.all, .frontier_count = frontiers.all_count,
-                             .frontier_source = frontiers.source, .frontier_objective = frontiers.objective,
-                             .frontier_fetches = frontiers.cost_fetches};
-        failed = report_write(&rep);
+        failed = write_report(o, run, rs, rs_count, &r, &frontiers);
         cJSON_Delete(run);
         cJSON *more = cli_shard_more((util_now_ms() - start) * 1e-3, run_plan(&r.configs, scenes, scene_count));
         cJSON_AddItemToObject(more, "ground_truth", truths);
@@ -407,7 +413,7 @@ void run_owners(const struct config_set *configs, int scene_count, int shards, i
     double *cost = xmalloc(sizeof *cost * (size_t)(scene_count * n + 1));
     for (int s = 0; s < scene_count; s++)
         for (int i = 0; i < n; i++)
-            cost[s * n + i] = technique_is_engine(configs->configs[i].technique) ? RUN_ENGINE_CELL_COST : 1.0;
+            cost[s * n + i] = cli_cell_cost(configs->configs[i].technique);
     shard_split_contiguous(cost, scene_count * n, shards, owner);
     free(cost);
 }
@@ -424,16 +430,6 @@ static char *merge_path(const char *dir, const struct scene *s, const struct run
 {
     return c ? util_printf("%s/%s/%s/%s", dir, s->name, c->label, cell_files[file])
              : util_printf("%s/%s/%s", dir, s->name, cell_files[file]);
-}
-
-/* Whether path is a file (not a link): logged when not. */
-static bool merge_file(const char *path)
-{
-    struct stat st;
-    const bool file = lstat(path, &st) == 0 && S_ISREG(st.st_mode);
-    if (!file)
-        log_error("merge: %s: %s", path, errno == ENOENT ? "missing" : "not a file (a link, a folder)");
-    return file;
 }
 
 /* Cell (scene s, configuration c) from the shard in dir that owns it: its
@@ -456,7 +452,7 @@ static int merge_cell(const char *dir, const struct scene *s, const struct run_c
     }
     for (int f = cell_file_first(cell); !rc && f <= CELL_METRICS_JSON; f++) {
         char *file = merge_path(dir, s, c, f);
-        rc = merge_file(file) ? 0 : -1;
+        rc = cli_is_file(file) ? 0 : -1;
         free(file);
     }
     free(path), free(text);
@@ -503,7 +499,7 @@ int run_merge(const struct options *o, const struct merge_input *in)
             }
         for (int f = CELL_GROUNDTRUTH_EXR; f <= CELL_GROUNDTRUTH_PNG; f++) {
             char *file = merge_path(in->dirs[owner[s * n + n - 1]], &scenes[s], NULL, f);
-            const bool there = merge_file(file);
+            const bool there = cli_is_file(file);
             free(file);
             if (!there)
                 goto out;
@@ -545,12 +541,7 @@ int run_merge(const struct options *o, const struct merge_input *in)
     cJSON *run = cli_run_record(o, true, cli_merge_seconds(in));
     cJSON_AddTrueToObject(run, "complete");
     cli_merge_record(run, in);
-    struct report rep = {.out_dir = o->out_dir, .width = o->width, .height = o->height, .run = run, .scenes = rs,
-                         .scene_count = scene_count, .cells = r.cells, .cell_count = r.cell_count,
-                         .frontier = frontiers.all, .frontier_count = frontiers.all_count,
-                         .frontier_source = frontiers.source, .frontier_objective = frontiers.objective,
-                         .frontier_fetches = frontiers.cost_fetches};
-    const bool written = report_write(&rep) == 0;
+    const bool written = write_report(o, run, rs, scene_count, &r, &frontiers) == 0;
     cJSON_Delete(run);
     status = written ? judge(&r) : EXIT_CHECK_FAILED;
     cli_done(o, status, written, "merge", OUTPUT_REPORT, "matrix", OUTPUT_MATRIX_CSV, start);

@@ -120,6 +120,9 @@ static int plan_units(const struct stability *st, int shards, struct unit **out,
 #define PUT_d(o, k, x) util_json_add_number(o, k, x)
 #define PUT_n(o, k, x) cJSON_AddNumberToObject(o, k, (double)(x))
 #define PUT_b(o, k, x) cJSON_AddBoolToObject(o, k, x)
+#define GET_d(o, k, x) ((x) = util_json_number(o, k), true)
+#define GET_n(o, k, x) (util_json_whole(o, k, 0, 1e15, &whole) && ((x) = whole, true))
+#define GET_b(o, k, x) ((x) = cJSON_IsTrue(cJSON_GetObjectItem(o, k)), true)
 
 /* The shard's record of its rows and points, every number as measured
  * (for the merge, docs/scale-out.md). */
@@ -173,18 +176,13 @@ static int read_row(const struct stability *st, const cJSON *e, const struct uni
                              .animated = cJSON_IsTrue(cJSON_GetObjectItem(e, "animated")),
                              .accumulated = cJSON_IsTrue(cJSON_GetObjectItem(e, "accumulated"))};
     snprintf(r->label, sizeof r->label, "%s%s%s", t->name, r->animated ? "~anim" : "", r->accumulated ? "+ema" : "");
-    long n[5] = {0};
+    long whole;
     bool ok = util_json_whole(e, "nonfinite", 0, 1e15, &r->nonfinite);
-#define d(name) r->r.name = util_json_number(f, #name);
-#define n(name, k) ok = ok && util_json_whole(f, #name, 0, k < 3 ? 1e15 : st->frames, &n[k]);
-    d(flicker) d(flicker_p99) d(floor) d(flicker_penumbra) d(floor_penumbra) d(rmse_mean) d(rmse_max) d(rmse_jump)
-    n(pairs_pixels, 0) n(band_pixels, 1) n(mask_changes, 2) n(frames, 3) n(scored_frames, 4)
-#undef d
-#undef n
-    r->r.meaningful = cJSON_IsTrue(cJSON_GetObjectItem(f, "meaningful"));
-    r->r.pairs_pixels = n[0], r->r.band_pixels = n[1], r->r.mask_changes = n[2];
-    r->r.frames = (int)n[3], r->r.scored_frames = (int)n[4];
-    if (!ok || r->r.scored_frames > r->r.frames || cJSON_GetArraySize(frames) != r->r.frames)
+#define X(name, kind) ok = ok && GET_##kind(f, #name, r->r.name);
+    FLICKER_FIELDS(X)
+#undef X
+    if (!ok || r->r.frames > st->frames || r->r.scored_frames > r->r.frames ||
+        cJSON_GetArraySize(frames) != r->r.frames)
         return -1;
     r->frame_rmse = xcalloc((size_t)r->r.frames + 1, sizeof *r->frame_rmse);
     for (int k = 0; k < r->r.frames; k++)

@@ -73,7 +73,7 @@ void tune_owners(const struct options *o, int shards, int *owner)
     double cost[CLI_MAX_TECHNIQUES];
     for (int i = 0; i < o->technique_count; i++)
         cost[i] = tune_space_size(o->techniques[i], o->held[technique_index(o->techniques[i])]) *
-                  (technique_is_engine(o->techniques[i]) ? RUN_ENGINE_CELL_COST : 1.0);
+                  cli_cell_cost(o->techniques[i]);
     shard_split_balanced(cost, o->technique_count, shards, owner);
 }
 

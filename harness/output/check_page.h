@@ -20,12 +20,12 @@ bool check_section_of(const struct regression_cell *c, struct check_section *s);
 /* Its section of check.html, appended to html. */
 void check_page_section(struct strbuf *html, const struct check_section *s);
 
-/* Cell c's section appended to html and its heatmap written
- * (<out>/<scene>/<cell>.png), if c moved: 1; else 0 (nothing); or -1
- * (logged). Then the page around the cells' sections, in the check's
- * order (NULL or empty: no cell moved): 0 or -1. A sharded check records
- * each section's numbers, and merge writes them (docs/scale-out.md). */
-int check_page_cell(const struct regression_cell *c, const char *out, struct strbuf *html);
+/* Cell c's heatmap written (<out>/<scene>/<cell>.png), if c moved: 1;
+ * else 0 (nothing); or -1 (logged). Then the page around the cells'
+ * sections, in the check's order (NULL or empty: no cell moved): 0 or -1.
+ * A sharded check records each section's numbers, and merge writes them
+ * (docs/scale-out.md). */
+int check_page_heatmap(const struct regression_cell *c, const char *out);
 int check_page_write_sections(const char *sections, const char *out);
 
 #endif

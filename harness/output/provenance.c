@@ -92,8 +92,6 @@ static char *git_describe(enum source_state state)
     return util_printf("%s%s", buf, strcmp(buf, "unknown") != 0 && state == SOURCE_CHANGED ? "-dirty" : "");
 }
 
-static char *provenance_code_now(void);
-
 /* The hash of what cmd prints; 0 when it fails. */
 static uint64_t hash_output(const char *cmd)
 {
@@ -105,15 +103,7 @@ static uint64_t hash_output(const char *cmd)
     return p && pclose(p) == 0 ? h : 0;
 }
 
-char *provenance_code_id(void)
-{
-    static char *id;  /* the tree as it was when first asked: the code this process loaded */
-    if (!id)
-        id = provenance_code_now();
-    return xstrdup(id);
-}
-
-static char *provenance_code_now(void)
+static char *code_now(void)
 {
     char head[64] = "", what[512];
     const enum source_state state = provenance_source_state(what, sizeof what);
@@ -142,6 +132,14 @@ static char *provenance_code_now(void)
     if (!changes)  /* git failed: nothing names the changes */
         return util_printf("git %s +changes unknown", head);
     return util_printf("git %s +changes %016llx", head, (unsigned long long)changes);
+}
+
+char *provenance_code_id(void)
+{
+    static char *id;  /* the tree as it was when first asked: the code this process loaded */
+    if (!id)
+        id = code_now();
+    return xstrdup(id);
 }
 
 static char *cpu_model(void)

@@ -624,21 +624,32 @@ static int cache_lock(const char *path, const char *scene)
  * entry's lock is free or was never made (its writer holds it while
  * writing; a pid says nothing of a process on another machine). Nothing
  * else in the folder is touched. */
+/* The length of the entry name that file name is a temporary of
+ * ("<scene>-<16 hex digits>.exr" before ".tmp.<pid>"), or 0: not one. */
+static size_t cache_temp_entry(const char *name)
+{
+    static const char tail[] = "-0123456789abcdef.exr";  /* its shape: "-", 16 hex digits, ".exr" */
+    const size_t tail_len = sizeof tail - 1;
+    const char *mark = NULL;  /* the last ".tmp.", followed by a pid */
+    for (const char *m = strstr(name, UTIL_TEMP_SUFFIX); m; m = strstr(m + 1, UTIL_TEMP_SUFFIX))
+        mark = m;
+    const char *pid = mark ? mark + strlen(UTIL_TEMP_SUFFIX) : "";
+    const size_t entry = mark ? (size_t)(mark - name) : 0;
+    if (!*pid || strspn(pid, "0123456789") != strlen(pid) || name[0] == '.' || entry <= tail_len)
+        return 0;
+    const char *t = name + entry - tail_len;  /* where its tail begins */
+    return t[0] == '-' && strspn(t + 1, "0123456789abcdef") >= 16 && strncmp(t + 17, ".exr", 4) == 0 ? entry : 0;
+}
+
 static void cache_sweep(const char *cache_dir)
 {
     DIR *d = opendir(cache_dir);
     for (struct dirent *e; d && (e = readdir(d));) {
-        const char *mark = NULL;  /* the last ".tmp.", followed by a pid */
-        for (const char *m = strstr(e->d_name, UTIL_TEMP_SUFFIX); m; m = strstr(m + 1, UTIL_TEMP_SUFFIX))
-            mark = m;
-        const char *pid = mark ? mark + strlen(UTIL_TEMP_SUFFIX) : NULL;
-        const size_t entry = mark ? (size_t)(mark - e->d_name) : 0;  /* "<scene>-<hash>.exr" */
-        if (!pid || !*pid || strspn(pid, "0123456789") != strlen(pid) || e->d_name[0] == '.' || entry < 22 ||
-            strncmp(mark - 4, ".exr", 4) != 0 || mark[-21] != '-' ||
-            strspn(mark - 20, "0123456789abcdef") < 16)
+        const size_t entry = cache_temp_entry(e->d_name);
+        if (!entry)
             continue;
         char *temp = util_printf("%s/%s", cache_dir, e->d_name);
-        char *lock = util_printf("%s/%.*s.lock", cache_dir, (int)(mark - e->d_name), e->d_name);
+        char *lock = util_printf("%s/%.*s.lock", cache_dir, (int)entry, e->d_name);
         const int fd = open(lock, O_RDWR | O_CLOEXEC | O_NOFOLLOW);
         if ((fd < 0 && errno == ENOENT) || (fd >= 0 && flock(fd, LOCK_EX | LOCK_NB) == 0))
             unlink(temp);
